@@ -1,0 +1,37 @@
+//! Blinn-Phong (thesis Def. 4), written as an energy-normalised BRDF.
+//!
+//! The thesis gives the shading sum `k_d (L.N) i_d + k_s (N.H)^alpha i_s` (ambient left
+//! out: environment light replaces it). As a BRDF that is
+//! `f_r = k_d / pi + k_s (alpha + 8) / (8 pi) (n.h)^alpha`, the common normalisation of the
+//! specular lobe (Akenine-Moeller et al., Real-Time Rendering, 3rd ed., 7.6) that keeps the
+//! lobe's peak albedo close to `k_s` for every exponent; `(L.N)` is the cosine the renderer
+//! applies. `h = normalize(wi + wo)`.
+
+use super::Brdf;
+use glam::Vec3;
+use std::f32::consts::PI;
+
+/// Blinn-Phong with a Lambert diffuse term. `kd`, `ks` are RGB in [0, 1] with
+/// `kd + ks <= 1` for energy conservation; `exponent` (alpha) >= 0.
+#[derive(Clone, Copy, Debug)]
+pub struct BlinnPhong {
+    pub kd: Vec3,
+    pub ks: Vec3,
+    pub exponent: f32,
+}
+
+impl Brdf for BlinnPhong {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let h = (wi + wo).normalize_or_zero();
+        let nh = h.z.max(0.0);
+        let spec = (self.exponent + 8.0) / (8.0 * PI) * nh.powf(self.exponent);
+        self.kd / PI + self.ks * spec
+    }
+
+    fn name(&self) -> &str {
+        "blinn-phong"
+    }
+}

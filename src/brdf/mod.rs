@@ -1,0 +1,48 @@
+//! BRDF models: the material interface every shading path calls.
+//!
+//! Design rule: a BRDF is evaluated in the local shading frame of
+//! [`crate::conventions::ShadingFrame`] (local +z is the normal, azimuth 0 is world up
+//! projected onto the tangent plane). Directions point *away* from the surface: `wi` towards
+//! the light, `wo` towards the viewer. Values are RGB reflectance in 1/sr.
+//!
+//! Tabulated models (SH coefficient tables, D-BRDF half-vector tables, MERL data) implement
+//! the same trait, so the renderer does not care where a BRDF came from.
+
+pub mod blinn_phong;
+pub mod lambert;
+
+pub use blinn_phong::BlinnPhong;
+pub use lambert::Lambert;
+
+use glam::Vec3;
+
+/// A bidirectional reflectance distribution function in the local shading frame.
+pub trait Brdf: Send + Sync {
+    /// `f_r(wi, wo)` in 1/sr for unit local directions (`wi` to the light, `wo` to the
+    /// viewer). Must return zero (not NaN, not negative) when `wi.z <= 0` or `wo.z <= 0`.
+    ///
+    /// Unless [`Brdf::includes_cosine`] says so, the value does **not** include
+    /// `cos(polar_i) = wi.z`; the renderer multiplies it in.
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3;
+
+    /// True when [`Brdf::eval`] already returns `f_r * cos(polar_i)` (as SH data acquired
+    /// under basis illumination does, thesis 2.3.3). The renderer then does not apply the
+    /// cosine a second time.
+    fn includes_cosine(&self) -> bool {
+        false
+    }
+
+    /// A short human-readable name ("lambert", "blinn-phong", ...).
+    fn name(&self) -> &str;
+}
+
+/// `f * cos(polar_i)` whatever the model's cosine convention: the integrand of the
+/// illumination integral (thesis Def. 6) per unit incident radiance.
+#[inline]
+pub fn eval_cosine_weighted(brdf: &dyn Brdf, wi: Vec3, wo: Vec3) -> Vec3 {
+    if brdf.includes_cosine() {
+        brdf.eval(wi, wo)
+    } else {
+        brdf.eval(wi, wo) * wi.z.max(0.0)
+    }
+}

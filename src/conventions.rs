@@ -1,0 +1,261 @@
+//! Every coordinate convention of brdfkit lives here; all other modules call these functions.
+//!
+//! Design rule: no other module computes an angle from a direction, a direction from an
+//! angle, a texel centre or a shading frame by itself. If two modules disagree about a
+//! convention, one of them is not calling this module.
+//!
+//! # World
+//! Right-handed, **y up**, metres (any unit works; nothing depends on scale). The default
+//! camera looks along -z. The Utah teapot's patch data is z up and is turned to y up on load
+//! (`(x, y, z) -> (x, z, -y)`, see `mesh::teapot`).
+//!
+//! # Names of the spherical angles
+//! The thesis (2.1.3, 3.1.2) calls the polar angle phi and the azimuth theta. Because the
+//! literature uses both orders, this crate never uses the Greek names in code: it says
+//! `polar` (angle from the normal, thesis phi, radians in [0, pi]) and `azimuth` (thesis
+//! theta, radians in [0, 2 pi)).
+//!
+//! # Shading frame (thesis 3.1.2, corrected)
+//! A local frame `(t, b, n)` at a surface point: `n` the unit normal, `t` the world up
+//! vector (0, 1, 0) projected onto the tangent plane and normalised, `b = n x t`. The frame
+//! is right-handed: `t x b = n`. Local coordinates of a world direction `d` are
+//! `(d.t, d.b, d.n)`, so local +z is the normal. The polar angle is `acos(d.n)` and the
+//! azimuth is `atan2(d.b, d.t)` wrapped into [0, 2 pi).
+//!
+//! The thesis computes the azimuth as `acos(a.b / |a||b|)`, which only spans [0, pi]: it
+//! folds azimuth `x` and `-x` together, so an anisotropic BRDF renders mirrored on one side.
+//! We use the full range.
+//!
+//! The projected up vector is computed in a cancellation-free form: for a unit `n`,
+//! `up - (up.n) n = (-n.x n.y, n.x^2 + n.z^2, -n.z n.y)`, whose length is
+//! `s = sqrt(n.x^2 + n.z^2)`, so `t = (-n.x n.y / s, s, -n.z n.y / s)`. This stays accurate
+//! for normals within 1e-7 of up, where the textbook form loses every digit.
+//! When `s == 0` (n exactly +-up) the frame uses the limit approached from the +z side:
+//! `t = (0, 0, -n.y)`. This is a documented, deterministic choice, not a continuous one:
+//! no tangent field on the sphere is continuous (hairy-ball theorem).
+//!
+//! # Texels of hemispherical tables (thesis 3.1.3-3.1.4)
+//! A table over the hemisphere with `nu` azimuth texels and `nv` polar texels maps
+//! texture coordinates `s = azimuth / 2 pi`, `t = polar / (pi / 2)`. Texel `(i, j)` covers
+//! `[i/nu, (i+1)/nu) x [j/nv, (j+1)/nv)` and its value belongs to its centre
+//! `((i + 1/2)/nu, (j + 1/2)/nv)`, exactly as OpenGL samples a texture (texel (0,0) is the
+//! corner at spherical (0,0); its centre is half a texel in). Azimuth wraps (GL_REPEAT),
+//! polar clamps (GL_CLAMP_TO_EDGE).
+//!
+//! # Light probes (equirectangular, latitude-longitude)
+//! Image `u = (col + 1/2) / width`, `v = (row + 1/2) / height` at texel centres. Row 0 is
+//! the top of the image, the +y pole: `polar = pi v` measured from +y. The probe azimuth is
+//! `2 pi u`, and the direction is
+//! `(-sin(polar) sin(2 pi u), cos(polar), sin(polar) cos(2 pi u))`:
+//! **column 0 faces +z** (behind the default camera), the image centre (u = 1/2) faces -z
+//! (what the default camera looks at), u = 1/4 faces -x and u = 3/4 faces +x, so the image
+//! reads left to right as a viewer turning clockwise seen from above, like a panorama.
+//! A probe rotation of `r` radians turns the environment about +y by `r` (right-handed).
+
+use glam::{DVec3, Vec3};
+use std::f32::consts::{PI, TAU};
+
+/// The world up vector, +y.
+pub const UP: Vec3 = Vec3::Y;
+
+/// A right-handed orthonormal shading frame at a surface point (see the module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingFrame {
+    /// Tangent: world up projected onto the tangent plane (azimuth 0).
+    pub t: Vec3,
+    /// Bitangent `n x t` (azimuth pi/2).
+    pub b: Vec3,
+    /// Unit normal (polar 0, local +z).
+    pub n: Vec3,
+}
+
+impl ShadingFrame {
+    /// Builds the frame for a unit normal `n`.
+    ///
+    /// Fails by documented fallback: a zero or non-finite `n` is replaced by +z (whose frame
+    /// is `t = +y`, `b = -x`); a non-unit `n` is normalised first.
+    #[inline]
+    pub fn from_normal(n: Vec3) -> Self {
+        let n = n.try_normalize().unwrap_or(Vec3::Z);
+        let s2 = n.x * n.x + n.z * n.z;
+        let t = if s2 > 0.0 {
+            let s = s2.sqrt();
+            let inv = 1.0 / s;
+            Vec3::new(-n.x * n.y * inv, s, -n.z * n.y * inv)
+        } else {
+            Vec3::new(0.0, 0.0, -n.y.signum())
+        };
+        let b = n.cross(t);
+        ShadingFrame { t, b, n }
+    }
+
+    /// World direction to local coordinates (local +z is the normal): `local_from_world`.
+    #[inline]
+    pub fn to_local(&self, d: Vec3) -> Vec3 {
+        Vec3::new(d.dot(self.t), d.dot(self.b), d.dot(self.n))
+    }
+
+    /// Local coordinates back to a world direction: `world_from_local`.
+    #[inline]
+    pub fn to_world(&self, l: Vec3) -> Vec3 {
+        self.t * l.x + self.b * l.y + self.n * l.z
+    }
+}
+
+/// Polar angle and azimuth of a unit direction given in local shading coordinates.
+///
+/// Returns `(polar, azimuth)` in radians, polar in [0, pi] (acos of the clamped z, so a
+/// slightly non-unit input never gives NaN), azimuth in [0, 2 pi). At the pole (x = y = 0)
+/// the azimuth is 0.
+#[inline]
+pub fn local_angles(l: Vec3) -> (f32, f32) {
+    let polar = l.z.clamp(-1.0, 1.0).acos();
+    (polar, wrap_azimuth(l.y.atan2(l.x)))
+}
+
+/// Unit local direction from `(polar, azimuth)`: `(sin p cos a, sin p sin a, cos p)`.
+#[inline]
+pub fn local_direction(polar: f32, azimuth: f32) -> Vec3 {
+    let (sp, cp) = polar.sin_cos();
+    let (sa, ca) = azimuth.sin_cos();
+    Vec3::new(sp * ca, sp * sa, cp)
+}
+
+/// f64 twin of [`local_direction`], for reference computations.
+#[inline]
+pub fn local_direction_f64(polar: f64, azimuth: f64) -> DVec3 {
+    let (sp, cp) = polar.sin_cos();
+    let (sa, ca) = azimuth.sin_cos();
+    DVec3::new(sp * ca, sp * sa, cp)
+}
+
+/// Wraps an angle in radians into [0, 2 pi). Values that round up to exactly 2 pi map to 0.
+#[inline]
+pub fn wrap_azimuth(a: f32) -> f32 {
+    let w = a.rem_euclid(TAU);
+    if w >= TAU {
+        0.0
+    } else {
+        w
+    }
+}
+
+/// Texture coordinates `(s, t)` of a hemispherical table for local angles
+/// (thesis 3.1.4): `s = azimuth / 2 pi`, `t = polar / (pi / 2)`.
+#[inline]
+pub fn hemi_texcoord(polar: f32, azimuth: f32) -> (f32, f32) {
+    (azimuth / TAU, polar / (0.5 * PI))
+}
+
+/// Centre of texel `i` of `n` along one axis, in texture coordinates: `(i + 1/2) / n`.
+#[inline]
+pub fn texel_center(i: usize, n: usize) -> f32 {
+    (i as f32 + 0.5) / n as f32
+}
+
+/// f64 twin of [`texel_center`].
+#[inline]
+pub fn texel_center_f64(i: usize, n: usize) -> f64 {
+    (i as f64 + 0.5) / n as f64
+}
+
+/// Local angles `(polar, azimuth)` at the centre of texel `(i, j)` of an `nu x nv`
+/// hemispherical table (i along azimuth, j along polar), f64.
+#[inline]
+pub fn hemi_texel_angles_f64(i: usize, j: usize, nu: usize, nv: usize) -> (f64, f64) {
+    let azimuth = texel_center_f64(i, nu) * std::f64::consts::TAU;
+    let polar = texel_center_f64(j, nv) * std::f64::consts::FRAC_PI_2;
+    (polar, azimuth)
+}
+
+/// World direction of probe image coordinates `(u, v)` in [0, 1]^2 (see the module doc),
+/// before any probe rotation. f64 because probe integration accumulates in f64.
+#[inline]
+pub fn probe_direction(u: f64, v: f64) -> DVec3 {
+    let polar = std::f64::consts::PI * v;
+    let az = std::f64::consts::TAU * u;
+    let (sp, cp) = polar.sin_cos();
+    let (sa, ca) = az.sin_cos();
+    DVec3::new(-sp * sa, cp, sp * ca)
+}
+
+/// Probe image coordinates `(u, v)` of a world direction, the inverse of
+/// [`probe_direction`]: `u` in [0, 1), `v` in [0, 1]. A zero direction gives (0, 0).
+#[inline]
+pub fn probe_uv(d: DVec3) -> (f64, f64) {
+    let d = d.try_normalize().unwrap_or(DVec3::Y);
+    let v = d.y.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
+    // d.x = -sin(p) sin(a), d.z = sin(p) cos(a)  =>  a = atan2(-d.x, d.z)
+    let mut u = (-d.x).atan2(d.z) / std::f64::consts::TAU;
+    if u < 0.0 {
+        u += 1.0;
+    }
+    if u >= 1.0 {
+        u = 0.0;
+    }
+    (u, v)
+}
+
+/// Exact solid angle (steradians) of one texel in row `row` of a `width x height`
+/// equirectangular probe: `(2 pi / width) (cos(polar_top) - cos(polar_bottom))`.
+///
+/// Unlike the thesis's `cos(linspace(-pi/2, pi/2, M))` weight, which is zero on the pole
+/// rows, this is the true area, positive for every row, and the rows sum to 4 pi.
+#[inline]
+pub fn probe_texel_solid_angle(row: usize, width: usize, height: usize) -> f64 {
+    let pi = std::f64::consts::PI;
+    let top = pi * row as f64 / height as f64;
+    let bottom = pi * (row + 1) as f64 / height as f64;
+    (std::f64::consts::TAU / width as f64) * (top.cos() - bottom.cos())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_is_orthonormal_right_handed() {
+        for n in [
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::X,
+            Vec3::new(1e-8, 1.0, 0.0),
+            Vec3::new(0.3, -0.2, 0.9),
+        ] {
+            let f = ShadingFrame::from_normal(n);
+            assert!((f.t.length() - 1.0).abs() < 1e-6);
+            assert!((f.b.length() - 1.0).abs() < 1e-6);
+            assert!(f.t.dot(f.n).abs() < 1e-6);
+            assert!(f.t.cross(f.b).distance(f.n) < 1e-5);
+        }
+    }
+
+    #[test]
+    fn up_has_azimuth_zero() {
+        let n = Vec3::new(0.0, 0.0, 1.0);
+        let f = ShadingFrame::from_normal(n);
+        let (_, a) = local_angles(f.to_local(Vec3::new(0.0, 1.0, 1.0).normalize()));
+        assert!(a.abs() < 1e-6);
+    }
+
+    #[test]
+    fn probe_axes() {
+        let d = probe_direction(0.5, 0.5);
+        assert!(d.distance(DVec3::NEG_Z) < 1e-12);
+        let d = probe_direction(0.75, 0.5);
+        assert!(d.distance(DVec3::X) < 1e-12);
+        let d = probe_direction(0.0, 0.5);
+        assert!(d.distance(DVec3::Z) < 1e-12);
+        assert!(probe_direction(0.3, 0.0).distance(DVec3::Y) < 1e-12);
+        let (u, v) = probe_uv(probe_direction(0.3, 0.7));
+        assert!((u - 0.3).abs() < 1e-12 && (v - 0.7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn probe_rows_sum_to_sphere() {
+        let (w, h) = (7, 5);
+        let total: f64 = (0..h).map(|r| probe_texel_solid_angle(r, w, h) * w as f64).sum();
+        assert!((total - 4.0 * std::f64::consts::PI).abs() < 1e-12);
+        assert!(probe_texel_solid_angle(0, w, h) > 0.0);
+    }
+}

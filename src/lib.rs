@@ -1,0 +1,4 @@
+//! brdfkit: a CPU renderer and GPU oracle for acquired BRDF data (architecture doc: see below).
+
+pub mod brdf;
+pub mod conventions;
