@@ -1,0 +1,184 @@
+//! Images out: linear float OpenEXR, and 8-bit sRGB PNG through exposure and a tone map.
+//!
+//! Design rule: the renderer's result is linear RGB radiance in f32; display encoding
+//! happens only here, in one documented order: `x * 2^exposure`, then the tone map, then
+//! the sRGB transfer curve (IEC 61966-2-1), then rounding to 8 bits. Every file is written
+//! to a temporary name in the target directory and renamed into place, so a failed or
+//! interrupted write never leaves a half-written file under the requested name.
+
+use crate::error::{Error, Result};
+use glam::Vec3;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A row-major RGB f32 image (row 0 at the top).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32) -> Image {
+        Image {
+            width,
+            height,
+            pixels: vec![Vec3::ZERO; (width * height) as usize],
+        }
+    }
+    #[inline]
+    pub fn get(&self, x: u32, y: u32) -> Vec3 {
+        self.pixels[(y * self.width + x) as usize]
+    }
+}
+
+/// Tone maps applied to exposed linear values before the sRGB curve.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize, serde::Serialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Tonemap {
+    /// `min(x, 1)` per channel: exact for values in [0, 1], clips highlights.
+    Clamp,
+    /// Reinhard 2002, per channel: `x / (1 + x)`.
+    Reinhard,
+    /// Narkowicz 2015 fit of the ACES filmic curve, per channel:
+    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, clamped to [0, 1].
+    #[default]
+    Aces,
+}
+
+impl Tonemap {
+    #[inline]
+    pub fn apply(self, x: f32) -> f32 {
+        let x = x.max(0.0);
+        match self {
+            Tonemap::Clamp => x.min(1.0),
+            Tonemap::Reinhard => x / (1.0 + x),
+            Tonemap::Aces => {
+                ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+            }
+        }
+    }
+}
+
+/// The sRGB transfer curve (linear [0, 1] to encoded [0, 1]).
+#[inline]
+pub fn srgb_encode(x: f32) -> f32 {
+    let x = x.clamp(0.0, 1.0);
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Encoded [0, 1] to 8 bits by rounding; NaN maps to 0.
+#[inline]
+pub fn to_u8(x: f32) -> u8 {
+    if x.is_nan() {
+        0
+    } else {
+        (x.clamp(0.0, 1.0) * 255.0).round() as u8
+    }
+}
+
+/// Display encoding of one linear value: exposure, tone map, sRGB, 8 bits.
+#[inline]
+pub fn display_u8(x: f32, exposure: f32, tonemap: Tonemap) -> u8 {
+    to_u8(srgb_encode(tonemap.apply(x * exposure.exp2())))
+}
+
+/// A temporary path beside `path` (same directory, so the rename stays on one filesystem).
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+/// Runs `write` on a temporary file beside `path`, then renames it to `path`. On any error
+/// the temporary file is removed and nothing appears under `path`.
+pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let tmp = temp_path(path);
+    let result = write(&tmp).and_then(|_| {
+        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, "cannot write output", e))
+    });
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Writes linear RGB as a 32-bit float OpenEXR file.
+pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
+    write_atomically(path, |tmp| {
+        let w = img.width as usize;
+        exr::prelude::write_rgb_file(tmp, w, img.height as usize, |x, y| {
+            let p = img.pixels[y * w + x];
+            (p.x, p.y, p.z)
+        })
+        .map_err(|e| Error::format(path, format!("cannot write EXR: {e}")))
+    })
+}
+
+/// Writes 8-bit RGB bytes (row-major) as PNG.
+pub fn write_png_bytes(path: &Path, width: u32, height: u32, rgb: Vec<u8>) -> Result<()> {
+    write_atomically(path, |tmp| {
+        let buf =
+            image::RgbImage::from_raw(width, height, rgb).expect("buffer matches the image size");
+        buf.save_with_format(tmp, image::ImageFormat::Png)
+            .map_err(|e| Error::format(path, format!("cannot write PNG: {e}")))
+    })
+}
+
+/// Writes a linear image as an sRGB PNG through exposure (stops) and a tone map.
+pub fn write_png(path: &Path, img: &Image, exposure: f32, tonemap: Tonemap) -> Result<()> {
+    let bytes = img
+        .pixels
+        .iter()
+        .flat_map(|p| p.to_array().map(|c| display_u8(c, exposure, tonemap)))
+        .collect();
+    write_png_bytes(path, img.width, img.height, bytes)
+}
+
+/// Reads an OpenEXR file's RGB channels (first layer) into an [`Image`].
+pub fn read_exr(path: &Path) -> Result<Image> {
+    let img = exr::prelude::read_first_rgba_layer_from_file(
+        path,
+        |res, _| Image::new(res.width() as u32, res.height() as u32),
+        |img: &mut Image, pos: exr::prelude::Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
+            let w = img.width as usize;
+            img.pixels[pos.y() * w + pos.x()] = Vec3::new(r, g, b);
+        },
+    )
+    .map_err(|e| Error::format(path, format!("cannot read EXR: {e}")))?;
+    Ok(img.layer_data.channel_data.pixels)
+}
+
+/// The output format implied by a path's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Png,
+    Exr,
+}
+
+/// Format from the extension (case-insensitive): `.png` or `.exr`; anything else is an
+/// error naming the path.
+pub fn format_of(path: &Path) -> Result<Format> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .as_deref()
+    {
+        Some("png") => Ok(Format::Png),
+        Some("exr") => Ok(Format::Exr),
+        _ => Err(Error::format(
+            path,
+            "unknown output format: the file name must end in .png or .exr",
+        )),
+    }
+}

@@ -1,0 +1,104 @@
+//! Wavefront OBJ files through `tobj`: all objects of the file merged into one mesh.
+//!
+//! Faces are triangulated by tobj; vertices are single-indexed. Files without normals (or
+//! with a normal count that does not match) get smooth area-weighted normals. Invalid
+//! content (non-finite coordinates, indices out of range, no triangles) is an error that
+//! names the file.
+
+use super::Mesh;
+use crate::error::{Error, Result};
+use glam::Vec3;
+use std::path::Path;
+
+/// Largest OBJ file read (bytes): far beyond any test asset, small enough that a hostile
+/// file cannot make the loader allocate without bound.
+pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+
+/// Loads an OBJ file. Fails with an [`Error`] naming the file for unreadable, malformed or
+/// empty files.
+pub fn load_obj(path: &Path) -> Result<Mesh> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read OBJ file", e))?;
+    if meta.len() > MAX_OBJ_BYTES {
+        return Err(Error::format(
+            path,
+            format!(
+                "OBJ file is {} bytes, more than the {} byte limit",
+                meta.len(),
+                MAX_OBJ_BYTES
+            ),
+        ));
+    }
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are ignored: brdfkit takes its material from the scene.
+    let (models, _materials) = tobj::load_obj(path, &opts)
+        .map_err(|e| Error::format(path, format!("malformed OBJ: {e}")))?;
+    let mut mesh = Mesh::default();
+    let mut any_missing_normals = false;
+    for model in &models {
+        let m = &model.mesh;
+        let nverts = m.positions.len() / 3;
+        let part = Mesh {
+            positions: m
+                .positions
+                .chunks_exact(3)
+                .map(|c| Vec3::new(c[0], c[1], c[2]))
+                .collect(),
+            normals: if m.normals.len() == m.positions.len() {
+                m.normals
+                    .chunks_exact(3)
+                    .map(|c| Vec3::new(c[0], c[1], c[2]))
+                    .collect()
+            } else {
+                any_missing_normals = true;
+                vec![Vec3::ZERO; nverts]
+            },
+            triangles: m
+                .indices
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect(),
+        };
+        if let Some(bad) = part
+            .triangles
+            .iter()
+            .flatten()
+            .find(|&&i| i as usize >= nverts)
+        {
+            return Err(Error::format(
+                path,
+                format!(
+                    "object '{}': face index {} out of range ({} vertices)",
+                    model.name,
+                    bad + 1,
+                    nverts
+                ),
+            ));
+        }
+        mesh.append(&part);
+    }
+    if mesh.triangles.is_empty() {
+        return Err(Error::format(
+            path,
+            "no faces: the OBJ file holds no triangles",
+        ));
+    }
+    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+        return Err(Error::format(
+            path,
+            format!("vertex {} has a non-finite coordinate", i + 1),
+        ));
+    }
+    if any_missing_normals {
+        mesh.compute_smooth_normals();
+    } else {
+        for n in &mut mesh.normals {
+            *n = n.try_normalize().unwrap_or(Vec3::Y);
+        }
+    }
+    Ok(mesh)
+}

@@ -1,0 +1,180 @@
+//! The Utah teapot, tessellated from Martin Newell's 32 bicubic Bezier patches.
+//!
+//! The patch data (`assets/models/teapot_patches.json`, public domain, 1975) is embedded in
+//! the binary. It is z up; we turn it to y up with `(x, y, z) -> (x, z, -y)`, a rotation,
+//! so handedness and winding are kept.
+//!
+//! Each patch is evaluated on an `(n+1) x (n+1)` grid of `(u, v)`; the normal is
+//! `dP/du x dP/dv`. At the lid knob and the bottom centre a whole row of control points
+//! coincides, so one derivative vanishes there: such a vertex takes the normal of the point
+//! a small step towards the patch centre instead (a documented fallback that never gives
+//! NaN). Patch seams are welded: positions within 1e-5 of the model size of each other
+//! become bit-identical, so the rasterizer sees watertight edges. Triangles that the weld
+//! collapses to a line or a point are dropped.
+
+use super::Mesh;
+use glam::Vec3;
+use std::collections::HashMap;
+
+const PATCH_JSON: &str = include_str!("../../assets/models/teapot_patches.json");
+
+#[derive(serde::Deserialize)]
+struct PatchFile {
+    vertices: Vec<[f32; 3]>,
+    patches: Vec<[usize; 16]>,
+}
+
+/// Bernstein basis of degree 3 and its derivative at `t`.
+fn bernstein(t: f32) -> ([f32; 4], [f32; 4]) {
+    let s = 1.0 - t;
+    (
+        [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t],
+        [
+            -3.0 * s * s,
+            3.0 * s * s - 6.0 * t * s,
+            6.0 * t * s - 3.0 * t * t,
+            3.0 * t * t,
+        ],
+    )
+}
+
+/// Position and the two partial derivatives of a bicubic patch.
+fn eval_patch(cp: &[Vec3; 16], u: f32, v: f32) -> (Vec3, Vec3, Vec3) {
+    let (bu, du) = bernstein(u);
+    let (bv, dv) = bernstein(v);
+    let (mut p, mut pu, mut pv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+    for i in 0..4 {
+        for j in 0..4 {
+            let c = cp[i * 4 + j];
+            p += c * (bu[i] * bv[j]);
+            pu += c * (du[i] * bv[j]);
+            pv += c * (bu[i] * dv[j]);
+        }
+    }
+    (p, pu, pv)
+}
+
+/// The teapot with `segments` quads along each patch edge (clamped to 1..=256), y up,
+/// resting on y = 0 with the lid knob at y = 3.15 (the patch data's units).
+pub fn teapot(segments: u32) -> Mesh {
+    let n = segments.clamp(1, 256) as usize;
+    let data: PatchFile = serde_json::from_str(PATCH_JSON).expect("embedded teapot data is valid");
+    let verts: Vec<Vec3> = data
+        .vertices
+        .iter()
+        .map(|&[x, y, z]| Vec3::new(x, z, -y))
+        .collect();
+    let mut mesh = Mesh::default();
+    for patch in &data.patches {
+        let cp: [Vec3; 16] = std::array::from_fn(|k| verts[patch[k]]);
+        let base = mesh.positions.len() as u32;
+        for i in 0..=n {
+            for j in 0..=n {
+                let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
+                let (p, pu, pv) = eval_patch(&cp, u, v);
+                let mut normal = pu.cross(pv);
+                if normal.length_squared() < 1e-12 {
+                    // Degenerate row: step towards the patch centre and use that normal.
+                    let step = 1e-3;
+                    let (_, pu2, pv2) = eval_patch(
+                        &cp,
+                        u + step * (0.5 - u).signum(),
+                        v + step * (0.5 - v).signum(),
+                    );
+                    normal = pu2.cross(pv2);
+                }
+                mesh.positions.push(p);
+                mesh.normals.push(normal.try_normalize().unwrap_or(Vec3::Y));
+            }
+        }
+        let idx = |i: usize, j: usize| base + (i * (n + 1) + j) as u32;
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
+                mesh.triangles.push([a, b, c]);
+                mesh.triangles.push([a, c, d]);
+            }
+        }
+    }
+    weld(&mut mesh, 1e-5);
+    mesh
+}
+
+/// Makes positions closer than about `tol` times the model size bit-identical (the first
+/// one seen wins) and re-indexes triangles onto one shared vertex per position where the
+/// normals agree too; drops triangles that become degenerate (two equal corners).
+fn weld(mesh: &mut Mesh, tol: f32) {
+    let b = mesh.bounds();
+    let scale = (b.max - b.min).max_element().max(f32::MIN_POSITIVE);
+    let q = 1.0 / (tol * scale);
+    let key = |p: Vec3| {
+        let k = (p * q).round();
+        (k.x as i64, k.y as i64, k.z as i64)
+    };
+    let mut canon: HashMap<(i64, i64, i64), Vec3> = HashMap::new();
+    for p in &mut mesh.positions {
+        *p = *canon.entry(key(*p)).or_insert(*p);
+    }
+    // Share vertex records with equal position and (nearly) equal normal.
+    let mut first: HashMap<((i64, i64, i64), (i32, i32, i32)), u32> = HashMap::new();
+    let mut remap = vec![0u32; mesh.positions.len()];
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    for (i, (p, nrm)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
+        let nk = (*nrm * 1e3).round();
+        let k = (key(*p), (nk.x as i32, nk.y as i32, nk.z as i32));
+        remap[i] = *first.entry(k).or_insert_with(|| {
+            positions.push(*p);
+            normals.push(*nrm);
+            positions.len() as u32 - 1
+        });
+    }
+    let triangles = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| remap[i as usize]))
+        .filter(|t| {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            a != b && b != c && a != c
+        })
+        .collect();
+    *mesh = Mesh {
+        positions,
+        normals,
+        triangles,
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_nan_and_unit_normals() {
+        let m = teapot(8);
+        assert!(!m.triangles.is_empty());
+        for (p, n) in m.positions.iter().zip(&m.normals) {
+            assert!(p.is_finite() && n.is_finite());
+            assert!((n.length() - 1.0).abs() < 1e-4);
+        }
+        let b = m.bounds();
+        assert!(b.min.y.abs() < 1e-4, "rests on y = 0: {b:?}");
+        assert!((b.max.y - 3.15).abs() < 0.01, "lid knob top at 3.15: {b:?}");
+    }
+
+    #[test]
+    fn normals_agree_with_winding() {
+        // Vertex normals of each triangle point to the side its winding faces.
+        let m = teapot(8);
+        let mut bad = 0;
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            let face = (b - a).cross(c - a);
+            let avg: Vec3 = t.iter().map(|&i| m.normals[i as usize]).sum();
+            if face.dot(avg) < 0.0 {
+                bad += 1;
+            }
+        }
+        assert_eq!(bad, 0);
+    }
+}

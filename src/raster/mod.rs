@@ -1,0 +1,226 @@
+//! Rasterization: clip-space triangles in, a visibility buffer out.
+//!
+//! Stages (each a submodule, in the order the data flows):
+//! 1. [`clip`]: homogeneous clipping against the near plane and a guard band; triangles
+//!    that cross the camera plane are cut, not dropped.
+//! 2. [`setup`]: snapping to fixed point and integer edge functions with a top-left rule.
+//! 3. binning (here): each set-up triangle is listed in every tile its pixel bounds touch,
+//!    in source order.
+//! 4. [`tile`]: tiles resolve visibility in parallel (rayon): per pixel the nearest triangle
+//!    (largest 1/w; ties keep the earlier triangle) and, if asked, how many triangles cover
+//!    it. Tiles with an empty bin are not visited.
+//!
+//! Determinism contract: every per-pixel value depends only on the pixel, the triangles in
+//! source order and exact integer coverage, never on the tile size, the thread count or the
+//! order in which tiles finish. The output is bit-identical for any `--threads` and any
+//! tile size.
+
+pub mod clip;
+pub mod setup;
+pub mod tile;
+
+use clip::{ClipPlanes, ClipVertex};
+use glam::Vec4;
+use rayon::prelude::*;
+use setup::SetupTriangle;
+
+/// Marks a pixel no triangle covers.
+pub const NO_TRIANGLE: u32 = u32::MAX;
+
+/// Which faces to drop before rasterization.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Cull {
+    /// Keep both sides; back faces are shaded with their normal flipped (two-sided).
+    #[default]
+    None,
+    /// Drop triangles whose winding is clockwise on screen.
+    Back,
+}
+
+/// What to rasterize into.
+#[derive(Clone, Copy, Debug)]
+pub struct RasterConfig {
+    pub width: u32,
+    pub height: u32,
+    /// Tile edge in pixels (>= 1).
+    pub tile_size: u32,
+    pub cull: Cull,
+    /// Near plane distance of the projection (view-space units, > 0).
+    pub near: f32,
+    /// Also count, per pixel, every triangle covering it (the `coverage` AOV and the
+    /// watertightness tests). Off by default: it costs a write per fragment.
+    pub count_coverage: bool,
+}
+
+/// The result of rasterization, stored tile-major: tile `t` owns entries
+/// `t * tile_size^2 .. (t + 1) * tile_size^2`, row-major inside the tile.
+#[derive(Clone, Debug)]
+pub struct VisBuffer {
+    pub width: u32,
+    pub height: u32,
+    pub tile_size: u32,
+    pub tiles_x: u32,
+    pub tiles_y: u32,
+    /// Index into `triangles` of the visible triangle, or [`NO_TRIANGLE`].
+    pub visible: Vec<u32>,
+    /// 1/w of the visible surface (0 where empty).
+    pub depth: Vec<f32>,
+    /// Number of covering triangles per pixel, when counted.
+    pub coverage: Option<Vec<u32>>,
+    /// Whether each tile received any triangle.
+    pub tile_occupied: Vec<bool>,
+    /// The set-up triangles that `visible` indexes.
+    pub triangles: Vec<SetupTriangle>,
+}
+
+impl VisBuffer {
+    /// Index of pixel `(x, y)` in the tile-major arrays.
+    #[inline]
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        let ts = self.tile_size;
+        let tile = (y / ts) * self.tiles_x + x / ts;
+        (tile * ts * ts + (y % ts) * ts + x % ts) as usize
+    }
+
+    /// Pixel `(x, y)` of tile-major index `i`, or `None` for the padding of edge tiles.
+    #[inline]
+    pub fn pixel(&self, i: usize) -> Option<(u32, u32)> {
+        let ts = self.tile_size as usize;
+        let tile = i / (ts * ts);
+        let r = i % (ts * ts);
+        let x = (tile % self.tiles_x as usize) * ts + r % ts;
+        let y = (tile / self.tiles_x as usize) * ts + r / ts;
+        (x < self.width as usize && y < self.height as usize).then_some((x as u32, y as u32))
+    }
+
+    /// The coverage count as a row-major image (all zero if it was not counted).
+    pub fn coverage_row_major(&self) -> Vec<u32> {
+        let mut out = vec![0; (self.width * self.height) as usize];
+        if let Some(c) = &self.coverage {
+            for y in 0..self.height {
+                for x in 0..self.width {
+                    out[(y * self.width + x) as usize] = c[self.index(x, y)];
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Sets up every triangle (clipping where needed), in source order.
+pub fn setup_triangles(
+    clip: &[Vec4],
+    triangles: &[[u32; 3]],
+    cfg: &RasterConfig,
+) -> Vec<SetupTriangle> {
+    let planes = ClipPlanes::new(cfg.near, cfg.width, cfg.height);
+    let cull_back = cfg.cull == Cull::Back;
+    let chunks: Vec<Vec<SetupTriangle>> = triangles
+        .par_chunks(2048)
+        .enumerate()
+        .map(|(ci, chunk)| {
+            let mut out = Vec::with_capacity(chunk.len());
+            let mut poly = Vec::new();
+            for (k, tri) in chunk.iter().enumerate() {
+                let source = (ci * 2048 + k) as u32;
+                let v = tri.map(|i| clip[i as usize]);
+                let codes = v.map(|p| planes.outcode(p));
+                if codes[0] & codes[1] & codes[2] != 0 {
+                    continue; // wholly outside one plane
+                }
+                if codes[0] | codes[1] | codes[2] == 0 {
+                    let cv: [ClipVertex; 3] = std::array::from_fn(|k| {
+                        let mut bary = [0.0; 3];
+                        bary[k] = 1.0;
+                        ClipVertex { clip: v[k], bary }
+                    });
+                    out.extend(setup::setup(cv, source, cfg.width, cfg.height, cull_back));
+                    continue;
+                }
+                planes.clip_triangle(v, &mut poly);
+                for i in 1..poly.len().saturating_sub(1) {
+                    let cv = [poly[0], poly[i], poly[i + 1]];
+                    out.extend(setup::setup(cv, source, cfg.width, cfg.height, cull_back));
+                }
+            }
+            out
+        })
+        .collect();
+    chunks.into_iter().flatten().collect()
+}
+
+/// Lists, per tile, the indices of the set-up triangles whose pixel bounds touch it, in
+/// increasing index order.
+pub fn bin_triangles(
+    tris: &[SetupTriangle],
+    tiles_x: u32,
+    tiles_y: u32,
+    tile_size: u32,
+) -> Vec<Vec<u32>> {
+    let mut bins = vec![Vec::new(); (tiles_x * tiles_y) as usize];
+    for (i, t) in tris.iter().enumerate() {
+        for ty in t.py_min / tile_size..=t.py_max / tile_size {
+            for tx in t.px_min / tile_size..=t.px_max / tile_size {
+                bins[(ty * tiles_x + tx) as usize].push(i as u32);
+            }
+        }
+    }
+    bins
+}
+
+/// Rasterizes `triangles` (indices into `clip`, clip-space positions) into a visibility
+/// buffer. Panics if the config has a zero width, height or tile size.
+pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> VisBuffer {
+    assert!(
+        cfg.width > 0 && cfg.height > 0 && cfg.tile_size > 0,
+        "empty raster target"
+    );
+    let ts = cfg.tile_size;
+    let tiles_x = cfg.width.div_ceil(ts);
+    let tiles_y = cfg.height.div_ceil(ts);
+    let setup = setup_triangles(clip, triangles, cfg);
+    let bins = bin_triangles(&setup, tiles_x, tiles_y, ts);
+    let per_tile = (ts * ts) as usize;
+    let n = per_tile * (tiles_x * tiles_y) as usize;
+    let mut visible = vec![NO_TRIANGLE; n];
+    let mut depth = vec![0.0f32; n];
+    let mut coverage = cfg.count_coverage.then(|| vec![0u32; n]);
+    let tile_occupied: Vec<bool> = bins.iter().map(|b| !b.is_empty()).collect();
+    {
+        let cov_chunks: Vec<Option<&mut [u32]>> = match coverage.as_mut() {
+            Some(c) => c.chunks_mut(per_tile).map(Some).collect(),
+            None => (0..bins.len()).map(|_| None).collect(),
+        };
+        visible
+            .par_chunks_mut(per_tile)
+            .zip(depth.par_chunks_mut(per_tile))
+            .zip(cov_chunks.into_par_iter())
+            .enumerate()
+            .filter(|(t, _)| !bins[*t].is_empty())
+            .for_each(|(t, ((vis, dep), cov))| {
+                let t = t as u32;
+                let origin = ((t % tiles_x) * ts, (t / tiles_x) * ts);
+                let tile = tile::TileTarget {
+                    x0: origin.0,
+                    y0: origin.1,
+                    x1: (origin.0 + ts).min(cfg.width) - 1,
+                    y1: (origin.1 + ts).min(cfg.height) - 1,
+                    stride: ts,
+                };
+                tile::resolve(&tile, &setup, &bins[t as usize], vis, dep, cov);
+            });
+    }
+    VisBuffer {
+        width: cfg.width,
+        height: cfg.height,
+        tile_size: ts,
+        tiles_x,
+        tiles_y,
+        visible,
+        depth,
+        coverage,
+        tile_occupied,
+        triangles: setup,
+    }
+}

@@ -1,0 +1,54 @@
+//! The frame pipeline: scene in, image out. Stages in order: vertices to clip space,
+//! rasterization (`raster`: clip, set-up, binning, per-tile visibility), deferred shading
+//! (`shade`) or a debug output (`aov`).
+
+use crate::aov::{self, Aov};
+use crate::image_io::Image;
+use crate::raster::{self, RasterConfig, VisBuffer};
+use crate::scene::Scene;
+use glam::Vec4;
+
+/// Clip-space positions of the scene's mesh vertices (`clip_from_world` applied).
+pub fn clip_positions(scene: &Scene) -> Vec<Vec4> {
+    let r = &scene.render;
+    let aspect = r.width as f32 / r.height as f32;
+    let clip_from_world = scene.camera.clip_from_view(aspect) * scene.camera.view_from_world();
+    scene
+        .mesh
+        .positions
+        .iter()
+        .map(|p| clip_from_world * p.extend(1.0))
+        .collect()
+}
+
+/// Rasterizes the scene into a visibility buffer.
+pub fn rasterize(scene: &Scene, count_coverage: bool) -> VisBuffer {
+    let r = &scene.render;
+    let cfg = RasterConfig {
+        width: r.width,
+        height: r.height,
+        tile_size: r.tile_size,
+        cull: r.cull,
+        near: scene.camera.near,
+        count_coverage,
+    };
+    raster::rasterize(&clip_positions(scene), &scene.mesh.triangles, &cfg)
+}
+
+/// Renders the beauty image (linear radiance) or, with `aov`, that debug output.
+pub fn render(scene: &Scene, aov: Option<Aov>) -> Image {
+    let vis = rasterize(scene, aov.is_some_and(Aov::needs_coverage));
+    match aov {
+        None => crate::shade::shade(scene, &vis),
+        Some(a) => aov::compute(scene, &vis, a),
+    }
+}
+
+/// [`render`] on a dedicated pool of `threads` worker threads (0: one per core).
+pub fn render_with_threads(scene: &Scene, aov: Option<Aov>, threads: usize) -> Image {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
+    pool.install(|| render(scene, aov))
+}

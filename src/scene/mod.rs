@@ -1,0 +1,435 @@
+//! Scenes: the TOML scene file, its defaults, and its resolution into renderable parts.
+//!
+//! Design rule: every field has a default, so an empty file (or no file) is the default
+//! scene; unknown fields are errors; every value is checked here, once, with an error
+//! that names the file and the field. Later stages trust what a [`Scene`] holds.
+//!
+//! ```toml
+//! [camera]                  # omit to frame the mesh automatically
+//! position = [4.0, 4.0, 9.0]
+//! target = [0.0, 1.2, 0.0]
+//! up = [0.0, 1.0, 0.0]
+//! fov_y_deg = 35.0
+//! near = 0.01               # omit: 1/1000 of the distance to the target
+//!
+//! [mesh]
+//! source = "teapot"         # "teapot", "sphere", or a path to an .obj (relative to this file)
+//! segments = 16             # teapot: quads per patch edge; sphere: stacks
+//!
+//! [material]
+//! kind = "blinn-phong"      # "lambert" (albedo) or "blinn-phong" (kd, ks, exponent)
+//! kd = [0.55, 0.22, 0.12]
+//! ks = [0.25, 0.25, 0.25]
+//! exponent = 60.0
+//!
+//! [[light]]                 # any number; omit all for the default key light
+//! kind = "directional"      # to_light: direction from the surface towards the light
+//! to_light = [0.4, 1.0, 0.6]
+//! color = [1.0, 1.0, 1.0]
+//! intensity = 3.0           # irradiance at normal incidence (W/m^2)
+//! # kind = "point", position = [..], intensity in W/sr
+//!
+//! [render]
+//! width = 640
+//! height = 480
+//! cull = "none"             # "none" (two-sided) or "back"
+//! tile_size = 32
+//! threads = 0               # 0: all cores
+//!
+//! [output]
+//! path = "out.png"          # omit: out.png and out.exr
+//! exposure = 0.0            # stops
+//! tonemap = "aces"          # "clamp", "reinhard" or "aces"
+//! ```
+
+pub mod camera;
+
+use crate::brdf::{BlinnPhong, Brdf, Lambert};
+use crate::error::{Error, Result};
+use crate::image_io::Tonemap;
+use crate::light::Light;
+use crate::mesh::{self, Mesh};
+use crate::raster::Cull;
+use camera::Camera;
+use glam::Vec3;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Largest accepted image side (pixels).
+pub const MAX_SIDE: u32 = 16384;
+/// Largest scene file read (bytes).
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// The scene file as written (all optional).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SceneFile {
+    pub camera: Option<CameraSpec>,
+    pub mesh: MeshSpec,
+    pub material: MaterialSpec,
+    #[serde(rename = "light")]
+    pub lights: Option<Vec<LightSpec>>,
+    pub render: RenderSpec,
+    pub output: OutputSpec,
+}
+
+#[derive(Debug, Default, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CameraSpec {
+    pub position: Option<[f32; 3]>,
+    pub target: Option<[f32; 3]>,
+    pub up: Option<[f32; 3]>,
+    pub fov_y_deg: Option<f32>,
+    pub near: Option<f32>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MeshSpec {
+    pub source: String,
+    pub segments: u32,
+}
+
+impl Default for MeshSpec {
+    fn default() -> Self {
+        MeshSpec {
+            source: "teapot".into(),
+            segments: 16,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum MaterialSpec {
+    Lambert {
+        #[serde(default = "default_albedo")]
+        albedo: [f32; 3],
+    },
+    BlinnPhong {
+        #[serde(default = "default_kd")]
+        kd: [f32; 3],
+        #[serde(default = "default_ks")]
+        ks: [f32; 3],
+        #[serde(default = "default_exponent")]
+        exponent: f32,
+    },
+}
+
+fn default_albedo() -> [f32; 3] {
+    [0.8, 0.8, 0.8]
+}
+fn default_kd() -> [f32; 3] {
+    [0.55, 0.22, 0.12]
+}
+fn default_ks() -> [f32; 3] {
+    [0.25, 0.25, 0.25]
+}
+fn default_exponent() -> f32 {
+    60.0
+}
+
+impl Default for MaterialSpec {
+    fn default() -> Self {
+        MaterialSpec::BlinnPhong {
+            kd: default_kd(),
+            ks: default_ks(),
+            exponent: default_exponent(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum LightSpec {
+    Directional {
+        to_light: [f32; 3],
+        #[serde(default = "white")]
+        color: [f32; 3],
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+    },
+    Point {
+        position: [f32; 3],
+        #[serde(default = "white")]
+        color: [f32; 3],
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+    },
+}
+
+fn white() -> [f32; 3] {
+    [1.0, 1.0, 1.0]
+}
+fn default_intensity() -> f32 {
+    3.0
+}
+
+/// The default light: a white key light from above, front right (thesis Fig. 3.9 left:
+/// "a directional light illuminates the teapot from above").
+pub fn default_lights() -> Vec<LightSpec> {
+    vec![LightSpec::Directional {
+        to_light: [0.4, 1.0, 0.6],
+        color: white(),
+        intensity: default_intensity(),
+    }]
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderSpec {
+    pub width: u32,
+    pub height: u32,
+    pub cull: Cull,
+    pub tile_size: u32,
+    pub threads: usize,
+}
+
+impl Default for RenderSpec {
+    fn default() -> Self {
+        RenderSpec {
+            width: 640,
+            height: 480,
+            cull: Cull::None,
+            tile_size: 32,
+            threads: 0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSpec {
+    pub path: Option<PathBuf>,
+    pub exposure: f32,
+    pub tonemap: Tonemap,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            path: None,
+            exposure: 0.0,
+            tonemap: Tonemap::Aces,
+        }
+    }
+}
+
+/// A scene ready to render: everything loaded and checked.
+#[derive(Clone)]
+pub struct Scene {
+    pub mesh: Arc<Mesh>,
+    pub camera: Camera,
+    pub material: Arc<dyn Brdf>,
+    pub lights: Vec<Light>,
+    pub render: RenderSpec,
+    pub output: OutputSpec,
+}
+
+impl SceneFile {
+    /// Reads and parses a scene file. Errors name the file, and for content errors the
+    /// field, line and column.
+    pub fn load(path: &Path) -> Result<SceneFile> {
+        let meta =
+            std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read scene file", e))?;
+        if meta.len() > MAX_SCENE_BYTES {
+            return Err(Error::format(
+                path,
+                format!(
+                    "scene file is {} bytes, over the {} byte limit",
+                    meta.len(),
+                    MAX_SCENE_BYTES
+                ),
+            ));
+        }
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::io(path, "cannot read scene file", e))?;
+        SceneFile::parse(&text).map_err(|m| Error::format(path, m))
+    }
+
+    /// Parses scene TOML text; the error is one line.
+    pub fn parse(text: &str) -> std::result::Result<SceneFile, String> {
+        toml::from_str(text).map_err(|e| {
+            let msg = e.message().trim().replace('\n', " ");
+            match e.span() {
+                Some(span) => {
+                    let line = text[..span.start].matches('\n').count() + 1;
+                    format!("line {line}: {msg}")
+                }
+                None => msg,
+            }
+        })
+    }
+}
+
+fn vec3(field: &str, v: [f32; 3]) -> Result<Vec3> {
+    let v = Vec3::from(v);
+    if !v.is_finite() {
+        return Err(Error::field(field, format!("{v:?} is not finite")));
+    }
+    Ok(v)
+}
+
+fn nonneg(field: &str, x: f32) -> Result<f32> {
+    if !(x.is_finite() && x >= 0.0) {
+        return Err(Error::field(
+            field,
+            format!("{x} must be a finite number >= 0"),
+        ));
+    }
+    Ok(x)
+}
+
+fn rgb(field: &str, v: [f32; 3]) -> Result<Vec3> {
+    for x in v {
+        nonneg(field, x)?;
+    }
+    Ok(Vec3::from(v))
+}
+
+/// Loads the mesh named by `source`: "teapot", "sphere" or an OBJ path (relative paths
+/// resolve against `base`).
+pub fn load_mesh(source: &str, segments: u32, base: &Path) -> Result<Mesh> {
+    match source {
+        "teapot" => Ok(mesh::teapot::teapot(segments)),
+        "sphere" => Ok(mesh::sphere::uv_sphere(segments.max(2))),
+        path => mesh::obj::load_obj(&base.join(path)),
+    }
+}
+
+impl Scene {
+    /// Checks and loads a scene description; `base` is the directory relative paths in it
+    /// resolve against. Field errors name the field (e.g. `render.width`).
+    pub fn resolve(file: &SceneFile, base: &Path) -> Result<Scene> {
+        let r = &file.render;
+        for (name, v) in [("render.width", r.width), ("render.height", r.height)] {
+            if v == 0 || v > MAX_SIDE {
+                return Err(Error::field(
+                    name,
+                    format!("{v} is out of range (1 to {MAX_SIDE} pixels)"),
+                ));
+            }
+        }
+        if !(1..=1024).contains(&r.tile_size) {
+            return Err(Error::field(
+                "render.tile_size",
+                format!("{} is out of range (1 to 1024)", r.tile_size),
+            ));
+        }
+        if r.threads > 1024 {
+            return Err(Error::field(
+                "render.threads",
+                format!("{} is out of range (0 to 1024)", r.threads),
+            ));
+        }
+        if !file.output.exposure.is_finite() || file.output.exposure.abs() > 64.0 {
+            return Err(Error::field(
+                "output.exposure",
+                format!("{} is out of range (-64 to 64 stops)", file.output.exposure),
+            ));
+        }
+        if file.mesh.segments == 0 || file.mesh.segments > 256 {
+            return Err(Error::field(
+                "mesh.segments",
+                format!("{} is out of range (1 to 256)", file.mesh.segments),
+            ));
+        }
+        let mesh = load_mesh(&file.mesh.source, file.mesh.segments, base)?;
+
+        let material: Arc<dyn Brdf> = match &file.material {
+            MaterialSpec::Lambert { albedo } => Arc::new(Lambert {
+                albedo: rgb("material.albedo", *albedo)?,
+            }),
+            MaterialSpec::BlinnPhong { kd, ks, exponent } => Arc::new(BlinnPhong {
+                kd: rgb("material.kd", *kd)?,
+                ks: rgb("material.ks", *ks)?,
+                exponent: nonneg("material.exponent", *exponent)?,
+            }),
+        };
+
+        let specs = file.lights.clone().unwrap_or_else(default_lights);
+        let mut lights = Vec::with_capacity(specs.len());
+        for (i, l) in specs.iter().enumerate() {
+            let f = |name: &str| format!("light[{i}].{name}");
+            lights.push(match l {
+                LightSpec::Directional {
+                    to_light,
+                    color,
+                    intensity,
+                } => {
+                    let d = vec3(&f("to_light"), *to_light)?;
+                    let d = d.try_normalize().ok_or_else(|| {
+                        Error::field(f("to_light"), "must not be the zero vector")
+                    })?;
+                    Light::Directional {
+                        to_light: d,
+                        irradiance: rgb(&f("color"), *color)?
+                            * nonneg(&f("intensity"), *intensity)?,
+                    }
+                }
+                LightSpec::Point {
+                    position,
+                    color,
+                    intensity,
+                } => Light::Point {
+                    position: vec3(&f("position"), *position)?,
+                    intensity: rgb(&f("color"), *color)? * nonneg(&f("intensity"), *intensity)?,
+                },
+            });
+        }
+
+        let aspect = r.width as f32 / r.height as f32;
+        let spec = file.camera.clone().unwrap_or_default();
+        let fov = spec.fov_y_deg.unwrap_or(camera::DEFAULT_FOV_Y_DEG);
+        if !(fov > 0.0 && fov < 179.0) {
+            return Err(Error::field(
+                "camera.fov_y_deg",
+                format!("{fov} is out of range (0 to 179 degrees)"),
+            ));
+        }
+        let bounds = mesh.bounds();
+        let mut cam = Camera::frame(&bounds, mesh.radius_about(bounds.center()), aspect, fov);
+        if let Some(t) = spec.target {
+            cam.target = vec3("camera.target", t)?;
+        }
+        if let Some(p) = spec.position {
+            cam.position = vec3("camera.position", p)?;
+            cam.near = (cam.target - cam.position).length() * 1e-3;
+        }
+        if let Some(u) = spec.up {
+            cam.up = vec3("camera.up", u)?;
+            if cam.up.length_squared() == 0.0 {
+                return Err(Error::field("camera.up", "must not be the zero vector"));
+            }
+        }
+        if cam.position == cam.target {
+            return Err(Error::field(
+                "camera.position",
+                "equals camera.target: no viewing direction",
+            ));
+        }
+        if let Some(n) = spec.near {
+            cam.near = n;
+        }
+        if !(cam.near > 0.0 && cam.near.is_finite()) {
+            return Err(Error::field(
+                "camera.near",
+                format!("{} must be a finite number > 0", cam.near),
+            ));
+        }
+        Ok(Scene {
+            mesh: Arc::new(mesh),
+            camera: cam,
+            material,
+            lights,
+            render: r.clone(),
+            output: file.output.clone(),
+        })
+    }
+
+    /// The default scene (no file).
+    pub fn default_scene() -> Scene {
+        Scene::resolve(&SceneFile::default(), Path::new(".")).expect("the default scene is valid")
+    }
+}

@@ -1,0 +1,125 @@
+//! Deferred shading: each visible pixel is shaded exactly once, after visibility is known.
+//!
+//! Design rule: shading reads only the visibility buffer, the mesh and the scene; it
+//! computes every pixel independently (parallel over rows), so the image does not depend
+//! on the thread count. Pixels of tiles that received no triangle are skipped.
+//!
+//! Per pixel: perspective-correct barycentrics of the source triangle give the world
+//! position and the interpolated normal; back faces (two-sided mode) get the normal flipped,
+//! so the inside of the teapot is lit as a surface facing the viewer. The shading frame is
+//! [`ShadingFrame::from_normal`]. The view direction is clamped to at least
+//! [`MIN_VIEW_COS`] above the horizon: interpolated normals can face slightly away from the
+//! camera at silhouettes, and a BRDF is not defined there.
+
+use crate::brdf::{eval_cosine_weighted, Brdf};
+use crate::conventions::ShadingFrame;
+use crate::image_io::Image;
+use crate::mesh::Mesh;
+use crate::raster::{VisBuffer, NO_TRIANGLE};
+use crate::scene::Scene;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Smallest cosine between the view direction and the normal used for shading.
+pub const MIN_VIEW_COS: f32 = 1e-3;
+
+/// What shading needs to know about the surface seen through one pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct Surface {
+    /// World position.
+    pub position: Vec3,
+    /// Unit shading normal, flipped towards the viewer for back faces.
+    pub normal: Vec3,
+    /// Whether the triangle faces the camera.
+    pub front_facing: bool,
+    /// Distance along the view axis (the clip w).
+    pub view_depth: f32,
+}
+
+/// The surface seen through pixel `(x, y)`, if any.
+#[inline]
+pub fn surface_at(mesh: &Mesh, vis: &VisBuffer, x: u32, y: u32) -> Option<Surface> {
+    let i = vis.index(x, y);
+    let id = vis.visible[i];
+    if id == NO_TRIANGLE {
+        return None;
+    }
+    let t = &vis.triangles[id as usize];
+    let b = t.source_bary(x, y);
+    let tri = mesh.triangles[t.source as usize];
+    let [p0, p1, p2] = tri.map(|k| mesh.positions[k as usize]);
+    let [n0, n1, n2] = tri.map(|k| mesh.normals[k as usize]);
+    let position = p0 * b[0] + p1 * b[1] + p2 * b[2];
+    let geometric = (p1 - p0).cross(p2 - p0);
+    let mut normal = (n0 * b[0] + n1 * b[1] + n2 * b[2])
+        .try_normalize()
+        .or_else(|| geometric.try_normalize())
+        .unwrap_or(Vec3::Y);
+    if !t.front_facing {
+        normal = -normal;
+    }
+    Some(Surface {
+        position,
+        normal,
+        front_facing: t.front_facing,
+        view_depth: 1.0 / vis.depth[i],
+    })
+}
+
+/// Local view direction at a surface: `local_from_world(v)`, lifted above the horizon.
+#[inline]
+pub fn local_view(frame: &ShadingFrame, surface: &Surface, eye: Vec3) -> Vec3 {
+    let v = (eye - surface.position).normalize_or(frame.n);
+    let mut wo = frame.to_local(v);
+    if wo.z < MIN_VIEW_COS {
+        let h = (wo.x * wo.x + wo.y * wo.y).sqrt();
+        let s = (1.0 - MIN_VIEW_COS * MIN_VIEW_COS).sqrt();
+        wo = if h > 0.0 {
+            Vec3::new(wo.x / h * s, wo.y / h * s, MIN_VIEW_COS)
+        } else {
+            Vec3::Z
+        };
+    }
+    wo
+}
+
+/// Reflected radiance at one surface point: `sum_k f(l_k, v) cos E_k` (thesis Def. 10).
+#[inline]
+pub fn shade_point(brdf: &dyn Brdf, scene: &Scene, surface: &Surface, eye: Vec3) -> Vec3 {
+    let frame = ShadingFrame::from_normal(surface.normal);
+    let wo = local_view(&frame, surface, eye);
+    let mut sum = Vec3::ZERO;
+    for light in &scene.lights {
+        let (l, e) = light.at(surface.position);
+        let wi = frame.to_local(l);
+        if wi.z > 0.0 {
+            sum += eval_cosine_weighted(brdf, wi, wo) * e;
+        }
+    }
+    sum
+}
+
+/// Shades every visible pixel of `vis` into a linear radiance image (background black).
+pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
+    let mut img = Image::new(vis.width, vis.height);
+    let eye = scene.camera.position;
+    let brdf = scene.material.as_ref();
+    let ts = vis.tile_size;
+    img.pixels
+        .par_chunks_mut(vis.width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let y = y as u32;
+            let tile_row = (y / ts) * vis.tiles_x;
+            for (x, out) in row.iter_mut().enumerate() {
+                let x = x as u32;
+                if !vis.tile_occupied[(tile_row + x / ts) as usize] {
+                    continue;
+                }
+                if let Some(s) = surface_at(&scene.mesh, vis, x, y) {
+                    *out = shade_point(brdf, scene, &s, eye);
+                }
+            }
+        });
+    img
+}
