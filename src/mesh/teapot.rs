@@ -4,8 +4,11 @@
 //! the binary. It is z up; we turn it to y up with `(x, y, z) -> (x, z, -y)`, a rotation,
 //! so handedness and winding are kept.
 //!
-//! Each patch is evaluated on an `(n+1) x (n+1)` grid of `(u, v)`; the normal is
-//! `dP/du x dP/dv`. At the lid knob and the bottom centre a whole row of control points
+//! Each patch is evaluated on an `(n+1) x (n+1)` grid of `(u, v)`. In Newell's data every
+//! patch's `dP/du x dP/dv` points *into* the teapot (checked per patch group: body radially
+//! inwards, lid and knob downwards, bottom upwards), so the outward normal is
+//! `dP/dv x dP/du` and the triangles are wound to match (counter-clockwise seen from
+//! outside). At the lid knob and the bottom centre a whole row of control points
 //! coincides, so one derivative vanishes there: such a vertex takes the normal of the point
 //! a small step towards the patch centre instead (a documented fallback that never gives
 //! NaN). Patch seams are welded: positions within 1e-5 of the model size of each other
@@ -24,34 +27,50 @@ struct PatchFile {
     patches: Vec<[usize; 16]>,
 }
 
-/// Bernstein basis of degree 3 and its derivative at `t`.
-fn bernstein(t: f32) -> ([f32; 4], [f32; 4]) {
+/// Bernstein basis of degree 3 at `t`.
+fn bernstein3(t: f32) -> [f32; 4] {
     let s = 1.0 - t;
-    (
-        [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t],
-        [
-            -3.0 * s * s,
-            3.0 * s * s - 6.0 * t * s,
-            6.0 * t * s - 3.0 * t * t,
-            3.0 * t * t,
-        ],
-    )
+    [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t]
 }
 
-/// Position and the two partial derivatives of a bicubic patch.
+/// Bernstein basis of degree 2 at `t`.
+fn bernstein2(t: f32) -> [f32; 3] {
+    let s = 1.0 - t;
+    [s * s, 2.0 * t * s, t * t]
+}
+
+/// Position and the two partial derivatives of a bicubic patch. The derivatives are
+/// degree-2 combinations of control-point *differences* (`3 (P[i+1] - P[i])`), so a row of
+/// coincident control points gives an exactly zero derivative, not a rounding residue.
 fn eval_patch(cp: &[Vec3; 16], u: f32, v: f32) -> (Vec3, Vec3, Vec3) {
-    let (bu, du) = bernstein(u);
-    let (bv, dv) = bernstein(v);
+    let (bu, bv) = (bernstein3(u), bernstein3(v));
+    let (du, dv) = (bernstein2(u), bernstein2(v));
+    let at = |i: usize, j: usize| cp[i * 4 + j];
     let (mut p, mut pu, mut pv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     for i in 0..4 {
         for j in 0..4 {
-            let c = cp[i * 4 + j];
-            p += c * (bu[i] * bv[j]);
-            pu += c * (du[i] * bv[j]);
-            pv += c * (bu[i] * dv[j]);
+            p += at(i, j) * (bu[i] * bv[j]);
+        }
+    }
+    for i in 0..3 {
+        for j in 0..4 {
+            pu += (at(i + 1, j) - at(i, j)) * (3.0 * du[i] * bv[j]);
+        }
+    }
+    for i in 0..4 {
+        for j in 0..3 {
+            pv += (at(i, j + 1) - at(i, j)) * (3.0 * bu[i] * dv[j]);
         }
     }
     (p, pu, pv)
+}
+
+/// Outward normal from the partial derivatives, or `None` where the patch is degenerate
+/// (the cross product is tiny relative to the derivatives' size).
+fn patch_normal(pu: Vec3, pv: Vec3) -> Option<Vec3> {
+    let n = pv.cross(pu);
+    let scale = pu.length_squared() + pv.length_squared();
+    (n.length() > 1e-4 * scale && scale > 0.0).then(|| n.normalize())
 }
 
 /// The teapot with `segments` quads along each patch edge (clamped to 1..=256), y up,
@@ -72,7 +91,7 @@ pub fn teapot(segments: u32) -> Mesh {
             for j in 0..=n {
                 let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
                 let (p, pu, pv) = eval_patch(&cp, u, v);
-                let mut normal = pu.cross(pv);
+                let mut normal = pv.cross(pu);
                 if normal.length_squared() < 1e-12 {
                     // Degenerate row: step towards the patch centre and use that normal.
                     let step = 1e-3;
@@ -81,7 +100,7 @@ pub fn teapot(segments: u32) -> Mesh {
                         u + step * (0.5 - u).signum(),
                         v + step * (0.5 - v).signum(),
                     );
-                    normal = pu2.cross(pv2);
+                    normal = pv2.cross(pu2);
                 }
                 mesh.positions.push(p);
                 mesh.normals.push(normal.try_normalize().unwrap_or(Vec3::Y));
@@ -91,8 +110,8 @@ pub fn teapot(segments: u32) -> Mesh {
         for i in 0..n {
             for j in 0..n {
                 let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
-                mesh.triangles.push([a, b, c]);
-                mesh.triangles.push([a, c, d]);
+                mesh.triangles.push([a, c, b]);
+                mesh.triangles.push([a, d, c]);
             }
         }
     }
@@ -160,6 +179,37 @@ mod tests {
         let b = m.bounds();
         assert!(b.min.y.abs() < 1e-4, "rests on y = 0: {b:?}");
         assert!((b.max.y - 3.15).abs() < 0.01, "lid knob top at 3.15: {b:?}");
+    }
+
+    #[test]
+    fn faces_point_outwards() {
+        // Signed volume about the body's centre: positive when triangles wind
+        // counter-clockwise seen from outside (the mesh is open, but the body dominates).
+        let m = teapot(8);
+        let c = Vec3::new(0.0, 1.2, 0.0);
+        let vol: f32 = m
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, d] = t.map(|i| m.positions[i as usize] - c);
+                a.dot(b.cross(d)) / 6.0
+            })
+            .sum();
+        assert!(vol > 10.0, "signed volume {vol}: the teapot is inside out");
+        // The highest vertex (knob top) has a normal pointing up; the lowest ring down.
+        let top = (0..m.positions.len())
+            .max_by(|&i, &j| m.positions[i].y.total_cmp(&m.positions[j].y))
+            .unwrap();
+        // Every vertex record at the knob apex and the bottom centre (degenerate patch
+        // rows) points straight up or down.
+        for (p, n) in m.positions.iter().zip(&m.normals) {
+            if p.y > 3.1499 {
+                assert!(n.y > 0.99, "knob apex normal {n:?}");
+            }
+            if p.y < 1e-4 && p.x.abs() < 1e-4 && p.z.abs() < 1e-4 {
+                assert!(n.y < -0.99, "bottom centre normal {n:?}");
+            }
+        }
     }
 
     #[test]
