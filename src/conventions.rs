@@ -254,7 +254,9 @@ mod tests {
     #[test]
     fn probe_rows_sum_to_sphere() {
         let (w, h) = (7, 5);
-        let total: f64 = (0..h).map(|r| probe_texel_solid_angle(r, w, h) * w as f64).sum();
+        let total: f64 = (0..h)
+            .map(|r| probe_texel_solid_angle(r, w, h) * w as f64)
+            .sum();
         assert!((total - 4.0 * std::f64::consts::PI).abs() < 1e-12);
         assert!(probe_texel_solid_angle(0, w, h) > 0.0);
     }

@@ -1,0 +1,11 @@
+//! Spherical-harmonic (SH) representation of acquired BRDF data (thesis 2.3.3-2.3.4,
+//! 3.1.3-3.1.5).
+//!
+//! Design rule: the SH basis is defined once, in [`basis`], in the *local shading frame*
+//! (polar angle from local +z = the normal); tables, files and projections call it and
+//! never restate the convention.
+
+pub mod basis;
+pub mod quadrature;
+
+pub use basis::{eval_sh_f32, eval_sh_f64, num_terms, sh_index, sh_lm};
