@@ -6,6 +6,8 @@
 //! never restate the convention.
 
 pub mod basis;
+pub mod dataset;
 pub mod quadrature;
 
 pub use basis::{eval_sh_f32, eval_sh_f64, num_terms, sh_index, sh_lm};
+pub use dataset::{Lookup, ShBasisTable, ShDataError, ShDataset, MAX_BANDS};
