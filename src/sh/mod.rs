@@ -7,7 +7,9 @@
 
 pub mod basis;
 pub mod dataset;
+pub mod file;
 pub mod quadrature;
 
 pub use basis::{eval_sh_f32, eval_sh_f64, num_terms, sh_index, sh_lm};
 pub use dataset::{Lookup, ShBasisTable, ShDataError, ShDataset, MAX_BANDS};
+pub use file::{read_sh_dataset, write_sh_dataset, ShFileError};
