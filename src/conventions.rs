@@ -219,6 +219,15 @@ pub fn hemi_bilinear_texels(s: f32, t: f32, nu: usize, nv: usize) -> [(usize, us
     ]
 }
 
+/// Exact solid angle (steradians) of texel row `j` of an `nu x nv` hemispherical table:
+/// `(2 pi / nu) (cos(polar_top) - cos(polar_bottom))` with polar edges `j pi/(2 nv)` and
+/// `(j + 1) pi/(2 nv)`. The whole table sums to 2 pi.
+#[inline]
+pub fn hemi_texel_solid_angle(j: usize, nu: usize, nv: usize) -> f64 {
+    let h = std::f64::consts::FRAC_PI_2 / nv as f64;
+    (std::f64::consts::TAU / nu as f64) * ((j as f64 * h).cos() - ((j + 1) as f64 * h).cos())
+}
+
 /// World direction of probe image coordinates `(u, v)` in [0, 1]^2 (see the module doc),
 /// before any probe rotation. f64 because probe integration accumulates in f64.
 #[inline]
