@@ -12,6 +12,7 @@ pub mod ashikhmin_shirley;
 pub mod blinn_phong;
 pub mod dbrdf;
 pub mod lambert;
+pub mod merl;
 pub mod phong;
 #[cfg(test)]
 mod tests_analytic;
@@ -20,6 +21,7 @@ pub use ashikhmin_shirley::AshikhminShirley;
 pub use blinn_phong::BlinnPhong;
 pub use dbrdf::DBrdf;
 pub use lambert::Lambert;
+pub use merl::MerlBrdf;
 pub use phong::Phong;
 
 use glam::Vec3;
