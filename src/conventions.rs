@@ -168,6 +168,66 @@ pub fn hemi_texel_angles_f64(i: usize, j: usize, nu: usize, nv: usize) -> (f64, 
     (polar, azimuth)
 }
 
+/// Texel of an `nu x nv` hemispherical table that OpenGL's `GL_NEAREST` filter returns at
+/// texture coordinates `(s, t)` (azimuth `GL_REPEAT`, polar `GL_CLAMP_TO_EDGE`):
+/// `i = floor(fract(s) nu)`, `j = clamp(floor(t nv), 0, nv - 1)`. A coordinate exactly on a
+/// texel edge selects the texel above the edge (floor). Non-finite coordinates map to texel
+/// 0 (documented fallback). Panics if `nu` or `nv` is 0.
+#[inline]
+pub fn hemi_nearest_texel(s: f32, t: f32, nu: usize, nv: usize) -> (usize, usize) {
+    assert!(nu > 0 && nv > 0, "empty table");
+    let sf = s - s.floor();
+    let i = if sf.is_finite() {
+        ((sf * nu as f32) as usize).min(nu - 1)
+    } else {
+        0
+    };
+    let tj = (t * nv as f32).floor();
+    let j = if tj.is_finite() && tj > 0.0 {
+        (tj as usize).min(nv - 1)
+    } else {
+        0
+    };
+    (i, j)
+}
+
+/// The four texels and weights that OpenGL's `GL_LINEAR` filter blends at texture
+/// coordinates `(s, t)` of an `nu x nv` hemispherical table: `u = s nu - 1/2`,
+/// `i0 = floor(u)`, `alpha = u - i0`, `i1 = i0 + 1`, both wrapped mod `nu` (`GL_REPEAT`);
+/// likewise `v = t nv - 1/2` with `j0, j1` clamped to `[0, nv - 1]` (`GL_CLAMP_TO_EDGE`).
+/// Returns `[(i0, j0, (1-a)(1-b)), (i1, j0, a(1-b)), (i0, j1, (1-a)b), (i1, j1, a b)]`; the
+/// weights sum to 1. Non-finite coordinates are treated as 0 (documented fallback).
+/// Panics if `nu` or `nv` is 0.
+#[inline]
+pub fn hemi_bilinear_texels(s: f32, t: f32, nu: usize, nv: usize) -> [(usize, usize, f32); 4] {
+    assert!(nu > 0 && nv > 0, "empty table");
+    let s = if s.is_finite() { s } else { 0.0 };
+    let t = if t.is_finite() { t } else { 0.0 };
+    let u = s * nu as f32 - 0.5;
+    let v = t * nv as f32 - 0.5;
+    let (uf, vf) = (u.floor(), v.floor());
+    let (a, b) = (u - uf, v - vf);
+    let i0 = (uf as i64).rem_euclid(nu as i64) as usize;
+    let i1 = (i0 + 1) % nu;
+    let j0 = (vf as i64).clamp(0, nv as i64 - 1) as usize;
+    let j1 = (vf as i64 + 1).clamp(0, nv as i64 - 1) as usize;
+    [
+        (i0, j0, (1.0 - a) * (1.0 - b)),
+        (i1, j0, a * (1.0 - b)),
+        (i0, j1, (1.0 - a) * b),
+        (i1, j1, a * b),
+    ]
+}
+
+/// Exact solid angle (steradians) of texel row `j` of an `nu x nv` hemispherical table:
+/// `(2 pi / nu) (cos(polar_top) - cos(polar_bottom))` with polar edges `j pi/(2 nv)` and
+/// `(j + 1) pi/(2 nv)`. The whole table sums to 2 pi.
+#[inline]
+pub fn hemi_texel_solid_angle(j: usize, nu: usize, nv: usize) -> f64 {
+    let h = std::f64::consts::FRAC_PI_2 / nv as f64;
+    (std::f64::consts::TAU / nu as f64) * ((j as f64 * h).cos() - ((j + 1) as f64 * h).cos())
+}
+
 /// World direction of probe image coordinates `(u, v)` in [0, 1]^2 (see the module doc),
 /// before any probe rotation. f64 because probe integration accumulates in f64.
 #[inline]

@@ -1,4 +1,45 @@
-//! brdfkit: a CPU renderer and GPU oracle for acquired BRDF data (architecture doc: see below).
+//! # brdfkit
+//!
+//! A CPU renderer for *acquired* (measured) BRDF data, after O'Toole, "Real-time Rendering of
+//! Acquired BRDF Data Sets" (2007, "the thesis"). It is the renderer on machines without a
+//! GPU, the oracle GPU builds of the same method are checked against, and a benchmark of
+//! the shading kernel.
+//!
+//! ## Stages (modules follow the data's path)
+//! 1. **Scene and assets in**: [`scene`] (TOML scene file, defaults, checks; [`scene::camera`]),
+//!    [`mesh`] (Utah teapot from Newell's patches, UV sphere, OBJ via tobj).
+//! 2. **Lights and materials prepared**: [`light`] (delta lights: point, directional),
+//!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
+//!    D-BRDF, MERL tables), [`sh`] (real spherical harmonics, SH coefficient data sets and
+//!    their file format: thesis 2.3.3-2.3.4, 3.1.3-3.1.5).
+//! 3. **Triangles binned to tiles and visibility resolved**: [`raster`] (homogeneous
+//!    clipping, fixed-point edge functions with a top-left rule, binning, per-tile depth).
+//! 4. **Pixels shaded**: [`shade`] (deferred: one shading per visible pixel), [`aov`]
+//!    (debug outputs: normal, depth, coverage, view and light angles).
+//! 5. **Images out**: [`image_io`] (linear EXR; PNG via exposure, tone map and sRGB;
+//!    atomic writes), [`golden`] (reference images and their check).
+//!
+//! [`render`] strings the stages together; [`cli`] is the command line.
+//!
+//! ## Conventions
+//! Every coordinate convention (world axes, spherical angle names, the shading frame and
+//! its azimuth, texel centres, probe orientation) lives in [`conventions`], and every other
+//! module calls it. Screen space and the fill rule are documented in [`raster::setup`];
+//! clip space in [`raster::clip`]; the display encoding in [`image_io`].
+//!
+//! ## Determinism contract
+//! The same scene gives the same bits for any thread count and any tile size. Parallel work
+//! is split so that each output value is computed by exactly one task from inputs in a
+//! fixed order: vertices and triangle set-up per element (results gathered in source order),
+//! binning in triangle order, visibility per tile (ties keep the earlier triangle), shading
+//! per pixel. No floating-point reduction crosses a task boundary. Seeded samplers use
+//! explicit seeds. There is no fast-math anywhere.
+//!
+//! ## Where the thesis is corrected
+//! - The azimuth of the shading frame spans [0, 2 pi) (atan2), not the thesis's acos, which
+//!   folds mirror directions together (see [`conventions`]).
+//! - Probe texels are weighted by their exact solid angle: the thesis's linspace gives the
+//!   pole rows zero weight.
 
 pub mod aov;
 pub mod brdf;
@@ -12,4 +53,5 @@ pub mod mesh;
 pub mod raster;
 pub mod render;
 pub mod scene;
+pub mod sh;
 pub mod shade;

@@ -8,11 +8,21 @@
 //! Tabulated models (SH coefficient tables, D-BRDF half-vector tables, MERL data) implement
 //! the same trait, so the renderer does not care where a BRDF came from.
 
+pub mod ashikhmin_shirley;
 pub mod blinn_phong;
+pub mod dbrdf;
 pub mod lambert;
+pub mod merl;
+pub mod phong;
+#[cfg(test)]
+mod tests_analytic;
 
+pub use ashikhmin_shirley::AshikhminShirley;
 pub use blinn_phong::BlinnPhong;
+pub use dbrdf::DBrdf;
 pub use lambert::Lambert;
+pub use merl::MerlBrdf;
+pub use phong::Phong;
 
 use glam::Vec3;
 

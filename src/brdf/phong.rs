@@ -1,0 +1,40 @@
+//! Phong (thesis 2.2.2, Def. 3) written as an energy-normalised, reciprocal BRDF.
+//!
+//! The thesis's shading sum is `k_d (L.N) i_d + k_s (R.V)^alpha i_s` (ambient left out:
+//! environment light replaces it). As a BRDF this is the "modified Phong" model
+//! (Lewis, "Making shaders more physically plausible", 1994; Lafortune & Willems 1994):
+//! `f_r = k_d / pi + k_s (alpha + 2) / (2 pi) max(0, r.wo)^alpha`, with
+//! `r = (-wi.x, -wi.y, wi.z)` the mirror of `wi` about the normal (local +z).
+//! Normalisation: `(alpha + 2)/(2 pi)` makes the specular lobe's directional albedo exactly
+//! `k_s` at normal incidence (`integral cos^alpha(a) cos(a) dω = 2 pi/(alpha + 2)`) and at
+//! most `k_s` elsewhere, so `k_d + k_s <= 1` conserves energy. `r.wo = wi.r'` with `r'` the
+//! mirror of `wo`, so the model is reciprocal. `(L.N)` is the cosine the renderer applies.
+
+use super::Brdf;
+use glam::Vec3;
+use std::f32::consts::PI;
+
+/// Phong with a Lambert diffuse term. `kd`, `ks` RGB in [0, 1] (`kd + ks <= 1` for energy
+/// conservation), `exponent` alpha >= 0. Never fails: zero below the horizon.
+#[derive(Clone, Copy, Debug)]
+pub struct Phong {
+    pub kd: Vec3,
+    pub ks: Vec3,
+    pub exponent: f32,
+}
+
+impl Brdf for Phong {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let r = Vec3::new(-wi.x, -wi.y, wi.z);
+        let rv = r.dot(wo).max(0.0);
+        let spec = (self.exponent + 2.0) / (2.0 * PI) * rv.powf(self.exponent);
+        self.kd / PI + self.ks * spec
+    }
+
+    fn name(&self) -> &str {
+        "phong"
+    }
+}

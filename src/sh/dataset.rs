@@ -1,0 +1,617 @@
+//! SH BRDF data sets: coefficient tables `c_lm(view texel)` and optional basis tables
+//! `Y_lm(light texel)` on hemispherical grids (thesis 2.3.3-2.3.4 Def. 12, 3.1.3-3.1.5).
+//!
+//! Design rule: the CPU lookups reproduce the GPU's texture filtering exactly (the texel
+//! arithmetic lives in [`crate::conventions`]: [`hemi_nearest_texel`] for `GL_NEAREST`,
+//! [`hemi_bilinear_texels`] for `GL_LINEAR`), so this module can serve as an oracle for a
+//! GPU build that stores the tables as 3D textures.
+//!
+//! # Grids
+//! A table has `nu` azimuth texels by `nv` polar texels over the upper hemisphere; texel
+//! `(i, j)` (i azimuth, j polar) is centred at `s = (i+1/2)/nu`, `t = (j+1/2)/nv` with
+//! `s = azimuth / 2 pi`, `t = polar / (pi/2)` in the local shading frame. Azimuth wraps,
+//! polar clamps.
+//!
+//! # Memory layout (for a later SIMD kernel)
+//! Coefficients are `f32`, row-major over texels with the polar index slowest:
+//! `coeffs[((j * nu + i) * 3 + c) * T + k]`, `T = bands^2`, `c` = 0 (R), 1 (G), 2 (B),
+//! `k = l*l + l + m`. So for one view texel, all `T` coefficients of one colour are
+//! contiguous, followed by the next colour: a texel is one `3 T` block of
+//! `[R_0..R_{T-1}, G_0..G_{T-1}, B_0..B_{T-1}]`.
+//! The basis table is `values[(j * nu + i) * T + k]` (one contiguous `T` block per light
+//! texel).
+//!
+//! # Evaluation (thesis Def. 12, Code 4)
+//! `f(wi, wo) = sum_k c_k(wo) Y_k(wi)` per colour, with `c_k(wo)` filtered from the
+//! coefficient table and `Y_k(wi)` either filtered from the basis table (as a GPU build does)
+//! or evaluated analytically with [`eval_sh_f32`]. Values are **not** clamped: SH ringing
+//! can give negative values above the horizon, exactly as the thesis's shader does; below
+//! the horizon (`wi.z <= 0` or `wo.z <= 0`) the result is zero (the thesis's backface test,
+//! 3.1.2). Whether the table includes `cos(polar_i)` is recorded in `includes_cosine`.
+
+use super::basis::{eval_sh_f32, eval_sh_f64, num_terms};
+use crate::brdf::Brdf;
+use crate::conventions::{
+    hemi_bilinear_texels, hemi_nearest_texel, hemi_texcoord, hemi_texel_angles_f64, local_angles,
+    local_direction_f64,
+};
+use glam::Vec3;
+
+/// Largest number of bands a data set may have (all l < 32, 1024 terms): evaluation uses a
+/// fixed stack buffer of this many terms, and file readers reject larger counts as absurd.
+pub const MAX_BANDS: usize = 32;
+
+/// Texture filter used for a table lookup.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lookup {
+    /// `GL_NEAREST`: the texel containing `(s, t)`.
+    Nearest,
+    /// `GL_LINEAR`: bilinear blend of the four nearest texel centres.
+    Bilinear,
+}
+
+/// Errors building a data set from raw parts.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ShDataError {
+    #[error("band count {0} out of range 1..={MAX_BANDS}")]
+    Bands(usize),
+    #[error("empty grid {nu} x {nv}")]
+    EmptyGrid { nu: usize, nv: usize },
+    #[error("coefficient table has {got} values, expected {expected} (nu * nv * 3 * bands^2)")]
+    Size { got: usize, expected: usize },
+    #[error("non-finite value at flat index {0}")]
+    NonFinite(usize),
+}
+
+fn check_grid(nu: usize, nv: usize, bands: usize) -> Result<(), ShDataError> {
+    if bands == 0 || bands > MAX_BANDS {
+        return Err(ShDataError::Bands(bands));
+    }
+    if nu == 0 || nv == 0 {
+        return Err(ShDataError::EmptyGrid { nu, nv });
+    }
+    Ok(())
+}
+
+/// Table of SH basis values `Y_k` at the texel centres of an `nu x nv` light hemisphere
+/// grid (layout in the module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShBasisTable {
+    nu: usize,
+    nv: usize,
+    bands: usize,
+    values: Vec<f32>,
+}
+
+impl ShBasisTable {
+    /// Tabulates the basis at the texel centres (computed in f64, stored as f32).
+    /// Fails (Err) on a band count outside `1..=MAX_BANDS` or an empty grid.
+    pub fn tabulate(nu: usize, nv: usize, bands: usize) -> Result<Self, ShDataError> {
+        check_grid(nu, nv, bands)?;
+        let t = num_terms(bands);
+        let mut values = vec![0.0f32; nu * nv * t];
+        let mut y = vec![0.0f64; t];
+        for j in 0..nv {
+            for i in 0..nu {
+                let (p, a) = hemi_texel_angles_f64(i, j, nu, nv);
+                eval_sh_f64(local_direction_f64(p, a), &mut y);
+                let o = (j * nu + i) * t;
+                for k in 0..t {
+                    values[o + k] = y[k] as f32;
+                }
+            }
+        }
+        Ok(ShBasisTable {
+            nu,
+            nv,
+            bands,
+            values,
+        })
+    }
+
+    /// Builds a table from raw values (layout in the module doc). Err on a size mismatch,
+    /// a bad band count, an empty grid or a non-finite value.
+    pub fn from_raw(
+        nu: usize,
+        nv: usize,
+        bands: usize,
+        values: Vec<f32>,
+    ) -> Result<Self, ShDataError> {
+        check_grid(nu, nv, bands)?;
+        let expected = nu * nv * num_terms(bands);
+        if values.len() != expected {
+            return Err(ShDataError::Size {
+                got: values.len(),
+                expected,
+            });
+        }
+        if let Some(p) = values.iter().position(|v| !v.is_finite()) {
+            return Err(ShDataError::NonFinite(p));
+        }
+        Ok(ShBasisTable {
+            nu,
+            nv,
+            bands,
+            values,
+        })
+    }
+
+    /// `(nu, nv)`.
+    pub fn grid(&self) -> (usize, usize) {
+        (self.nu, self.nv)
+    }
+
+    /// Number of bands.
+    pub fn bands(&self) -> usize {
+        self.bands
+    }
+
+    /// Raw values (layout in the module doc).
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
+    /// The `T` basis values of texel `(i, j)`. Panics if out of range.
+    #[inline]
+    pub fn texel(&self, i: usize, j: usize) -> &[f32] {
+        let t = num_terms(self.bands);
+        let o = (j * self.nu + i) * t;
+        &self.values[o..o + t]
+    }
+
+    /// Filtered basis values at texture coordinates `(s, t)` written into `out`
+    /// (`out.len()` must be `bands^2`, else panic).
+    pub fn lookup(&self, s: f32, t: f32, mode: Lookup, out: &mut [f32]) {
+        assert_eq!(out.len(), num_terms(self.bands), "basis output length");
+        match mode {
+            Lookup::Nearest => {
+                let (i, j) = hemi_nearest_texel(s, t, self.nu, self.nv);
+                out.copy_from_slice(self.texel(i, j));
+            }
+            Lookup::Bilinear => {
+                out.fill(0.0);
+                for (i, j, w) in hemi_bilinear_texels(s, t, self.nu, self.nv) {
+                    for (o, v) in out.iter_mut().zip(self.texel(i, j)) {
+                        *o += w * v;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// An SH BRDF data set: RGB coefficients per view texel (see the module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShDataset {
+    nu: usize,
+    nv: usize,
+    bands: usize,
+    includes_cosine: bool,
+    provenance: String,
+    coeffs: Vec<f32>,
+    basis: Option<ShBasisTable>,
+    /// Filter for the coefficient table (view direction). Default `Nearest` (thesis 3.1.4:
+    /// float textures required `GL_NEAREST` on the thesis's hardware).
+    pub coeff_lookup: Lookup,
+    /// Filter for the basis table (light direction), used only when a basis table is set.
+    pub basis_lookup: Lookup,
+}
+
+impl ShDataset {
+    /// A data set from raw coefficients (layout in the module doc). Err on a bad band count
+    /// (`1..=MAX_BANDS`), an empty grid, a size mismatch or a non-finite coefficient.
+    pub fn new(
+        nu: usize,
+        nv: usize,
+        bands: usize,
+        includes_cosine: bool,
+        provenance: impl Into<String>,
+        coeffs: Vec<f32>,
+    ) -> Result<Self, ShDataError> {
+        check_grid(nu, nv, bands)?;
+        let expected = nu * nv * 3 * num_terms(bands);
+        if coeffs.len() != expected {
+            return Err(ShDataError::Size {
+                got: coeffs.len(),
+                expected,
+            });
+        }
+        if let Some(p) = coeffs.iter().position(|v| !v.is_finite()) {
+            return Err(ShDataError::NonFinite(p));
+        }
+        Ok(ShDataset {
+            nu,
+            nv,
+            bands,
+            includes_cosine,
+            provenance: provenance.into(),
+            coeffs,
+            basis: None,
+            coeff_lookup: Lookup::Nearest,
+            basis_lookup: Lookup::Nearest,
+        })
+    }
+
+    /// An all-zero data set (same errors as [`ShDataset::new`]).
+    pub fn zeros(
+        nu: usize,
+        nv: usize,
+        bands: usize,
+        includes_cosine: bool,
+        provenance: impl Into<String>,
+    ) -> Result<Self, ShDataError> {
+        check_grid(nu, nv, bands)?;
+        let n = nu * nv * 3 * num_terms(bands);
+        Self::new(nu, nv, bands, includes_cosine, provenance, vec![0.0; n])
+    }
+
+    /// Uses `table` for the basis (as a GPU build does) instead of analytic evaluation.
+    /// Err (`Bands`) if its band count differs from the data set's.
+    pub fn set_basis_table(&mut self, table: Option<ShBasisTable>) -> Result<(), ShDataError> {
+        if let Some(tb) = &table {
+            if tb.bands != self.bands {
+                return Err(ShDataError::Bands(tb.bands));
+            }
+        }
+        self.basis = table;
+        Ok(())
+    }
+
+    /// The basis table, if one is set.
+    pub fn basis_table(&self) -> Option<&ShBasisTable> {
+        self.basis.as_ref()
+    }
+
+    /// `(nu, nv)` of the coefficient grid.
+    pub fn grid(&self) -> (usize, usize) {
+        (self.nu, self.nv)
+    }
+
+    /// Number of bands L (terms `L^2`).
+    pub fn bands(&self) -> usize {
+        self.bands
+    }
+
+    /// Whether the coefficients represent `f_r cos(polar_i)` rather than `f_r`.
+    pub fn cosine_included(&self) -> bool {
+        self.includes_cosine
+    }
+
+    /// Free-text provenance (source data, fitting method).
+    pub fn provenance(&self) -> &str {
+        &self.provenance
+    }
+
+    /// Raw coefficients (layout in the module doc).
+    pub fn coeffs(&self) -> &[f32] {
+        &self.coeffs
+    }
+
+    /// The `T` coefficients of colour `c` (0..3) at view texel `(i, j)`. Panics if out of
+    /// range.
+    #[inline]
+    pub fn texel(&self, i: usize, j: usize, c: usize) -> &[f32] {
+        let t = num_terms(self.bands);
+        assert!(c < 3);
+        let o = ((j * self.nu + i) * 3 + c) * t;
+        &self.coeffs[o..o + t]
+    }
+
+    /// Mutable twin of [`ShDataset::texel`]; setting a non-finite value is the caller's
+    /// responsibility (file writing rejects it).
+    #[inline]
+    pub fn texel_mut(&mut self, i: usize, j: usize, c: usize) -> &mut [f32] {
+        let t = num_terms(self.bands);
+        assert!(c < 3);
+        let o = ((j * self.nu + i) * 3 + c) * t;
+        &mut self.coeffs[o..o + t]
+    }
+
+    /// Filtered coefficients at texture coordinates `(s, t)`, written as `[R.., G.., B..]`
+    /// into `out` (`out.len()` must be `3 bands^2`, else panic).
+    pub fn lookup_coeffs(&self, s: f32, t: f32, mode: Lookup, out: &mut [f32]) {
+        let nt = num_terms(self.bands);
+        assert_eq!(out.len(), 3 * nt, "coefficient output length");
+        match mode {
+            Lookup::Nearest => {
+                let (i, j) = hemi_nearest_texel(s, t, self.nu, self.nv);
+                let o = (j * self.nu + i) * 3 * nt;
+                out.copy_from_slice(&self.coeffs[o..o + 3 * nt]);
+            }
+            Lookup::Bilinear => {
+                out.fill(0.0);
+                for (i, j, w) in hemi_bilinear_texels(s, t, self.nu, self.nv) {
+                    let o = (j * self.nu + i) * 3 * nt;
+                    for (d, v) in out.iter_mut().zip(&self.coeffs[o..o + 3 * nt]) {
+                        *d += w * v;
+                    }
+                }
+            }
+        }
+    }
+
+    /// `sum_k c_k(wo) Y_k(wi)` (RGB) for local directions, with the data set's filters; zero
+    /// below the horizon. Not clamped (see the module doc).
+    pub fn reconstruct(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let nt = num_terms(self.bands);
+        let mut ybuf = [0.0f32; MAX_BANDS * MAX_BANDS];
+        let y = &mut ybuf[..nt];
+        match &self.basis {
+            Some(tb) => {
+                let (p, a) = local_angles(wi);
+                let (s, t) = hemi_texcoord(p, a);
+                tb.lookup(s, t, self.basis_lookup, y);
+            }
+            None => eval_sh_f32(wi, y),
+        }
+        let (p, a) = local_angles(wo);
+        let (s, t) = hemi_texcoord(p, a);
+        let dot = |c: &[f32]| -> f32 { c.iter().zip(y.iter()).map(|(a, b)| a * b).sum() };
+        let mut rgb = Vec3::ZERO;
+        let mut acc = |i: usize, j: usize, w: f32| {
+            if w != 0.0 {
+                rgb += w * Vec3::new(
+                    dot(self.texel(i, j, 0)),
+                    dot(self.texel(i, j, 1)),
+                    dot(self.texel(i, j, 2)),
+                );
+            }
+        };
+        match self.coeff_lookup {
+            Lookup::Nearest => {
+                let (i, j) = hemi_nearest_texel(s, t, self.nu, self.nv);
+                acc(i, j, 1.0);
+            }
+            Lookup::Bilinear => {
+                for (i, j, w) in hemi_bilinear_texels(s, t, self.nu, self.nv) {
+                    acc(i, j, w);
+                }
+            }
+        }
+        rgb
+    }
+}
+
+impl Brdf for ShDataset {
+    /// [`ShDataset::reconstruct`]: `f_r` or `f_r cos(polar_i)` depending on
+    /// [`Brdf::includes_cosine`].
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        self.reconstruct(wi, wo)
+    }
+
+    fn includes_cosine(&self) -> bool {
+        self.includes_cosine
+    }
+
+    fn name(&self) -> &str {
+        "sh-dataset"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::conventions::local_direction;
+    use rand::{Rng, SeedableRng};
+
+    /// Scalar GL reference written as a tent filter over *all* texels with periodic distance
+    /// in s and a clamped coordinate in t (OpenGL 4.6 spec 8.14.2 restated), independent of
+    /// the floor/fract arithmetic under test.
+    fn gl_linear_ref(tab: &[f64], nu: usize, nv: usize, s: f64, t: f64) -> f64 {
+        let u = s * nu as f64 - 0.5;
+        let v = (t * nv as f64 - 0.5).clamp(0.0, (nv - 1) as f64);
+        let mut acc = 0.0;
+        for j in 0..nv {
+            let wj = (1.0 - (v - j as f64).abs()).max(0.0);
+            for i in 0..nu {
+                let mut d = (u - i as f64).rem_euclid(nu as f64);
+                if d > nu as f64 / 2.0 {
+                    d -= nu as f64;
+                }
+                let wi = (1.0 - d.abs()).max(0.0);
+                acc += wi * wj * tab[j * nu + i];
+            }
+        }
+        acc
+    }
+
+    /// GL_NEAREST reference: the texel whose centre is nearest, ties resolved to the texel
+    /// above the edge, periodic in s, clamped in t.
+    fn gl_nearest_ref(tab: &[f64], nu: usize, nv: usize, s: f64, t: f64) -> f64 {
+        let pick = |x: f64, n: usize, periodic: bool| -> usize {
+            let mut best = 0;
+            let mut bd = f64::INFINITY;
+            for i in 0..n {
+                let mut d = x * n as f64 - (i as f64 + 0.5);
+                if periodic {
+                    d = (d + n as f64 / 2.0).rem_euclid(n as f64) - n as f64 / 2.0;
+                }
+                // ties: prefer d = -0.5 (texel above the edge) over d = +0.5
+                let key = if d >= -0.5 && d < 0.5 {
+                    d.abs() - 1e-9
+                } else {
+                    d.abs()
+                };
+                if key < bd {
+                    bd = key;
+                    best = i;
+                }
+            }
+            best
+        };
+        let i = pick(s, nu, true);
+        let j = if t < 0.0 {
+            0
+        } else {
+            pick(t.min(1.0 - 1e-12), nv, false)
+        };
+        tab[j * nu + i]
+    }
+
+    fn sample_coords() -> Vec<(f32, f32)> {
+        let (nu, nv) = (8usize, 4usize);
+        let mut v = vec![];
+        // centres and edges (exact in f32 for power-of-two grids)
+        for i in 0..=2 * nu {
+            for j in 0..=2 * nv {
+                v.push((i as f32 / (2 * nu) as f32, j as f32 / (2 * nv) as f32));
+            }
+        }
+        // seam and clamp regions
+        for &s in &[0.0f32, 1e-4, 0.01, 0.99, 0.9999, 1.0, -0.01, 1.01] {
+            for &t in &[0.0f32, 0.01, 0.06, 0.5, 0.94, 0.99, 1.0] {
+                v.push((s, t));
+            }
+        }
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(3);
+        for _ in 0..500 {
+            v.push((rng.gen_range(0.0..1.0), rng.gen_range(0.0..1.0)));
+        }
+        v
+    }
+
+    fn random_dataset(nu: usize, nv: usize, bands: usize, seed: u64) -> ShDataset {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        let n = nu * nv * 3 * num_terms(bands);
+        let c: Vec<f32> = (0..n).map(|_| rng.gen_range(-1.0..1.0)).collect();
+        ShDataset::new(nu, nv, bands, false, "random test data", c).unwrap()
+    }
+
+    #[test]
+    fn coefficient_lookups_match_gl_reference() {
+        let (nu, nv, bands) = (8, 4, 2);
+        let ds = random_dataset(nu, nv, bands, 1);
+        let nt = num_terms(bands);
+        let mut out = vec![0.0f32; 3 * nt];
+        for (s, t) in sample_coords() {
+            for (mode, name) in [(Lookup::Nearest, "nearest"), (Lookup::Bilinear, "linear")] {
+                ds.lookup_coeffs(s, t, mode, &mut out);
+                for c in 0..3 {
+                    for k in 0..nt {
+                        let tab: Vec<f64> = (0..nv)
+                            .flat_map(|j| (0..nu).map(move |i| (i, j)))
+                            .map(|(i, j)| ds.texel(i, j, c)[k] as f64)
+                            .collect();
+                        let r = match mode {
+                            Lookup::Nearest => gl_nearest_ref(&tab, nu, nv, s as f64, t as f64),
+                            Lookup::Bilinear => gl_linear_ref(&tab, nu, nv, s as f64, t as f64),
+                        };
+                        let got = out[c * nt + k] as f64;
+                        assert!(
+                            (got - r).abs() < 2e-6,
+                            "{name} s={s} t={t} c={c} k={k}: {got} vs {r}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn basis_table_lookups_match_gl_reference_and_centres_are_exact() {
+        let (nu, nv, bands) = (16, 8, 3);
+        let tb = ShBasisTable::tabulate(nu, nv, bands).unwrap();
+        let nt = num_terms(bands);
+        let mut out = vec![0.0f32; nt];
+        let mut y = vec![0.0f64; nt];
+        for j in 0..nv {
+            for i in 0..nu {
+                let (s, t) = (texel(i, nu), texel(j, nv));
+                tb.lookup(s, t, Lookup::Bilinear, &mut out);
+                let (p, a) = hemi_texel_angles_f64(i, j, nu, nv);
+                eval_sh_f64(local_direction_f64(p, a), &mut y);
+                for k in 0..nt {
+                    assert!((out[k] as f64 - y[k]).abs() < 1e-6);
+                }
+            }
+        }
+        for (s, t) in sample_coords() {
+            tb.lookup(s, t, Lookup::Bilinear, &mut out);
+            for k in 0..nt {
+                let tab: Vec<f64> = (0..nv)
+                    .flat_map(|j| (0..nu).map(move |i| (i, j)))
+                    .map(|(i, j)| tb.texel(i, j)[k] as f64)
+                    .collect();
+                let r = gl_linear_ref(&tab, nu, nv, s as f64, t as f64);
+                assert!((out[k] as f64 - r).abs() < 2e-6, "s={s} t={t} k={k}");
+            }
+        }
+    }
+
+    fn texel(i: usize, n: usize) -> f32 {
+        crate::conventions::texel_center(i, n)
+    }
+
+    #[test]
+    fn eval_at_texel_centres_is_the_sh_sum_and_zero_below_horizon() {
+        let (nu, nv, bands) = (8, 4, 3);
+        let ds = random_dataset(nu, nv, bands, 2);
+        let nt = num_terms(bands);
+        let mut y = vec![0.0f64; nt];
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
+        for mode in [Lookup::Nearest, Lookup::Bilinear] {
+            let mut d = ds.clone();
+            d.coeff_lookup = mode;
+            for _ in 0..50 {
+                let (i, j) = (rng.gen_range(0..nu), rng.gen_range(0..nv));
+                let (p, a) = hemi_texel_angles_f64(i, j, nu, nv);
+                let wo = local_direction(p as f32, a as f32);
+                let wi = local_direction(rng.gen_range(0.0..1.5), rng.gen_range(0.0..6.28));
+                eval_sh_f64(wi.as_dvec3(), &mut y);
+                let got = d.eval(wi, wo);
+                for c in 0..3 {
+                    let r: f64 = (0..nt).map(|k| ds.texel(i, j, c)[k] as f64 * y[k]).sum();
+                    assert!(
+                        (got[c] as f64 - r).abs() < 1e-4,
+                        "{mode:?} {} vs {r}",
+                        got[c]
+                    );
+                }
+                assert_eq!(d.eval(-wi, wo), Vec3::ZERO);
+                assert_eq!(d.eval(wi, Vec3::new(wo.x, wo.y, -wo.z)), Vec3::ZERO);
+            }
+        }
+    }
+
+    #[test]
+    fn table_basis_matches_analytic_at_light_texel_centres() {
+        let (nu, nv, bands) = (8, 4, 4);
+        let mut ds = random_dataset(nu, nv, bands, 4);
+        let analytic = ds.clone();
+        ds.set_basis_table(Some(ShBasisTable::tabulate(32, 16, bands).unwrap()))
+            .unwrap();
+        let wo = local_direction(0.4, 1.0);
+        for j in 0..16 {
+            for i in 0..32 {
+                let (p, a) = hemi_texel_angles_f64(i, j, 32, 16);
+                let wi = local_direction(p as f32, a as f32);
+                let (x, y) = (ds.eval(wi, wo), analytic.eval(wi, wo));
+                assert!((x - y).abs().max_element() < 1e-4, "{x} vs {y}");
+            }
+        }
+        assert!(ds
+            .set_basis_table(Some(ShBasisTable::tabulate(4, 4, 2).unwrap()))
+            .is_err());
+    }
+
+    #[test]
+    fn constructor_rejects_bad_input() {
+        assert_eq!(
+            ShDataset::new(2, 2, 1, false, "", vec![0.0; 11]),
+            Err(ShDataError::Size {
+                got: 11,
+                expected: 12
+            })
+        );
+        assert!(matches!(
+            ShDataset::new(2, 2, 1, false, "", vec![f32::NAN; 12]),
+            Err(ShDataError::NonFinite(0))
+        ));
+        assert!(ShDataset::zeros(2, 2, 0, false, "").is_err());
+        assert!(ShDataset::zeros(2, 2, MAX_BANDS + 1, false, "").is_err());
+        assert!(ShDataset::zeros(0, 2, 2, false, "").is_err());
+    }
+}
