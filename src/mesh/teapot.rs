@@ -91,19 +91,20 @@ pub fn teapot(segments: u32) -> Mesh {
             for j in 0..=n {
                 let (u, v) = (i as f32 / n as f32, j as f32 / n as f32);
                 let (p, pu, pv) = eval_patch(&cp, u, v);
-                let mut normal = pv.cross(pu);
-                if normal.length_squared() < 1e-12 {
-                    // Degenerate row: step towards the patch centre and use that normal.
-                    let step = 1e-3;
-                    let (_, pu2, pv2) = eval_patch(
-                        &cp,
-                        u + step * (0.5 - u).signum(),
-                        v + step * (0.5 - v).signum(),
-                    );
-                    normal = pv2.cross(pu2);
-                }
+                // Degenerate row: step towards the patch centre and use that normal.
+                let normal = patch_normal(pu, pv)
+                    .or_else(|| {
+                        let step = 1e-3;
+                        let (_, pu2, pv2) = eval_patch(
+                            &cp,
+                            u + step * (0.5 - u).signum(),
+                            v + step * (0.5 - v).signum(),
+                        );
+                        patch_normal(pu2, pv2)
+                    })
+                    .unwrap_or(Vec3::Y);
                 mesh.positions.push(p);
-                mesh.normals.push(normal.try_normalize().unwrap_or(Vec3::Y));
+                mesh.normals.push(normal);
             }
         }
         let idx = |i: usize, j: usize| base + (i * (n + 1) + j) as u32;
@@ -196,7 +197,6 @@ mod tests {
             })
             .sum();
         assert!(vol > 10.0, "signed volume {vol}: the teapot is inside out");
-        // The highest vertex (knob top) has a normal pointing up; the lowest ring down.
         let top = (0..m.positions.len())
             .max_by(|&i, &j| m.positions[i].y.total_cmp(&m.positions[j].y))
             .unwrap();
