@@ -197,9 +197,6 @@ mod tests {
             })
             .sum();
         assert!(vol > 10.0, "signed volume {vol}: the teapot is inside out");
-        let top = (0..m.positions.len())
-            .max_by(|&i, &j| m.positions[i].y.total_cmp(&m.positions[j].y))
-            .unwrap();
         // Every vertex record at the knob apex and the bottom centre (degenerate patch
         // rows) points straight up or down.
         for (p, n) in m.positions.iter().zip(&m.normals) {
