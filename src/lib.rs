@@ -2,3 +2,4 @@
 
 pub mod brdf;
 pub mod conventions;
+pub mod env;
