@@ -24,6 +24,8 @@ pub mod lightset_io;
 pub mod overlay;
 pub mod probe;
 pub mod sampling;
+#[cfg(test)]
+mod tests_samplers;
 
 pub use probe::{LoadOptions, LoadReport, Probe, ProbeError};
 pub use sampling::{MedianCut, Region, SamplerConfig};
@@ -169,11 +171,22 @@ pub fn reference_irradiance(probe: &Probe, n: DVec3) -> DVec3 {
     e
 }
 
-/// [`reference_irradiance`] for many normals, in parallel.
+/// [`reference_irradiance`] for many normals, in parallel (texel directions and powers
+/// are tabulated once; same f64 sums, grouped per texel instead of per row).
 pub fn reference_irradiance_many(probe: &Probe, normals: &[DVec3]) -> Vec<DVec3> {
+    let t = sampling::ProbeTables::new(probe);
     normals
         .par_iter()
-        .map(|&n| reference_irradiance(probe, n))
+        .map(|&n| {
+            let mut e = DVec3::ZERO;
+            for (d, p) in t.dir.iter().zip(&t.power) {
+                let c = n.dot(*d);
+                if c > 0.0 {
+                    e += *p * c;
+                }
+            }
+            e
+        })
         .collect()
 }
 
