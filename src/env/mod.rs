@@ -127,6 +127,21 @@ impl LightSet {
         (0..self.len()).map(|i| self.power(i)).sum()
     }
 
+    /// Index of the light nearest to direction `d` (largest `d.l`, lowest index on ties);
+    /// `None` for an empty set. For the Voronoi samplers ([`sampling::uniform`],
+    /// [`sampling::lloyd`]) this is the inverse map direction -> light whose cell holds
+    /// `d`, up to f32 ties on cell borders.
+    pub fn nearest(&self, d: DVec3) -> Option<usize> {
+        let mut best: Option<(usize, f64)> = None;
+        for i in 0..self.len() {
+            let dot = d.dot(self.direction(i));
+            if best.is_none_or(|(_, b)| dot > b) {
+                best = Some((i, dot));
+            }
+        }
+        best.map(|(i, _)| i)
+    }
+
     /// Irradiance at a surface with unit normal `n`: `sum_k max(0, n.l_k) power_k`, f64.
     pub fn irradiance(&self, n: DVec3) -> DVec3 {
         (0..self.len())

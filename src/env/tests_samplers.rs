@@ -555,3 +555,35 @@ fn error_table_and_overlays() {
         .unwrap();
     }
 }
+
+#[test]
+fn voronoi_samplers_invert_to_their_cells() {
+    // Each light of uniform and Lloyd carries exactly the power of the texels whose
+    // nearest light it is (recomputed here by brute force in f64).
+    let p = downsample(&load("city.exr"), 8);
+    for cfg in [
+        SamplerConfig::Uniform { n: 37, seed: 5 },
+        SamplerConfig::Lloyd {
+            n: 37,
+            iterations: 6,
+        },
+    ] {
+        let ls = cfg.run(&p);
+        let mut power = vec![glam::DVec3::ZERO; ls.len()];
+        for r in 0..p.height() {
+            for c in 0..p.width() {
+                let t = p.texel(r, c);
+                let k = ls.nearest(p.direction(r, c)).unwrap();
+                power[k] +=
+                    glam::DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64) * p.solid_angle(r);
+            }
+        }
+        for (i, want) in power.iter().enumerate() {
+            let got = ls.power(i);
+            assert!(
+                (got - *want).length() <= 1e-4 * want.length().max(1e-3 * p.total_power().length()),
+                "{cfg:?} light {i}: {got} vs {want}"
+            );
+        }
+    }
+}
