@@ -269,6 +269,28 @@ pub fn probe_texel_solid_angle(row: usize, width: usize, height: usize) -> f64 {
     (std::f64::consts::TAU / width as f64) * (top.cos() - bottom.cos())
 }
 
+/// Rotates a world direction about +y by `angle` radians, right-handed (counter-clockwise
+/// seen from above): `(x cos a + z sin a, y, -x sin a + z cos a)`, so +z turns towards +x
+/// for a positive angle. This is the probe rotation of the module doc: a probe rotated by
+/// `r` maps texel direction `d` to `rotate_about_up(d, r)`, and a world direction `w` reads
+/// the texel at `probe_uv(rotate_about_up(w, -r))`.
+#[inline]
+pub fn rotate_about_up(d: DVec3, angle: f64) -> DVec3 {
+    let (s, c) = angle.sin_cos();
+    DVec3::new(d.x * c + d.z * s, d.y, -d.x * s + d.z * c)
+}
+
+/// Texel `(row, col)` of a `width x height` equirectangular probe containing image
+/// coordinates `(u, v)`: `col = floor(u width)`, `row = floor(v height)`, each clamped to
+/// the image, so `v = 1` (the -y pole) belongs to the last row. Inverse of the texel centres of the
+/// module doc: `probe_texel((col + 1/2)/width, (row + 1/2)/height) = (row, col)`.
+#[inline]
+pub fn probe_texel(u: f64, v: f64, width: usize, height: usize) -> (usize, usize) {
+    let col = ((u * width as f64).floor().max(0.0) as usize).min(width.saturating_sub(1));
+    let row = ((v * height as f64).floor().max(0.0) as usize).min(height.saturating_sub(1));
+    (row, col)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -319,5 +341,19 @@ mod tests {
             .sum();
         assert!((total - 4.0 * std::f64::consts::PI).abs() < 1e-12);
         assert!(probe_texel_solid_angle(0, w, h) > 0.0);
+    }
+
+    #[test]
+    fn rotation_turns_z_towards_x_and_texels_round_trip() {
+        let d = rotate_about_up(DVec3::Z, std::f64::consts::FRAC_PI_2);
+        assert!(d.distance(DVec3::X) < 1e-12);
+        let (w, h) = (9, 4);
+        for row in 0..h {
+            for col in 0..w {
+                let (u, v) = (texel_center_f64(col, w), texel_center_f64(row, h));
+                let (u2, v2) = probe_uv(probe_direction(u, v));
+                assert_eq!(probe_texel(u2, v2, w, h), (row, col));
+            }
+        }
     }
 }

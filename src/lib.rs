@@ -9,6 +9,8 @@
 //! 1. **Scene and assets in**: [`scene`] (TOML scene file, defaults, checks; [`scene::camera`]),
 //!    [`mesh`] (Utah teapot from Newell's patches, UV sphere, OBJ via tobj).
 //! 2. **Lights and materials prepared**: [`light`] (delta lights: point, directional),
+//!    [`env`] (light probes collapsed into delta-light sets: uniform, importance sampling,
+//!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2),
 //!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
 //!    D-BRDF, MERL tables), [`sh`] (real spherical harmonics, SH coefficient data sets and
 //!    their file format: thesis 2.3.3-2.3.4, 3.1.3-3.1.5).
@@ -45,6 +47,7 @@ pub mod aov;
 pub mod brdf;
 pub mod cli;
 pub mod conventions;
+pub mod env;
 pub mod error;
 pub mod golden;
 pub mod image_io;

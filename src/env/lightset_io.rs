@@ -1,0 +1,351 @@
+//! Reading and writing [`LightSet`]s as JSON (with a header) and CSV.
+//!
+//! Design rule: a file on disk is either complete or absent. Every write goes to a
+//! temporary file in the destination directory and is renamed over the target, so a
+//! crash never leaves half a light set for a later run (or cache) to read. Every read
+//! validates what it got (equal lengths, finite values, unit directions, non-negative
+//! powers) and every error names the file and the line or field.
+//!
+//! JSON: `{"format": "brdfkit-lightset", "version": 1, "header": {...}, "lights":
+//! {"dir_x": [...], ..., "power_b": [...]}}`. CSV: a first line
+//! `dir_x,dir_y,dir_z,power_r,power_g,power_b`, then one light per line. Numbers are
+//! written with Rust's shortest round-trip formatting, so f32 values read back bit-exact.
+
+use super::LightSet;
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// The CSV header line.
+pub const CSV_HEADER: &str = "dir_x,dir_y,dir_z,power_r,power_g,power_b";
+const FORMAT: &str = "brdfkit-lightset";
+const VERSION: u32 = 1;
+
+/// Metadata written with a JSON light set.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LightSetHeader {
+    /// Sampler name ([`crate::env::SamplerConfig::name`]).
+    pub sampler: String,
+    /// Number of lights in the file.
+    pub n: usize,
+    /// Seed of a random sampler.
+    pub seed: Option<u64>,
+    /// The probe file the set was made from.
+    pub probe_file: Option<String>,
+    /// Total RGB power (W/m^2 for a probe in W/(m^2 sr)).
+    pub total_power: [f64; 3],
+}
+
+impl LightSetHeader {
+    /// A header describing `lights`, made by `config` from `probe_file`.
+    pub fn new(config: &super::SamplerConfig, probe_file: Option<&str>, lights: &LightSet) -> Self {
+        let t = lights.total_power();
+        LightSetHeader {
+            sampler: config.name().to_string(),
+            n: lights.len(),
+            seed: config.seed(),
+            probe_file: probe_file.map(str::to_string),
+            total_power: [t.x, t.y, t.z],
+        }
+    }
+}
+
+/// Why reading or writing a light set failed; every message names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum LightSetIoError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: invalid light set JSON: {message}")]
+    Json { path: PathBuf, message: String },
+    #[error("{path}:{line}: field {field}: {message}")]
+    Csv {
+        path: PathBuf,
+        line: usize,
+        field: String,
+        message: String,
+    },
+    #[error("{path}: light {index}: field {field}: {message}")]
+    Invalid {
+        path: PathBuf,
+        index: usize,
+        field: &'static str,
+        message: String,
+    },
+}
+
+#[derive(Serialize, Deserialize)]
+struct JsonFile {
+    format: String,
+    version: u32,
+    header: LightSetHeader,
+    lights: LightSet,
+}
+
+/// Writes `bytes` to `path` atomically: a temporary sibling file, flushed and synced, then
+/// renamed over `path`. Fails with the I/O error (naming the path); the temporary file is
+/// removed on failure.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), std::io::Error> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out".into());
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let res = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if res.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    res
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> LightSetIoError + '_ {
+    move |source| LightSetIoError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Writes a light set and its header as JSON (atomically).
+pub fn write_json(
+    path: &Path,
+    header: &LightSetHeader,
+    lights: &LightSet,
+) -> Result<(), LightSetIoError> {
+    let file = JsonFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        header: header.clone(),
+        lights: lights.clone(),
+    };
+    let bytes = serde_json::to_vec_pretty(&file).map_err(|e| LightSetIoError::Json {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    write_atomic(path, &bytes).map_err(io_err(path))
+}
+
+/// Reads a JSON light set. Fails on I/O, malformed JSON (message has line and column),
+/// a wrong format tag or version, or invalid lights ([`validate`]).
+pub fn read_json(path: &Path) -> Result<(LightSetHeader, LightSet), LightSetIoError> {
+    let bytes = std::fs::read(path).map_err(io_err(path))?;
+    let file: JsonFile = serde_json::from_slice(&bytes).map_err(|e| LightSetIoError::Json {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    if file.format != FORMAT || file.version != VERSION {
+        return Err(LightSetIoError::Json {
+            path: path.to_path_buf(),
+            message: format!(
+                "format {:?} version {} (expected {FORMAT:?} version {VERSION})",
+                file.format, file.version
+            ),
+        });
+    }
+    validate(path, &file.lights)?;
+    if file.header.n != file.lights.len() {
+        return Err(LightSetIoError::Json {
+            path: path.to_path_buf(),
+            message: format!(
+                "header says n = {} but there are {} lights",
+                file.header.n,
+                file.lights.len()
+            ),
+        });
+    }
+    Ok((file.header, file.lights))
+}
+
+/// Writes a light set as CSV (atomically).
+pub fn write_csv(path: &Path, lights: &LightSet) -> Result<(), LightSetIoError> {
+    let mut s = String::with_capacity(64 * (lights.len() + 1));
+    s.push_str(CSV_HEADER);
+    s.push('\n');
+    for i in 0..lights.len() {
+        s.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            lights.dir_x[i],
+            lights.dir_y[i],
+            lights.dir_z[i],
+            lights.power_r[i],
+            lights.power_g[i],
+            lights.power_b[i]
+        ));
+    }
+    write_atomic(path, s.as_bytes()).map_err(io_err(path))
+}
+
+/// Reads a CSV light set. Fails on I/O, a wrong header line, a line without exactly six
+/// fields, an unparsable number (naming line and field), or invalid lights ([`validate`]).
+/// Blank lines are skipped.
+pub fn read_csv(path: &Path) -> Result<LightSet, LightSetIoError> {
+    let text = std::fs::read_to_string(path).map_err(io_err(path))?;
+    let names: Vec<&str> = CSV_HEADER.split(',').collect();
+    let mut lines = text.lines().enumerate();
+    let csv_err = |line: usize, field: &str, message: String| LightSetIoError::Csv {
+        path: path.to_path_buf(),
+        line,
+        field: field.to_string(),
+        message,
+    };
+    match lines.next() {
+        Some((_, h)) if h.trim() == CSV_HEADER => {}
+        Some((_, h)) => {
+            return Err(csv_err(
+                1,
+                "header",
+                format!("expected {CSV_HEADER:?}, found {h:?}"),
+            ))
+        }
+        None => return Err(csv_err(1, "header", "file is empty".into())),
+    }
+    let mut ls = LightSet::default();
+    for (i, line) in lines {
+        let lineno = i + 1;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields.len() != 6 {
+            return Err(csv_err(
+                lineno,
+                "*",
+                format!("expected 6 fields, found {}", fields.len()),
+            ));
+        }
+        let mut v = [0f32; 6];
+        for (k, f) in fields.iter().enumerate() {
+            v[k] = f
+                .trim()
+                .parse::<f32>()
+                .map_err(|e| csv_err(lineno, names[k], format!("{f:?}: {e}")))?;
+        }
+        ls.dir_x.push(v[0]);
+        ls.dir_y.push(v[1]);
+        ls.dir_z.push(v[2]);
+        ls.power_r.push(v[3]);
+        ls.power_g.push(v[4]);
+        ls.power_b.push(v[5]);
+    }
+    validate(path, &ls)?;
+    Ok(ls)
+}
+
+/// Checks a light set read from `path`: all six arrays the same length, every value
+/// finite, directions unit length within 1e-4, powers `>= 0`.
+pub fn validate(path: &Path, ls: &LightSet) -> Result<(), LightSetIoError> {
+    let n = ls.dir_x.len();
+    let arrays: [(&'static str, &Vec<f32>); 6] = [
+        ("dir_x", &ls.dir_x),
+        ("dir_y", &ls.dir_y),
+        ("dir_z", &ls.dir_z),
+        ("power_r", &ls.power_r),
+        ("power_g", &ls.power_g),
+        ("power_b", &ls.power_b),
+    ];
+    let invalid = |index, field, message| LightSetIoError::Invalid {
+        path: path.to_path_buf(),
+        index,
+        field,
+        message,
+    };
+    for (name, a) in arrays {
+        if a.len() != n {
+            return Err(invalid(
+                a.len().min(n),
+                name,
+                format!("has {} entries, dir_x has {n}", a.len()),
+            ));
+        }
+        for (i, v) in a.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(invalid(i, name, format!("{v} is not finite")));
+            }
+            if name.starts_with("power") && *v < 0.0 {
+                return Err(invalid(i, name, format!("negative power {v}")));
+            }
+        }
+    }
+    for i in 0..n {
+        let l = ls.direction(i).length();
+        if (l - 1.0).abs() > 1e-4 {
+            return Err(invalid(i, "dir", format!("direction length {l} is not 1")));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::env::{Probe, SamplerConfig};
+
+    fn tmpdir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("brdfkit-io-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn sample_set() -> LightSet {
+        let t: Vec<[f32; 3]> = (0..32)
+            .map(|i| [i as f32 * 0.37, 1.0 / (1.0 + i as f32), 0.1])
+            .collect();
+        let (p, _) = Probe::from_texels("io", 8, 4, t, &Default::default()).unwrap();
+        SamplerConfig::MedianCut { n: 7 }.run(&p)
+    }
+
+    #[test]
+    fn json_and_csv_round_trip_bit_exact() {
+        let d = tmpdir("rt");
+        let ls = sample_set();
+        let cfg = SamplerConfig::MedianCut { n: 7 };
+        let h = LightSetHeader::new(&cfg, Some("io.exr"), &ls);
+        write_json(&d.join("a.json"), &h, &ls).unwrap();
+        let (h2, ls2) = read_json(&d.join("a.json")).unwrap();
+        assert_eq!((h2, &ls2), (h, &ls));
+        write_csv(&d.join("a.csv"), &ls).unwrap();
+        assert_eq!(read_csv(&d.join("a.csv")).unwrap(), ls);
+        // No temporary files left behind.
+        let names: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
+        assert_eq!(names.len(), 2);
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn csv_errors_name_file_line_and_field() {
+        let d = tmpdir("err");
+        let p = d.join("bad.csv");
+        std::fs::write(&p, format!("{CSV_HEADER}\n0,1,0,1,1,1\n0,1,0,1,x,1\n")).unwrap();
+        let e = read_csv(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("bad.csv:3") && e.contains("power_g"),
+            "message: {e}"
+        );
+        std::fs::write(&p, format!("{CSV_HEADER}\n0,1,0,1,1\n")).unwrap();
+        let e = read_csv(&p).unwrap_err().to_string();
+        assert!(e.contains("bad.csv:2") && e.contains("6 fields"), "{e}");
+        std::fs::write(&p, "x,y\n").unwrap();
+        assert!(read_csv(&p).unwrap_err().to_string().contains("header"));
+        std::fs::write(&p, format!("{CSV_HEADER}\n0,2,0,1,1,1\n")).unwrap();
+        let e = read_csv(&p).unwrap_err().to_string();
+        assert!(e.contains("light 0") && e.contains("length"), "{e}");
+        std::fs::write(&p, format!("{CSV_HEADER}\n0,1,0,1,-1,1\n")).unwrap();
+        assert!(read_csv(&p).unwrap_err().to_string().contains("negative"));
+        let j = d.join("bad.json");
+        std::fs::write(&j, "{\"format\": 3").unwrap();
+        let e = read_json(&j).unwrap_err().to_string();
+        assert!(e.contains("bad.json") && e.contains("line"), "{e}");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}

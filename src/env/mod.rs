@@ -1,0 +1,332 @@
+//! Environment lighting: light probes collapsed into sets of directional lights
+//! (thesis 3.2: light probe 3.2.1, importance sampling 3.2.2 / Algorithm 1, median cut
+//! 3.2.3 / Algorithm 2; Dirac-delta lights 2.3.2).
+//!
+//! Design rule: every light set carries **exactly** the probe's energy. A light set is N
+//! directional lights, each a unit direction towards the light and an RGB "power"
+//! = radiance integrated over solid angle (irradiance at normal incidence, W/m^2 for a
+//! probe in W/(m^2 sr)), so the illumination integral becomes
+//! `L_o = sum_k f_r(w_k, w_o) cos(theta_k) power_k` (thesis 2.3.2: each light is a Dirac
+//! delta in direction). Every sampler's light powers sum to the probe's integral
+//! `sum_texels RGB x solid angle` ([`Probe::total_power`]) to 1e-5 relative; the samplers
+//! differ only in where they put the lights and how they split the energy.
+//!
+//! Everything reads the probe through [`crate::conventions`]: texel centres, directions,
+//! exact texel solid angles ([`crate::conventions::probe_texel_solid_angle`]; the
+//! thesis's `cos(linspace)` weight gives the pole rows zero weight, we use the true area).
+//!
+//! Samplers live in [`sampling`]: uniform random, importance (Algorithm 1) and its
+//! stratified variant, median cut (Algorithm 2, Debevec 2005), Lloyd relaxation (weighted
+//! spherical k-means seeded from median cut), and the full probe (the converged
+//! reference).
+
+pub mod lightset_io;
+pub mod overlay;
+pub mod probe;
+pub mod sampling;
+#[cfg(test)]
+mod tests_samplers;
+
+pub use probe::{LoadOptions, LoadReport, Probe, ProbeError};
+pub use sampling::{MedianCut, Region, SamplerConfig};
+
+use glam::DVec3;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Rec. 709 / sRGB luminance weights `(R, G, B)`.
+///
+/// We use the values ITU-R BT.709 and IEC 61966-2-1 (sRGB) publish, 0.2126 / 0.7152 /
+/// 0.0722, which are the Y row of the RGB-to-XYZ matrix of the 709 primaries with a D65
+/// white and sum to exactly 1. The thesis's MATLAB code (3.2.2) uses 0.2125 / 0.7154 /
+/// 0.0721, an older rounding (SMPTE 240M-era) that is labelled "BT.709" but is not what
+/// the standard gives. Radiance `.hdr` and Poly Haven EXR probes are linear Rec. 709 /
+/// sRGB primaries, so the standard weights are the right ones; the difference is below
+/// 0.05% of any luminance and only moves sample positions, never total power.
+pub const LUMINANCE_WEIGHTS: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
+/// Luminance of a linear RGB value with [`LUMINANCE_WEIGHTS`], channels clamped to
+/// `>= 0` first (so a dirty texel can never give a negative weight).
+#[inline]
+pub fn luminance(rgb: [f32; 3]) -> f64 {
+    LUMINANCE_WEIGHTS[0] * (rgb[0].max(0.0) as f64)
+        + LUMINANCE_WEIGHTS[1] * (rgb[1].max(0.0) as f64)
+        + LUMINANCE_WEIGHTS[2] * (rgb[2].max(0.0) as f64)
+}
+
+/// N directional lights as a structure of arrays.
+///
+/// `dir_*`: unit world directions **towards** the light (y up, see
+/// [`crate::conventions`]). `power_*`: RGB power = radiance x solid angle, the irradiance
+/// the light gives a surface facing it (W/m^2 when the probe is in W/(m^2 sr)). All
+/// arrays have the same length.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LightSet {
+    pub dir_x: Vec<f32>,
+    pub dir_y: Vec<f32>,
+    pub dir_z: Vec<f32>,
+    pub power_r: Vec<f32>,
+    pub power_g: Vec<f32>,
+    pub power_b: Vec<f32>,
+}
+
+impl LightSet {
+    /// An empty set with room for `n` lights.
+    pub fn with_capacity(n: usize) -> Self {
+        LightSet {
+            dir_x: Vec::with_capacity(n),
+            dir_y: Vec::with_capacity(n),
+            dir_z: Vec::with_capacity(n),
+            power_r: Vec::with_capacity(n),
+            power_g: Vec::with_capacity(n),
+            power_b: Vec::with_capacity(n),
+        }
+    }
+
+    /// Number of lights.
+    pub fn len(&self) -> usize {
+        self.dir_x.len()
+    }
+
+    /// True when there are no lights.
+    pub fn is_empty(&self) -> bool {
+        self.dir_x.is_empty()
+    }
+
+    /// Appends a light; `dir` is normalised (a zero direction becomes +y).
+    pub fn push(&mut self, dir: DVec3, power: DVec3) {
+        let d = dir.try_normalize().unwrap_or(DVec3::Y);
+        self.dir_x.push(d.x as f32);
+        self.dir_y.push(d.y as f32);
+        self.dir_z.push(d.z as f32);
+        self.power_r.push(power.x as f32);
+        self.power_g.push(power.y as f32);
+        self.power_b.push(power.z as f32);
+    }
+
+    /// Direction of light `i` (f64). Panics if out of range.
+    pub fn direction(&self, i: usize) -> DVec3 {
+        DVec3::new(
+            self.dir_x[i] as f64,
+            self.dir_y[i] as f64,
+            self.dir_z[i] as f64,
+        )
+    }
+
+    /// Power of light `i` (f64). Panics if out of range.
+    pub fn power(&self, i: usize) -> DVec3 {
+        DVec3::new(
+            self.power_r[i] as f64,
+            self.power_g[i] as f64,
+            self.power_b[i] as f64,
+        )
+    }
+
+    /// Sum of all powers, accumulated in f64.
+    pub fn total_power(&self) -> DVec3 {
+        (0..self.len()).map(|i| self.power(i)).sum()
+    }
+
+    /// Index of the light nearest to direction `d` (largest `d.l`, lowest index on ties);
+    /// `None` for an empty set. For the Voronoi samplers ([`sampling::uniform`],
+    /// [`sampling::lloyd`]) this is the inverse map direction -> light whose cell holds
+    /// `d`, up to f32 ties on cell borders.
+    pub fn nearest(&self, d: DVec3) -> Option<usize> {
+        let mut best: Option<(usize, f64)> = None;
+        for i in 0..self.len() {
+            let dot = d.dot(self.direction(i));
+            if best.is_none_or(|(_, b)| dot > b) {
+                best = Some((i, dot));
+            }
+        }
+        best.map(|(i, _)| i)
+    }
+
+    /// Irradiance at a surface with unit normal `n`: `sum_k max(0, n.l_k) power_k`, f64.
+    pub fn irradiance(&self, n: DVec3) -> DVec3 {
+        (0..self.len())
+            .map(|i| self.power(i) * n.dot(self.direction(i)).max(0.0))
+            .sum()
+    }
+}
+
+/// `n` nearly uniform unit directions on the sphere (Fibonacci lattice, golden-angle
+/// spiral, `y_i = 1 - (2 i + 1)/n`). Deterministic; used as the normals of the
+/// render-free error metric.
+pub fn fibonacci_sphere(n: usize) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let y = 1.0 - (2.0 * i as f64 + 1.0) / n as f64;
+            let r = (1.0 - y * y).max(0.0).sqrt();
+            let a = golden * i as f64;
+            DVec3::new(r * a.cos(), y, r * a.sin())
+        })
+        .collect()
+}
+
+/// Exact irradiance from the probe's texels at unit normal `n`, f64:
+/// `E(n) = sum_texels max(0, n.d_t) L_t Omega_t` with `d_t` the texel centre direction and
+/// `Omega_t` its exact solid angle. This is the converged reference every light set is
+/// measured against (it equals [`SamplerConfig::Full`]'s light set evaluated in f64).
+pub fn reference_irradiance(probe: &Probe, n: DVec3) -> DVec3 {
+    let mut e = DVec3::ZERO;
+    for row in 0..probe.height() {
+        let omega = probe.solid_angle(row);
+        let mut acc = DVec3::ZERO;
+        for col in 0..probe.width() {
+            let c = n.dot(probe.direction(row, col));
+            if c > 0.0 {
+                let t = probe.texel(row, col);
+                acc += DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64) * c;
+            }
+        }
+        e += acc * omega;
+    }
+    e
+}
+
+/// [`reference_irradiance`] for many normals, in parallel (texel directions and powers
+/// are tabulated once; same f64 sums, grouped per texel instead of per row).
+pub fn reference_irradiance_many(probe: &Probe, normals: &[DVec3]) -> Vec<DVec3> {
+    let t = sampling::ProbeTables::new(probe);
+    normals
+        .par_iter()
+        .map(|&n| {
+            let mut e = DVec3::ZERO;
+            for (d, p) in t.dir.iter().zip(&t.power) {
+                let c = n.dot(*d);
+                if c > 0.0 {
+                    e += *p * c;
+                }
+            }
+            e
+        })
+        .collect()
+}
+
+/// Exact outgoing radiance of a Lambertian surface (thesis 2.2.1, `f_r = albedo/pi`) with
+/// unit normal `n` under the probe: `albedo / pi x E(n)`, f64, RGB.
+pub fn reference_lambert(probe: &Probe, n: DVec3, albedo: DVec3) -> DVec3 {
+    albedo * reference_irradiance(probe, n) / std::f64::consts::PI
+}
+
+/// Relative RMS irradiance error of a light set against reference irradiances `reference`
+/// (from [`reference_irradiance_many`]) at the same `normals`:
+/// `sqrt(sum_n |E_lights(n) - E_ref(n)|^2 / sum_n |E_ref(n)|^2)`, `|.|` the Euclidean
+/// norm over RGB. Returns 0 when the reference is all zero and the lights are too.
+pub fn irradiance_error(lights: &LightSet, normals: &[DVec3], reference: &[DVec3]) -> f64 {
+    assert_eq!(normals.len(), reference.len());
+    let (num, den) = normals
+        .par_iter()
+        .zip(reference.par_iter())
+        .map(|(&n, &r)| {
+            (
+                (lights.irradiance(n) - r).length_squared(),
+                r.length_squared(),
+            )
+        })
+        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+    if den == 0.0 {
+        return if num == 0.0 { 0.0 } else { f64::INFINITY };
+    }
+    (num / den).sqrt()
+}
+
+/// FNV-1a 64-bit hash (Fowler-Noll-Vo, offset basis 0xcbf29ce484222325, prime
+/// 0x100000001b3): stable across platforms, Rust versions and runs, unlike
+/// `std::hash::DefaultHasher`.
+#[derive(Clone, Copy, Debug)]
+pub struct Fnv1a(u64);
+
+impl Default for Fnv1a {
+    fn default() -> Self {
+        Fnv1a(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv1a {
+    /// Feeds bytes.
+    pub fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= b as u64;
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    /// Feeds a u64 as 8 little-endian bytes.
+    pub fn write_u64(&mut self, v: u64) {
+        self.write(&v.to_le_bytes());
+    }
+    /// The hash so far.
+    pub fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// Stable 64-bit cache key of a light set: FNV-1a over a format tag, the probe's size,
+/// rotation (f64 bits) and texels (f32 little-endian bits, after cleaning), and the
+/// sampler configuration ([`SamplerConfig::hash_into`]: name, N, seed, iterations).
+/// The probe's name is not hashed: two files with the same contents share a key.
+/// Changing the tag string invalidates every cached entry.
+pub fn cache_key(probe: &Probe, config: &SamplerConfig) -> u64 {
+    let mut h = Fnv1a::default();
+    h.write(b"brdfkit-lightset-v1");
+    h.write_u64(probe.width() as u64);
+    h.write_u64(probe.height() as u64);
+    h.write_u64(probe.rotation().to_bits());
+    for t in probe.texels() {
+        for c in t {
+            h.write(&c.to_le_bytes());
+        }
+    }
+    config.hash_into(&mut h);
+    h.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv1a_known_vectors() {
+        // Published FNV-1a 64 test vectors.
+        let mut h = Fnv1a::default();
+        assert_eq!(h.finish(), 0xcbf29ce484222325);
+        h.write(b"a");
+        assert_eq!(h.finish(), 0xaf63dc4c8601ec8c);
+        let mut h = Fnv1a::default();
+        h.write(b"foobar");
+        assert_eq!(h.finish(), 0x85944171f73967e8);
+    }
+
+    #[test]
+    fn cache_key_depends_on_contents_and_parameters() {
+        let opts = LoadOptions::default();
+        let (a, _) = Probe::from_texels("a", 4, 2, vec![[1.0; 3]; 8], &opts).unwrap();
+        let (b, _) = Probe::from_texels("b", 4, 2, vec![[1.0; 3]; 8], &opts).unwrap();
+        let mut t = vec![[1.0; 3]; 8];
+        t[5][2] = 1.0001;
+        let (c, _) = Probe::from_texels("a", 4, 2, t, &opts).unwrap();
+        let k = |p: &Probe, cfg| cache_key(p, &cfg);
+        let imp = SamplerConfig::Importance { n: 16, seed: 1 };
+        assert_eq!(k(&a, imp.clone()), k(&b, imp.clone()));
+        assert_ne!(k(&a, imp.clone()), k(&c, imp.clone()));
+        assert_ne!(
+            k(&a, imp.clone()),
+            k(&a, SamplerConfig::Importance { n: 16, seed: 2 })
+        );
+        assert_ne!(
+            k(&a, imp.clone()),
+            k(&a, SamplerConfig::MedianCut { n: 16 })
+        );
+        assert_ne!(k(&a, imp.clone()), k(&a.clone().with_rotation(0.1), imp));
+    }
+
+    #[test]
+    fn fibonacci_normals_cover_the_sphere() {
+        let n = fibonacci_sphere(256);
+        let mean: DVec3 = n.iter().copied().sum::<DVec3>() / 256.0;
+        assert!(mean.length() < 1e-2);
+        assert!(n.iter().all(|d| (d.length() - 1.0).abs() < 1e-12));
+    }
+}

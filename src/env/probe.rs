@@ -1,0 +1,534 @@
+//! Light probes: equirectangular HDR images loaded into the one convention of
+//! [`crate::conventions`] (thesis 3.2.1).
+//!
+//! Design rule: a [`Probe`] is always clean. Every texel is finite and every channel is
+//! `>= 0` once a probe exists; the loader decides (and reports) what happened to the
+//! dirty texels of real files, so no sampler ever sees a negative weight or a NaN.
+//!
+//! * Negative channels (left by lossy DWAB compression around bright texels) are clamped
+//!   to zero and the texels counted in [`LoadReport::negative_texels`], so the caller can
+//!   warn.
+//! * Non-finite channels (NaN, +-Inf) are an error naming the file and the count, unless
+//!   [`LoadOptions::zero_non_finite`] is set, in which case the whole texel becomes black
+//!   and is counted in [`LoadReport::non_finite_zeroed`].
+//! * Any aspect ratio is accepted. A 0-sized image is an error. A 1-texel-high image is
+//!   accepted: its single row spans the whole polar range [0, pi], so each texel is a lune
+//!   of solid angle `4 pi / width` whose value sits at its centre on the equator (y = 0).
+//! * Sizes are bounded before decoding ([`LoadOptions::max_texels`], default 2^26 texels,
+//!   768 MiB of f32 RGB); larger images are rejected, never allocated.
+
+use crate::conventions::{
+    probe_direction, probe_texel, probe_texel_solid_angle, probe_uv, rotate_about_up,
+    texel_center_f64,
+};
+use glam::DVec3;
+use std::path::{Path, PathBuf};
+
+/// Why loading or building a probe failed. Every message names the file (or the name
+/// given to [`Probe::from_texels`]) and the problem.
+#[derive(Debug, thiserror::Error)]
+pub enum ProbeError {
+    /// The file could not be opened or read.
+    #[error("{path}: cannot read light probe: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The extension is neither `.exr` nor `.hdr`.
+    #[error("{path}: unsupported light probe format (expected .exr or .hdr)")]
+    UnsupportedFormat { path: PathBuf },
+    /// The decoder rejected the file (corrupt data, missing R, G or B channel, ...).
+    #[error("{path}: cannot decode light probe: {message}")]
+    Decode { path: PathBuf, message: String },
+    /// Width or height is zero.
+    #[error("{path}: light probe is empty ({width}x{height} texels)")]
+    Empty {
+        path: PathBuf,
+        width: usize,
+        height: usize,
+    },
+    /// The image is larger than [`LoadOptions::max_texels`].
+    #[error("{path}: light probe is {width}x{height} texels, more than the limit of {max_texels}")]
+    TooLarge {
+        path: PathBuf,
+        width: usize,
+        height: usize,
+        max_texels: usize,
+    },
+    /// Texels with a NaN or infinite channel, and the option to zero them was off.
+    #[error("{path}: light probe has {count} non-finite texel(s) (NaN or Inf); set zero_non_finite to load it with those texels black")]
+    NonFinite { path: PathBuf, count: usize },
+    /// `texels.len() != width * height` in [`Probe::from_texels`].
+    #[error("{path}: light probe data has {got} texels, expected {expected} ({width}x{height})")]
+    SizeMismatch {
+        path: PathBuf,
+        width: usize,
+        height: usize,
+        expected: usize,
+        got: usize,
+    },
+}
+
+/// Options for [`Probe::load`] and [`Probe::from_texels`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadOptions {
+    /// Rotation of the environment about +y in radians, right-handed (see
+    /// [`crate::conventions::rotate_about_up`]). Applied to every direction the probe
+    /// reports and undone by every direction-to-texel lookup.
+    pub rotation: f64,
+    /// Zero texels with a NaN or infinite channel instead of failing.
+    pub zero_non_finite: bool,
+    /// Largest accepted `width * height`; bigger files are rejected before decoding.
+    pub max_texels: usize,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            rotation: 0.0,
+            zero_non_finite: false,
+            max_texels: 1 << 26,
+        }
+    }
+}
+
+/// What the loader changed to make the probe clean.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LoadReport {
+    /// Texels with at least one negative channel (those channels were clamped to 0).
+    pub negative_texels: usize,
+    /// Texels with a non-finite channel that were set to black (only with
+    /// [`LoadOptions::zero_non_finite`]).
+    pub non_finite_zeroed: usize,
+}
+
+/// An equirectangular light probe: linear RGB radiance (units of the file, typically
+/// W/(m^2 sr)), row-major, row 0 the +y pole row, texel `(row, col)` centred at
+/// `u = (col + 1/2)/width`, `v = (row + 1/2)/height` (see [`crate::conventions`]).
+/// Every channel is finite and `>= 0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Probe {
+    width: usize,
+    height: usize,
+    texels: Vec<[f32; 3]>,
+    rotation: f64,
+    name: String,
+}
+
+impl Probe {
+    /// Loads an OpenEXR (`.exr`, first layer with R, G and B channels, any sample type,
+    /// alpha ignored) or Radiance (`.hdr`) file. The extension picks the decoder.
+    ///
+    /// Fails with [`ProbeError`]: unreadable file, unknown extension, decoder error, empty
+    /// or oversized image, non-finite texels (unless zeroed by option).
+    pub fn load(path: &Path, opts: &LoadOptions) -> Result<(Probe, LoadReport), ProbeError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase());
+        let (w, h, texels) = match ext.as_deref() {
+            Some("exr") => read_exr(path, opts)?,
+            Some("hdr") => read_hdr(path, opts)?,
+            _ => {
+                return Err(ProbeError::UnsupportedFormat {
+                    path: path.to_path_buf(),
+                })
+            }
+        };
+        Probe::from_texels(&path.display().to_string(), w, h, texels, opts)
+    }
+
+    /// Builds a probe from raw linear RGB texels (row-major, row 0 at +y), applying the
+    /// same cleaning as [`Probe::load`]. `name` is used in error messages and as the
+    /// probe's name (for light-set headers).
+    ///
+    /// Fails on an empty or oversized image, a length mismatch, or non-finite texels
+    /// (unless `opts.zero_non_finite`).
+    pub fn from_texels(
+        name: &str,
+        width: usize,
+        height: usize,
+        mut texels: Vec<[f32; 3]>,
+        opts: &LoadOptions,
+    ) -> Result<(Probe, LoadReport), ProbeError> {
+        let path = PathBuf::from(name);
+        check_size(&path, width, height, opts)?;
+        if texels.len() != width * height {
+            return Err(ProbeError::SizeMismatch {
+                path,
+                width,
+                height,
+                expected: width * height,
+                got: texels.len(),
+            });
+        }
+        let mut report = LoadReport::default();
+        let mut non_finite = 0usize;
+        for t in texels.iter_mut() {
+            if t.iter().any(|c| !c.is_finite()) {
+                non_finite += 1;
+                *t = [0.0; 3];
+                continue;
+            }
+            if t.iter().any(|&c| c < 0.0) {
+                report.negative_texels += 1;
+                for c in t.iter_mut() {
+                    *c = c.max(0.0);
+                }
+            }
+            // -0.0 would survive max(0.0); normalise it so hashes see one zero.
+            for c in t.iter_mut() {
+                if *c == 0.0 {
+                    *c = 0.0;
+                }
+            }
+        }
+        if non_finite > 0 {
+            if !opts.zero_non_finite {
+                return Err(ProbeError::NonFinite {
+                    path,
+                    count: non_finite,
+                });
+            }
+            report.non_finite_zeroed = non_finite;
+        }
+        Ok((
+            Probe {
+                width,
+                height,
+                texels,
+                rotation: opts.rotation,
+                name: name.to_string(),
+            },
+            report,
+        ))
+    }
+
+    /// Width in texels (azimuth samples).
+    pub fn width(&self) -> usize {
+        self.width
+    }
+    /// Height in texels (polar samples).
+    pub fn height(&self) -> usize {
+        self.height
+    }
+    /// The clean texels, row-major.
+    pub fn texels(&self) -> &[[f32; 3]] {
+        &self.texels
+    }
+    /// Radiance of texel `(row, col)`. Panics if out of range.
+    pub fn texel(&self, row: usize, col: usize) -> [f32; 3] {
+        self.texels[row * self.width + col]
+    }
+    /// Rotation about +y in radians.
+    pub fn rotation(&self) -> f64 {
+        self.rotation
+    }
+    /// Name given at load (the file path) or to [`Probe::from_texels`].
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// A copy with another rotation about +y (radians).
+    pub fn with_rotation(mut self, rotation: f64) -> Probe {
+        self.rotation = rotation;
+        self
+    }
+
+    /// Unit world direction of the centre of texel `(row, col)`, rotation applied.
+    pub fn direction(&self, row: usize, col: usize) -> DVec3 {
+        let d = probe_direction(
+            texel_center_f64(col, self.width),
+            texel_center_f64(row, self.height),
+        );
+        rotate_about_up(d, self.rotation)
+    }
+
+    /// Image coordinates `(u, v)` of a world direction, rotation undone.
+    pub fn uv_of(&self, d: DVec3) -> (f64, f64) {
+        probe_uv(rotate_about_up(d, -self.rotation))
+    }
+
+    /// The texel `(row, col)` a world direction falls in (inverse of [`Probe::direction`]).
+    pub fn texel_of(&self, d: DVec3) -> (usize, usize) {
+        let (u, v) = self.uv_of(d);
+        probe_texel(u, v, self.width, self.height)
+    }
+
+    /// Exact solid angle in sr of a texel in row `row`.
+    pub fn solid_angle(&self, row: usize) -> f64 {
+        probe_texel_solid_angle(row, self.width, self.height)
+    }
+
+    /// The probe's integral over the sphere, `sum RGB x solid angle` in f64: the total
+    /// "power" every light set must carry (W/m^2 for radiance in W/(m^2 sr)).
+    pub fn total_power(&self) -> DVec3 {
+        let mut total = DVec3::ZERO;
+        for row in 0..self.height {
+            let mut r = DVec3::ZERO;
+            for t in &self.texels[row * self.width..(row + 1) * self.width] {
+                r += DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64);
+            }
+            total += r * self.solid_angle(row);
+        }
+        total
+    }
+}
+
+fn check_size(
+    path: &Path,
+    width: usize,
+    height: usize,
+    opts: &LoadOptions,
+) -> Result<(), ProbeError> {
+    if width == 0 || height == 0 {
+        return Err(ProbeError::Empty {
+            path: path.to_path_buf(),
+            width,
+            height,
+        });
+    }
+    if width
+        .checked_mul(height)
+        .is_none_or(|n| n > opts.max_texels)
+    {
+        return Err(ProbeError::TooLarge {
+            path: path.to_path_buf(),
+            width,
+            height,
+            max_texels: opts.max_texels,
+        });
+    }
+    Ok(())
+}
+
+type Raw = (usize, usize, Vec<[f32; 3]>);
+
+fn read_exr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
+    use exr::prelude::*;
+    let decode_err = |e: exr::error::Error| match e {
+        exr::error::Error::Io(source) => ProbeError::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+        other => ProbeError::Decode {
+            path: path.to_path_buf(),
+            message: other.to_string(),
+        },
+    };
+    // Read only the headers first, so an absurd data window is rejected before any
+    // pixel allocation.
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(decode_err)?;
+    let header = meta.headers.first().ok_or_else(|| ProbeError::Decode {
+        path: path.to_path_buf(),
+        message: "no layer".into(),
+    })?;
+    let size = header.layer_size;
+    check_size(path, size.width(), size.height(), opts)?;
+
+    struct Px {
+        w: usize,
+        data: Vec<[f32; 3]>,
+    }
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |res: Vec2<usize>, _| Px {
+                w: res.width(),
+                data: vec![[0.0; 3]; res.width() * res.height()],
+            },
+            |px: &mut Px, pos: Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
+                let w = px.w;
+                px.data[pos.y() * w + pos.x()] = [r, g, b];
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(decode_err)?;
+    let layer = image.layer_data;
+    let (w, h) = (layer.size.width(), layer.size.height());
+    check_size(path, w, h, opts)?;
+    Ok((w, h, layer.channel_data.pixels.data))
+}
+
+fn read_hdr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
+    let io_err = |source| ProbeError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let decode_err = |e: image::ImageError| ProbeError::Decode {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    let file = std::fs::File::open(path).map_err(io_err)?;
+    let mut reader =
+        image::ImageReader::with_format(std::io::BufReader::new(file), image::ImageFormat::Hdr);
+    let mut limits = image::Limits::default();
+    // 16 bytes per texel covers the decoder's f32 RGB output plus its scratch line.
+    limits.max_alloc = Some((opts.max_texels as u64).saturating_mul(16));
+    reader.limits(limits);
+    let (w, h) = reader.into_dimensions().map_err(decode_err)?;
+    check_size(path, w as usize, h as usize, opts)?;
+    let file = std::fs::File::open(path).map_err(io_err)?;
+    let mut reader =
+        image::ImageReader::with_format(std::io::BufReader::new(file), image::ImageFormat::Hdr);
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some((opts.max_texels as u64).saturating_mul(16));
+    limits.max_image_width = Some(w);
+    limits.max_image_height = Some(h);
+    reader.limits(limits);
+    let img = reader.decode().map_err(decode_err)?.into_rgb32f();
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let data = img
+        .into_raw()
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    Ok((w, h, data))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn assets() -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/probes")
+    }
+
+    #[test]
+    fn city_loads_clean_with_negatives_counted() {
+        let (p, rep) = Probe::load(&assets().join("city.exr"), &LoadOptions::default()).unwrap();
+        assert_eq!((p.width(), p.height()), (512, 256));
+        // README: 0.12% of texels have a negative channel.
+        let frac = rep.negative_texels as f64 / (512.0 * 256.0);
+        assert!(frac > 0.0005 && frac < 0.003, "{frac}");
+        assert!(p
+            .texels()
+            .iter()
+            .all(|t| t.iter().all(|c| c.is_finite() && *c >= 0.0)));
+        // Sky above is brighter than ground below.
+        let (top, bottom) = (p.total_power_rows(0..128), p.total_power_rows(128..256));
+        assert!(top > bottom, "{top} {bottom}");
+    }
+
+    impl Probe {
+        fn total_power_rows(&self, rows: std::ops::Range<usize>) -> f64 {
+            rows.map(|r| {
+                (0..self.width)
+                    .map(|c| self.texel(r, c)[1] as f64)
+                    .sum::<f64>()
+                    * self.solid_angle(r)
+            })
+            .sum()
+        }
+    }
+
+    #[test]
+    fn negatives_clamped_and_counted() {
+        let t = vec![[1.0, -2.0, 3.0], [-0.0, 0.5, 0.5], [-1.0, -1.0, -1.0]];
+        let (p, rep) = Probe::from_texels("neg", 3, 1, t, &LoadOptions::default()).unwrap();
+        assert_eq!(rep.negative_texels, 2);
+        assert_eq!(p.texel(0, 0), [1.0, 0.0, 3.0]);
+        assert_eq!(p.texel(0, 2), [0.0, 0.0, 0.0]);
+        assert!(p.texel(0, 1)[0].is_sign_positive());
+    }
+
+    #[test]
+    fn non_finite_is_an_error_naming_file_and_count_unless_zeroed() {
+        let t = vec![[1.0, f32::NAN, 3.0], [f32::INFINITY, 0.5, 0.5], [1.0; 3]];
+        let err =
+            Probe::from_texels("bad.exr", 3, 1, t.clone(), &LoadOptions::default()).unwrap_err();
+        let msg = err.to_string();
+        assert!(
+            msg.contains("bad.exr") && msg.contains("2 non-finite"),
+            "{msg}"
+        );
+        let opts = LoadOptions {
+            zero_non_finite: true,
+            ..Default::default()
+        };
+        let (p, rep) = Probe::from_texels("bad.exr", 3, 1, t, &opts).unwrap();
+        assert_eq!(rep.non_finite_zeroed, 2);
+        assert_eq!(p.texel(0, 0), [0.0; 3]);
+        assert_eq!(p.texel(0, 2), [1.0; 3]);
+    }
+
+    #[test]
+    fn empty_and_oversized_rejected() {
+        let e = Probe::from_texels("empty.hdr", 0, 4, vec![], &LoadOptions::default());
+        let msg = e.unwrap_err().to_string();
+        assert!(msg.contains("empty.hdr") && msg.contains("empty"), "{msg}");
+        let opts = LoadOptions {
+            max_texels: 10,
+            ..Default::default()
+        };
+        let e = Probe::from_texels("big", 4, 4, vec![[0.0; 3]; 16], &opts).unwrap_err();
+        assert!(matches!(e, ProbeError::TooLarge { .. }));
+        let e = Probe::load(&assets().join("city.exr"), &opts).unwrap_err();
+        assert!(e.to_string().contains("city.exr"), "{e}");
+    }
+
+    #[test]
+    fn missing_file_and_bad_extension_name_the_file() {
+        let e = Probe::load(Path::new("/nonexistent/x.exr"), &LoadOptions::default());
+        assert!(e.unwrap_err().to_string().contains("/nonexistent/x.exr"));
+        let e = Probe::load(Path::new("probe.png"), &LoadOptions::default());
+        assert!(matches!(e, Err(ProbeError::UnsupportedFormat { .. })));
+    }
+
+    #[test]
+    fn radiance_hdr_round_trip_matches_exr_layout() {
+        // Write a small non-square .hdr with image's encoder and check orientation: the
+        // first row written is row 0 (+y pole).
+        let (w, h) = (5usize, 3usize);
+        let data: Vec<image::Rgb<f32>> = (0..w * h)
+            .map(|i| image::Rgb([i as f32, 0.5, 1.0 / (1.0 + i as f32)]))
+            .collect();
+        let dir = std::env::temp_dir().join(format!("brdfkit-probe-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.hdr");
+        let f = std::fs::File::create(&path).unwrap();
+        image::codecs::hdr::HdrEncoder::new(f)
+            .encode(&data, w, h)
+            .unwrap();
+        let (p, rep) = Probe::load(&path, &LoadOptions::default()).unwrap();
+        assert_eq!((p.width(), p.height(), rep.negative_texels), (w, h, 0));
+        for i in 0..w * h {
+            let t = p.texel(i / w, i % w);
+            // RGBE keeps ~1% precision.
+            assert!(
+                (t[0] - i as f32).abs() <= 0.01 * i as f32 + 1e-6,
+                "{i} {t:?}"
+            );
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn one_row_probe_sits_on_equator() {
+        let (p, _) =
+            Probe::from_texels("row", 4, 1, vec![[1.0; 3]; 4], &LoadOptions::default()).unwrap();
+        assert!(p.direction(0, 0).y.abs() < 1e-12);
+        let omega = p.solid_angle(0);
+        assert!((omega - std::f64::consts::PI).abs() < 1e-12);
+        assert!((p.total_power().x - 4.0 * std::f64::consts::PI).abs() < 1e-9);
+    }
+
+    #[test]
+    fn rotation_round_trips_texels() {
+        let (p, _) =
+            Probe::from_texels("r", 8, 4, vec![[1.0; 3]; 32], &LoadOptions::default()).unwrap();
+        let p = p.with_rotation(0.7);
+        for row in 0..4 {
+            for col in 0..8 {
+                assert_eq!(p.texel_of(p.direction(row, col)), (row, col));
+            }
+        }
+        // Column 0 of an unrotated probe faces +z; rotated by pi/2 it faces +x-ish.
+        let q = p.clone().with_rotation(std::f64::consts::FRAC_PI_2);
+        let d0 = q.direction(1, 0);
+        assert!(d0.x > 0.0 && d0.z.abs() < d0.x);
+    }
+}
