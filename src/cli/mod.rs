@@ -1,0 +1,107 @@
+//! The `brdfkit` command line. Every subcommand is a thin layer over the library: parse,
+//! load and check input, call the pipeline, write output atomically. One file per
+//! subcommand; this file holds the argument definitions and the dispatch.
+
+mod golden;
+mod render;
+
+use crate::aov::Aov;
+use crate::error::Result;
+use crate::image_io::Tonemap;
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "brdfkit",
+    version,
+    about = "Render acquired (measured) BRDF data on the CPU, and check GPU renders against it",
+    long_about = "brdfkit renders measured BRDFs (spherical-harmonic coefficient tables, D-BRDF fits) \
+under point, directional and environment lights on the CPU alone. It is a renderer for machines \
+without a GPU, the oracle GPU builds are compared against, and a benchmark of the shading kernel.\n\n\
+Start with `brdfkit render`: it writes out.png and out.exr of the built-in teapot scene."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene (the built-in default scene when no file is given).
+    #[command(
+        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file."
+    )]
+    Render(RenderArgs),
+    /// Check or update the golden reference images in golden/.
+    Golden {
+        #[command(subcommand)]
+        action: GoldenAction,
+    },
+}
+
+#[derive(clap::Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (TOML). Every field has a default; see the README for the format.
+    pub scene: Option<PathBuf>,
+    /// Output image: .png (tone-mapped sRGB) or .exr (linear float). Default: out.png and out.exr.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Image width in pixels (1 to 16384). Default 640.
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (1 to 16384). Default 480.
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Worker threads; 0 uses every core. The image is bit-identical for any value.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Mesh: `teapot` (Newell's patches, built in), `sphere`, or a path to an OBJ file.
+    #[arg(long)]
+    pub mesh: Option<String>,
+    /// Face culling: `none` renders both sides (the teapot's inside shows through the lid gap), `back` drops back faces.
+    #[arg(long, value_enum)]
+    pub cull: Option<CullArg>,
+    /// Write a debug output instead of the shaded image.
+    #[arg(long, value_enum)]
+    pub aov: Option<Aov>,
+    /// Tile edge in pixels (1 to 1024). Default 32. Does not change the image.
+    #[arg(long)]
+    pub tile_size: Option<u32>,
+    /// Exposure in stops applied before the tone map (PNG only).
+    #[arg(long, allow_hyphen_values = true)]
+    pub exposure: Option<f32>,
+    /// Tone map for PNG output.
+    #[arg(long, value_enum)]
+    pub tonemap: Option<Tonemap>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum CullArg {
+    None,
+    Back,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum GoldenAction {
+    /// Re-render every golden entry and compare (exit 1 if any differs).
+    Check {
+        /// Golden directory.
+        #[arg(long, default_value = "golden")]
+        dir: PathBuf,
+    },
+    /// Re-render and overwrite golden images (all, or the named entries). The only command that writes golden/.
+    Bless {
+        names: Vec<String>,
+        #[arg(long, default_value = "golden")]
+        dir: PathBuf,
+    },
+}
+
+/// Runs the command line; `Ok(false)` means "ran, but the check failed" (exit 1).
+pub fn run(cli: Cli) -> Result<bool> {
+    match cli.command {
+        Command::Render(args) => render::run(args).map(|_| true),
+        Command::Golden { action } => golden::run(action),
+    }
+}

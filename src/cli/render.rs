@@ -1,0 +1,98 @@
+//! `brdfkit render`.
+
+use super::{CullArg, RenderArgs};
+use crate::aov;
+use crate::error::{Error, Result};
+use crate::image_io::{self, Format};
+use crate::raster::Cull;
+use crate::render;
+use crate::scene::{Scene, SceneFile, MAX_SIDE};
+use std::path::{Path, PathBuf};
+
+fn check_side(name: &str, v: u32) -> Result<u32> {
+    if v == 0 || v > MAX_SIDE {
+        return Err(Error::field(
+            name,
+            format!("{v} is out of range (1 to {MAX_SIDE} pixels)"),
+        ));
+    }
+    Ok(v)
+}
+
+pub fn run(a: RenderArgs) -> Result<()> {
+    let (mut file, base) = match &a.scene {
+        Some(p) => (
+            SceneFile::load(p)?,
+            p.parent().map(Path::to_path_buf).unwrap_or_default(),
+        ),
+        None => (SceneFile::default(), PathBuf::from(".")),
+    };
+    if let Some(w) = a.width {
+        file.render.width = check_side("--width", w)?;
+    }
+    if let Some(h) = a.height {
+        file.render.height = check_side("--height", h)?;
+    }
+    if let Some(t) = a.threads {
+        file.render.threads = t;
+    }
+    if let Some(t) = a.tile_size {
+        file.render.tile_size = t;
+    }
+    if let Some(c) = a.cull {
+        file.render.cull = match c {
+            CullArg::None => Cull::None,
+            CullArg::Back => Cull::Back,
+        };
+    }
+    if let Some(e) = a.exposure {
+        file.output.exposure = e;
+    }
+    if let Some(t) = a.tonemap {
+        file.output.tonemap = t;
+    }
+    if let Some(m) = &a.mesh {
+        // A mesh path given on the command line is relative to the working directory.
+        file.mesh.source = m.clone();
+    }
+    let cli_mesh_base = a.mesh.is_some().then(|| PathBuf::from("."));
+    let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
+        Some(p) => vec![p],
+        None => vec![PathBuf::from("out.png"), PathBuf::from("out.exr")],
+    };
+    let formats = outputs
+        .iter()
+        .map(|p| image_io::format_of(p))
+        .collect::<Result<Vec<_>>>()?;
+    let scene = match &a.scene {
+        Some(p) => Scene::resolve(&file, cli_mesh_base.as_deref().unwrap_or(&base)).map_err(
+            |e| match e {
+                Error::Field { .. } => Error::format(p, e.to_string()),
+                other => other,
+            },
+        )?,
+        None => Scene::resolve(&file, cli_mesh_base.as_deref().unwrap_or(&base))?,
+    };
+    let start = std::time::Instant::now();
+    let img = render::render_with_threads(&scene, a.aov, scene.render.threads);
+    let elapsed = start.elapsed();
+    for (path, fmt) in outputs.iter().zip(formats) {
+        match (fmt, a.aov) {
+            (Format::Exr, _) => image_io::write_exr(path, &img)?,
+            (Format::Png, None) => {
+                image_io::write_png(path, &img, scene.output.exposure, scene.output.tonemap)?
+            }
+            (Format::Png, Some(aov)) => {
+                image_io::write_png_bytes(path, img.width, img.height, aov::png_bytes(&img, aov))?
+            }
+        }
+        eprintln!(
+            "wrote {} ({}x{}, {:.1} ms)",
+            path.display(),
+            img.width,
+            img.height,
+            elapsed.as_secs_f64() * 1e3
+        );
+    }
+    Ok(())
+}
