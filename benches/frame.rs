@@ -1,1 +1,21 @@
-fn main() {}
+//! Frame time of the default scene at 640x480: rasterization (clip, set-up, binning,
+//! per-tile visibility) and deferred shading measured separately, and the whole frame.
+
+use brdfkit::render;
+use brdfkit::scene::Scene;
+use brdfkit::shade;
+use criterion::{criterion_group, criterion_main, Criterion};
+
+fn frame(c: &mut Criterion) {
+    let scene = Scene::default_scene();
+    assert_eq!((scene.render.width, scene.render.height), (640, 480));
+    let vis = render::rasterize(&scene, false);
+    let mut g = c.benchmark_group("default-640x480");
+    g.bench_function("raster", |b| b.iter(|| render::rasterize(&scene, false)));
+    g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis)));
+    g.bench_function("frame", |b| b.iter(|| render::render(&scene, None)));
+    g.finish();
+}
+
+criterion_group!(benches, frame);
+criterion_main!(benches);
