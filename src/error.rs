@@ -16,6 +16,10 @@ pub enum Error {
     /// A file was read but its content is not valid.
     #[error("{path}: {message}")]
     Format { path: PathBuf, message: String },
+    /// A complete one-line message from a module with its own error type (it already
+    /// names its file).
+    #[error("{0}")]
+    Message(String),
     /// A field (scene key or command-line option) has a value outside its domain.
     #[error("{field}: {message}")]
     Field { field: String, message: String },

@@ -10,8 +10,15 @@ struct Run {
 }
 
 fn brdfkit(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit")).args(args).current_dir(dir).output().expect("run brdfkit");
-    Run { code: out.status.code().unwrap_or(-1), stderr: String::from_utf8_lossy(&out.stderr).into_owned() }
+    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run brdfkit");
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
 }
 
 /// Asserts an error run: exit 2, exactly one stderr line, containing every `needle`, and
@@ -19,18 +26,34 @@ fn brdfkit(dir: &Path, args: &[&str]) -> Run {
 fn assert_error(dir: &Path, args: &[&str], needles: &[&str]) {
     let before: Vec<PathBuf> = list(dir);
     let r = brdfkit(dir, args);
-    assert_eq!(r.code, 2, "{args:?}: exit code {} (stderr: {})", r.code, r.stderr);
+    assert_eq!(
+        r.code, 2,
+        "{args:?}: exit code {} (stderr: {})",
+        r.code, r.stderr
+    );
     let lines: Vec<&str> = r.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: expected one error line, got {:?}", lines);
+    assert_eq!(
+        lines.len(),
+        1,
+        "{args:?}: expected one error line, got {:?}",
+        lines
+    );
     assert!(lines[0].starts_with("brdfkit: error: "), "{}", lines[0]);
     for n in needles {
-        assert!(lines[0].contains(n), "{args:?}: error line {:?} does not mention {n:?}", lines[0]);
+        assert!(
+            lines[0].contains(n),
+            "{args:?}: error line {:?} does not mention {n:?}",
+            lines[0]
+        );
     }
     assert_eq!(list(dir), before, "{args:?}: files were written");
 }
 
 fn list(dir: &Path) -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     v.sort();
     v
 }
@@ -46,63 +69,160 @@ fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
 #[test]
 fn missing_scene_file() {
     let d = dir_with(&[]);
-    assert_error(d.path(), &["render", "nope.toml", "-o", "a.png"], &["nope.toml", "cannot read scene file"]);
+    assert_error(
+        d.path(),
+        &["render", "nope.toml", "-o", "a.png"],
+        &["nope.toml", "cannot read scene file"],
+    );
 }
 
 #[test]
 fn malformed_scene_file() {
     let d = dir_with(&[("bad.toml", "[render]\nwidth = = 3\n")]);
-    assert_error(d.path(), &["render", "bad.toml", "-o", "a.png"], &["bad.toml", "line 2"]);
+    assert_error(
+        d.path(),
+        &["render", "bad.toml", "-o", "a.png"],
+        &["bad.toml", "line 2"],
+    );
 }
 
 #[test]
 fn unknown_field_is_an_error() {
     let d = dir_with(&[("s.toml", "[render]\nwidht = 100\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "unknown field", "widht"]);
-    let d = dir_with(&[("s.toml", "[[light]]\nkind = \"directional\"\nto_light = [0.0, 1.0, 0.0]\ncolour = [1.0, 1.0, 1.0]\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "colour"]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "unknown field", "widht"],
+    );
+    let d = dir_with(&[(
+        "s.toml",
+        "[[light]]\nkind = \"directional\"\nto_light = [0.0, 1.0, 0.0]\ncolour = [1.0, 1.0, 1.0]\n",
+    )]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "colour"],
+    );
     let d = dir_with(&[("s.toml", "[material]\nkind = \"chrome\"\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "chrome"]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "chrome"],
+    );
 }
 
 #[test]
 fn zero_and_absurd_resolution() {
     let d = dir_with(&[]);
-    assert_error(d.path(), &["render", "--width", "0", "-o", "a.png"], &["--width", "out of range"]);
-    assert_error(d.path(), &["render", "--height", "100000", "-o", "a.png"], &["--height", "100000"]);
+    assert_error(
+        d.path(),
+        &["render", "--width", "0", "-o", "a.png"],
+        &["--width", "out of range"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--height", "100000", "-o", "a.png"],
+        &["--height", "100000"],
+    );
     let d = dir_with(&[("s.toml", "[render]\nwidth = 0\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "render.width", "out of range"]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "render.width", "out of range"],
+    );
     let d = dir_with(&[("s.toml", "[render]\nheight = 99999999\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "render.height"]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "render.height"],
+    );
 }
 
 #[test]
 fn bad_field_values() {
-    let d = dir_with(&[("s.toml", "[[light]]\nkind = \"directional\"\nto_light = [0.0, 0.0, 0.0]\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "light[0].to_light", "zero"]);
-    let d = dir_with(&[("s.toml", "[material]\nkind = \"lambert\"\nalbedo = [0.5, -1.0, 0.5]\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "material.albedo"]);
+    let d = dir_with(&[(
+        "s.toml",
+        "[[light]]\nkind = \"directional\"\nto_light = [0.0, 0.0, 0.0]\n",
+    )]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "light[0].to_light", "zero"],
+    );
+    let d = dir_with(&[(
+        "s.toml",
+        "[material]\nkind = \"lambert\"\nalbedo = [0.5, -1.0, 0.5]\n",
+    )]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "material.albedo"],
+    );
     let d = dir_with(&[("s.toml", "[camera]\nfov_y_deg = 0.0\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["s.toml", "camera.fov_y_deg"]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "camera.fov_y_deg"],
+    );
 }
 
 #[test]
 fn missing_and_malformed_obj() {
-    let d = dir_with(&[("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"), ("empty.obj", "# nothing\n"), ("nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")]);
-    assert_error(d.path(), &["render", "--mesh", "missing.obj", "-o", "a.png"], &["missing.obj"]);
-    assert_error(d.path(), &["render", "--mesh", "broken.obj", "-o", "a.png"], &["broken.obj"]);
-    assert_error(d.path(), &["render", "--mesh", "empty.obj", "-o", "a.png"], &["empty.obj", "no faces"]);
-    assert_error(d.path(), &["render", "--mesh", "nan.obj", "-o", "a.png"], &["nan.obj", "non-finite"]);
+    let d = dir_with(&[
+        ("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"),
+        ("empty.obj", "# nothing\n"),
+        ("nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    ]);
+    assert_error(
+        d.path(),
+        &["render", "--mesh", "missing.obj", "-o", "a.png"],
+        &["missing.obj"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--mesh", "broken.obj", "-o", "a.png"],
+        &["broken.obj"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--mesh", "empty.obj", "-o", "a.png"],
+        &["empty.obj", "no faces"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--mesh", "nan.obj", "-o", "a.png"],
+        &["nan.obj", "non-finite"],
+    );
     // A scene's OBJ path resolves against the scene file's directory.
     let d = dir_with(&[("s.toml", "[mesh]\nsource = \"gone.obj\"\n")]);
-    assert_error(d.path(), &["render", "s.toml", "-o", "a.png"], &["gone.obj"]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["gone.obj"],
+    );
 }
 
 #[test]
 fn unknown_output_format_and_unwritable_output() {
     let d = dir_with(&[]);
-    assert_error(d.path(), &["render", "-o", "a.jpg"], &["a.jpg", ".png or .exr"]);
-    assert_error(d.path(), &["render", "--width", "8", "--height", "8", "-o", "no/such/dir/a.png"], &["no/such/dir/a.png"]);
+    assert_error(
+        d.path(),
+        &["render", "-o", "a.jpg"],
+        &["a.jpg", ".png or .exr"],
+    );
+    assert_error(
+        d.path(),
+        &[
+            "render",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "-o",
+            "no/such/dir/a.png",
+        ],
+        &["no/such/dir/a.png"],
+    );
 }
 
 #[test]
@@ -110,7 +230,10 @@ fn good_input_writes_exactly_the_requested_files() {
     let d = dir_with(&[("s.toml", "[render]\nwidth = 40\nheight = 30\n")]);
     let r = brdfkit(d.path(), &["render", "s.toml", "-o", "x.exr"]);
     assert_eq!(r.code, 0, "{}", r.stderr);
-    let names: Vec<String> = list(d.path()).iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
+    let names: Vec<String> = list(d.path())
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
     assert_eq!(names, ["s.toml", "x.exr"]);
     let r = brdfkit(d.path(), &["render", "--width", "40", "--height", "30"]);
     assert_eq!(r.code, 0, "{}", r.stderr);

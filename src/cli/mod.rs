@@ -3,6 +3,7 @@
 //! subcommand; this file holds the argument definitions and the dispatch.
 
 mod golden;
+mod lights;
 mod render;
 
 use crate::aov::Aov;
@@ -33,6 +34,11 @@ pub enum Command {
         after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file."
     )]
     Render(RenderArgs),
+    /// Collapse a light probe into directional lights; write them and draw them over the probe.
+    #[command(
+        after_help = "Examples:\n  brdfkit lights city.exr --sampler median-cut -n 64 --overlay cut.png\n  brdfkit lights studio.exr --sampler lloyd -n 128 -o lights.json --report\n\nEvery light set carries exactly the probe's total power. --report prints the irradiance\nerror against the full probe (every texel a light)."
+    )]
+    Lights(LightsArgs),
     /// Check or update the golden reference images in golden/.
     Golden {
         #[command(subcommand)]
@@ -74,6 +80,60 @@ pub struct RenderArgs {
     /// Tone map for PNG output.
     #[arg(long, value_enum)]
     pub tonemap: Option<Tonemap>,
+    /// Light the scene with an equirectangular probe (.exr or .hdr), collapsed into directional lights.
+    #[arg(long, value_name = "PROBE")]
+    pub env: Option<PathBuf>,
+    /// How the probe becomes lights (with --env or a scene's [env]). Default median-cut.
+    #[arg(long, value_enum)]
+    pub sampler: Option<crate::env::prepare::SamplerKind>,
+    /// Number of environment lights (with --env or a scene's [env]). Default 128.
+    #[arg(long, value_name = "N")]
+    pub lights: Option<usize>,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct LightsArgs {
+    /// Equirectangular light probe: OpenEXR (any compression) or Radiance .hdr.
+    pub probe: PathBuf,
+    /// Sampler.
+    #[arg(long, value_enum, default_value = "median-cut")]
+    pub sampler: crate::env::prepare::SamplerKind,
+    /// Number of lights (median cut: any N; powers of two split every region evenly).
+    #[arg(short = 'n', long = "count", default_value_t = 128)]
+    pub count: usize,
+    /// Write the light set: .json (with a header) or .csv (dir_x,dir_y,dir_z,power_r,power_g,power_b).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Draw the tone-mapped probe with the lights (and median-cut regions) into a PNG.
+    #[arg(long)]
+    pub overlay: Option<PathBuf>,
+    /// Seed of the random samplers.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Rotate the environment about +y (degrees).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub rotation: f64,
+    /// Exposure of the overlay's background (stops).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub exposure: f32,
+    /// Load probes with NaN/Inf texels, setting those texels to black (default: error).
+    #[arg(long)]
+    pub zero_non_finite: bool,
+    /// Print the irradiance error against the full probe.
+    #[arg(long)]
+    pub report: bool,
+}
+
+/// A spinner on stderr for long work; hidden when stderr is not a terminal.
+pub(crate) fn spinner(message: &str) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let pb = indicatif::ProgressBar::new_spinner();
+    pb.set_message(message.to_string());
+    pb.enable_steady_tick(std::time::Duration::from_millis(120));
+    pb
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
@@ -103,5 +163,6 @@ pub fn run(cli: Cli) -> Result<bool> {
     match cli.command {
         Command::Render(args) => render::run(args).map(|_| true),
         Command::Golden { action } => golden::run(action),
+        Command::Lights(args) => lights::run(args).map(|_| true),
     }
 }

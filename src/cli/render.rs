@@ -2,6 +2,7 @@
 
 use super::{CullArg, RenderArgs};
 use crate::aov;
+use crate::env::prepare::EnvSpec;
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::raster::Cull;
@@ -55,6 +56,27 @@ pub fn run(a: RenderArgs) -> Result<()> {
         // A mesh path given on the command line is relative to the working directory.
         file.mesh.source = m.clone();
     }
+    if let Some(p) = &a.env {
+        // A probe given on the command line is relative to the working directory.
+        let abs = std::env::current_dir()
+            .map(|d| d.join(p))
+            .unwrap_or_else(|_| p.clone());
+        file.env = Some(EnvSpec::new(abs));
+    }
+    if a.sampler.is_some() || a.lights.is_some() {
+        let Some(env) = file.env.as_mut() else {
+            return Err(Error::field(
+                "--sampler/--lights",
+                "need an environment: give --env PROBE or an [env] table",
+            ));
+        };
+        if let Some(s) = a.sampler {
+            env.sampler = s;
+        }
+        if let Some(n) = a.lights {
+            env.count = n;
+        }
+    }
     let cli_mesh_base = a.mesh.is_some().then(|| PathBuf::from("."));
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
@@ -73,6 +95,21 @@ pub fn run(a: RenderArgs) -> Result<()> {
         )?,
         None => Scene::resolve(&file, cli_mesh_base.as_deref().unwrap_or(&base))?,
     };
+    if let Some(e) = &scene.env {
+        if e.negative_texels > 0 {
+            eprintln!(
+                "warning: {}: {} texels with negative values (lossy compression) clamped to 0",
+                e.file.display(),
+                e.negative_texels
+            );
+        }
+        eprintln!(
+            "environment: {} lights from {}{}",
+            e.lights,
+            e.file.display(),
+            if e.cache_hit { " (cached)" } else { "" }
+        );
+    }
     let start = std::time::Instant::now();
     let img = render::render_with_threads(&scene, a.aov, scene.render.threads);
     let elapsed = start.elapsed();

@@ -22,6 +22,7 @@
 
 pub mod lightset_io;
 pub mod overlay;
+pub mod prepare;
 pub mod probe;
 pub mod sampling;
 #[cfg(test)]

@@ -22,12 +22,20 @@
 //! ks = [0.25, 0.25, 0.25]
 //! exponent = 60.0
 //!
-//! [[light]]                 # any number; omit all for the default key light
+//! [[light]]                 # any number; with no [[light]] and no [env], a default key light
 //! kind = "directional"      # to_light: direction from the surface towards the light
 //! to_light = [0.4, 1.0, 0.6]
 //! color = [1.0, 1.0, 1.0]
 //! intensity = 3.0           # irradiance at normal incidence (W/m^2)
 //! # kind = "point", position = [..], intensity in W/sr
+//!
+//! [env]                     # optional environment light (thesis 3.2)
+//! file = "probe.exr"        # equirectangular .exr or .hdr, relative to this file
+//! sampler = "median-cut"    # uniform, importance, stratified, median-cut, lloyd, full
+//! count = 128               # number of lights (not for full)
+//! seed = 1                  # random samplers
+//! rotation = 0.0            # degrees about +y
+//! intensity = 1.0           # radiance scale
 //!
 //! [render]
 //! width = 640
@@ -45,6 +53,7 @@
 pub mod camera;
 
 use crate::brdf::{BlinnPhong, Brdf, Lambert};
+use crate::env::prepare::{self, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::Tonemap;
 use crate::light::Light;
@@ -70,6 +79,8 @@ pub struct SceneFile {
     pub material: MaterialSpec,
     #[serde(rename = "light")]
     pub lights: Option<Vec<LightSpec>>,
+    /// Environment light: a probe collapsed into directional lights.
+    pub env: Option<EnvSpec>,
     pub render: RenderSpec,
     pub output: OutputSpec,
 }
@@ -225,6 +236,17 @@ pub struct Scene {
     pub lights: Vec<Light>,
     pub render: RenderSpec,
     pub output: OutputSpec,
+    /// What environment preparation did, when the scene has an `[env]`.
+    pub env: Option<EnvSummary>,
+}
+
+/// A summary of the environment light preparation, for the command line to report.
+#[derive(Clone, Debug)]
+pub struct EnvSummary {
+    pub file: PathBuf,
+    pub lights: usize,
+    pub cache_hit: bool,
+    pub negative_texels: usize,
 }
 
 impl SceneFile {
@@ -348,7 +370,11 @@ impl Scene {
             }),
         };
 
-        let specs = file.lights.clone().unwrap_or_else(default_lights);
+        let specs = match (&file.lights, &file.env) {
+            (Some(l), _) => l.clone(),
+            (None, Some(_)) => Vec::new(),
+            (None, None) => default_lights(),
+        };
         let mut lights = Vec::with_capacity(specs.len());
         for (i, l) in specs.iter().enumerate() {
             let f = |name: &str| format!("light[{i}].{name}");
@@ -376,6 +402,18 @@ impl Scene {
                     position: vec3(&f("position"), *position)?,
                     intensity: rgb(&f("color"), *color)? * nonneg(&f("intensity"), *intensity)?,
                 },
+            });
+        }
+
+        let mut env = None;
+        if let Some(spec) = &file.env {
+            let prepared = prepare::prepare(spec, base, prepare::default_cache_dir().as_deref())?;
+            lights.extend(prepare::to_scene_lights(&prepared.lights));
+            env = Some(EnvSummary {
+                file: base.join(&spec.file),
+                lights: prepared.lights.len(),
+                cache_hit: prepared.cache_hit,
+                negative_texels: prepared.report.map_or(0, |r| r.negative_texels),
             });
         }
 
@@ -425,6 +463,7 @@ impl Scene {
             lights,
             render: r.clone(),
             output: file.output.clone(),
+            env,
         })
     }
 

@@ -1,0 +1,114 @@
+//! `brdfkit lights`: collapse a light probe into a light set, write it, draw it.
+
+use super::LightsArgs;
+use crate::env::lightset_io::{write_csv, write_json, LightSetHeader};
+use crate::env::overlay::{write_overlay_png, OverlayOptions};
+use crate::env::prepare::{load_probe, SamplerKind};
+use crate::env::{
+    fibonacci_sphere, irradiance_error, reference_irradiance_many, sampling, LoadOptions,
+};
+use crate::error::{Error, Result};
+
+/// Normals the `--report` error is measured over.
+pub const REPORT_NORMALS: usize = 256;
+
+pub fn run(a: LightsArgs) -> Result<()> {
+    let opts = LoadOptions {
+        rotation: a.rotation.to_radians(),
+        zero_non_finite: a.zero_non_finite,
+        ..LoadOptions::default()
+    };
+    if a.count == 0 || a.count > crate::env::prepare::MAX_LIGHTS {
+        return Err(Error::field(
+            "-n",
+            format!(
+                "{} is out of range (1 to {})",
+                a.count,
+                crate::env::prepare::MAX_LIGHTS
+            ),
+        ));
+    }
+    let out_kind = match &a.output {
+        None => None,
+        Some(p) => match p
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("json") => Some(true),
+            Some("csv") => Some(false),
+            _ => {
+                return Err(Error::format(
+                    p,
+                    "unknown light-set format: the file name must end in .json or .csv",
+                ))
+            }
+        },
+    };
+    if let Some(p) = &a.overlay {
+        if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+            return Err(Error::format(
+                p,
+                "the overlay is a PNG: the file name must end in .png",
+            ));
+        }
+    }
+    let (probe, report) = load_probe(&a.probe, &opts)?;
+    if report.negative_texels > 0 {
+        eprintln!(
+            "warning: {}: {} texels with negative values (lossy compression) clamped to 0",
+            a.probe.display(),
+            report.negative_texels
+        );
+    }
+    let config = a.sampler.config(a.count, a.seed);
+    let spinner = super::spinner(&format!("{} lights by {}", a.count, config.name()));
+    let (lights, regions) = if a.sampler == SamplerKind::MedianCut {
+        let mc = sampling::median_cut(&probe, a.count);
+        (mc.lights, Some(mc.regions))
+    } else {
+        (config.run(&probe), None)
+    };
+    spinner.finish_and_clear();
+    let total = lights.total_power();
+    println!(
+        "{} lights by {} from {} ({}x{}), total power RGB [{:.6e}, {:.6e}, {:.6e}]",
+        lights.len(),
+        config.name(),
+        a.probe.display(),
+        probe.width(),
+        probe.height(),
+        total.x,
+        total.y,
+        total.z
+    );
+    if a.report {
+        let normals = fibonacci_sphere(REPORT_NORMALS);
+        let reference = reference_irradiance_many(&probe, &normals);
+        println!("irradiance error vs the full probe (relative RMS over {REPORT_NORMALS} normals): {:.6}", irradiance_error(&lights, &normals, &reference));
+    }
+    if let (Some(p), Some(json)) = (&a.output, out_kind) {
+        if json {
+            write_json(
+                p,
+                &LightSetHeader::new(&config, a.probe.to_str(), &lights),
+                &lights,
+            )
+        } else {
+            write_csv(p, &lights)
+        }
+        .map_err(|e| Error::Message(e.to_string()))?;
+        println!("wrote {}", p.display());
+    }
+    if let Some(p) = &a.overlay {
+        let o = OverlayOptions {
+            exposure: a.exposure.exp2(),
+            ..OverlayOptions::default()
+        };
+        write_overlay_png(p, &probe, &lights, regions.as_deref(), &o)
+            .map_err(|e| Error::Message(e.to_string()))?;
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,268 @@
+//! Environment light preparation for a scene: probe file + sampler settings in, a light set
+//! out, cached on disk so a re-render skips decoding and sampling.
+//!
+//! Design rule: preprocessing runs only when a scene has an environment light, and its
+//! result is keyed by *what determines it*: the probe file's bytes, the rotation, the
+//! loader options and the sampler configuration (FNV-1a, [`super::Fnv1a`]). A cache hit
+//! reads one small JSON file and never decodes the probe. A cache entry that cannot be read
+//! (truncated, edited, from another version) is ignored and rewritten, never trusted.
+//!
+//! Cache directory: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else
+//! `$HOME/.cache/brdfkit`; with none of them set, nothing is cached.
+
+use super::lightset_io::{read_json, write_json, LightSetHeader};
+use super::{Fnv1a, LightSet, LoadOptions, LoadReport, Probe, SamplerConfig};
+use crate::error::{Error, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// Largest probe file read for hashing (bytes).
+pub const MAX_PROBE_FILE_BYTES: u64 = 1 << 30;
+
+/// The sampler names a scene or the command line may use.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize, serde::Serialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum SamplerKind {
+    /// Uniform random directions, each carrying its Voronoi cell's power.
+    Uniform,
+    /// Thesis Algorithm 1: importance sampling by luminance x solid angle.
+    Importance,
+    /// Algorithm 1 fed stratified (Latin hypercube) numbers.
+    Stratified,
+    /// Thesis Algorithm 2 / Debevec 2005, cuts measured in solid angle.
+    #[default]
+    MedianCut,
+    /// Median cut relaxed by weighted spherical k-means (lower error at equal N).
+    Lloyd,
+    /// Every texel a light: the converged reference.
+    Full,
+}
+
+/// Default number of Lloyd iterations.
+pub const LLOYD_ITERATIONS: usize = 16;
+
+impl SamplerKind {
+    /// The sampler configuration for `n` lights and `seed`.
+    pub fn config(self, n: usize, seed: u64) -> SamplerConfig {
+        match self {
+            SamplerKind::Uniform => SamplerConfig::Uniform { n, seed },
+            SamplerKind::Importance => SamplerConfig::Importance { n, seed },
+            SamplerKind::Stratified => SamplerConfig::Stratified { n, seed },
+            SamplerKind::MedianCut => SamplerConfig::MedianCut { n },
+            SamplerKind::Lloyd => SamplerConfig::Lloyd {
+                n,
+                iterations: LLOYD_ITERATIONS,
+            },
+            SamplerKind::Full => SamplerConfig::Full,
+        }
+    }
+}
+
+/// Largest light count a scene may ask for.
+pub const MAX_LIGHTS: usize = 1 << 16;
+
+/// The `[env]` table of a scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvSpec {
+    /// Equirectangular probe, `.exr` or `.hdr` (relative to the scene file).
+    pub file: PathBuf,
+    #[serde(default)]
+    pub sampler: SamplerKind,
+    /// Number of lights (ignored by `full`).
+    #[serde(default = "default_count")]
+    pub count: usize,
+    /// Seed of the random samplers.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Rotation of the environment about +y, degrees (right-handed).
+    #[serde(default)]
+    pub rotation: f64,
+    /// Scale applied to the probe's radiance.
+    #[serde(default = "default_intensity")]
+    pub intensity: f32,
+    /// Load probes with NaN/Inf texels by setting those texels to black.
+    #[serde(default)]
+    pub zero_non_finite: bool,
+}
+
+fn default_count() -> usize {
+    128
+}
+fn default_seed() -> u64 {
+    1
+}
+fn default_intensity() -> f32 {
+    1.0
+}
+
+impl EnvSpec {
+    /// An environment light from a probe file with default settings.
+    pub fn new(file: PathBuf) -> EnvSpec {
+        EnvSpec {
+            file,
+            sampler: SamplerKind::default(),
+            count: default_count(),
+            seed: default_seed(),
+            rotation: 0.0,
+            intensity: 1.0,
+            zero_non_finite: false,
+        }
+    }
+
+    /// Checks the fields; errors name them (`env.count`, ...).
+    pub fn check(&self) -> Result<()> {
+        if self.count == 0 || self.count > MAX_LIGHTS {
+            return Err(Error::field(
+                "env.count",
+                format!("{} is out of range (1 to {MAX_LIGHTS})", self.count),
+            ));
+        }
+        if !self.rotation.is_finite() {
+            return Err(Error::field(
+                "env.rotation",
+                "must be a finite number of degrees",
+            ));
+        }
+        if !(self.intensity.is_finite() && self.intensity >= 0.0) {
+            return Err(Error::field(
+                "env.intensity",
+                format!("{} must be a finite number >= 0", self.intensity),
+            ));
+        }
+        Ok(())
+    }
+
+    pub fn sampler_config(&self) -> SamplerConfig {
+        self.sampler.config(self.count, self.seed)
+    }
+
+    pub fn load_options(&self) -> LoadOptions {
+        LoadOptions {
+            rotation: self.rotation.to_radians(),
+            zero_non_finite: self.zero_non_finite,
+            ..LoadOptions::default()
+        }
+    }
+}
+
+/// What [`prepare`] did.
+#[derive(Clone, Debug, Default)]
+pub struct Prepared {
+    pub lights: LightSet,
+    /// True when the light set came from the cache (the probe was not decoded).
+    pub cache_hit: bool,
+    /// Loader report (cleaning counts) when the probe was decoded.
+    pub report: Option<LoadReport>,
+    /// The cache file used, if any.
+    pub cache_file: Option<PathBuf>,
+}
+
+/// The default cache directory (see the module doc), or `None`.
+pub fn default_cache_dir() -> Option<PathBuf> {
+    let var = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    var("BRDFKIT_CACHE_DIR")
+        .or_else(|| var("XDG_CACHE_HOME").map(|p| p.join("brdfkit")))
+        .or_else(|| var("HOME").map(|p| p.join(".cache").join("brdfkit")))
+}
+
+/// Cache key of a light set: FNV-1a of a version tag, the probe file's bytes, the loader
+/// options and the sampler configuration.
+pub fn file_cache_key(bytes: &[u8], opts: &LoadOptions, config: &SamplerConfig) -> u64 {
+    let mut h = Fnv1a::default();
+    h.write(b"brdfkit-env-file-v1");
+    h.write_u64(bytes.len() as u64);
+    h.write(bytes);
+    h.write_u64(opts.rotation.to_bits());
+    h.write_u64(opts.zero_non_finite as u64);
+    h.write_u64(opts.max_texels as u64);
+    config.hash_into(&mut h);
+    h.finish()
+}
+
+/// Loads (or fetches from `cache_dir`) the light set of an environment spec; `base` is
+/// the directory relative probe paths resolve against. Errors name the probe file.
+/// The light powers are scaled by `spec.intensity`.
+pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<Prepared> {
+    spec.check()?;
+    let path = base.join(&spec.file);
+    let meta =
+        std::fs::metadata(&path).map_err(|e| Error::io(&path, "cannot read light probe", e))?;
+    if meta.len() > MAX_PROBE_FILE_BYTES {
+        return Err(Error::format(
+            &path,
+            format!(
+                "light probe file is {} bytes, over the {MAX_PROBE_FILE_BYTES} byte limit",
+                meta.len()
+            ),
+        ));
+    }
+    let bytes = std::fs::read(&path).map_err(|e| Error::io(&path, "cannot read light probe", e))?;
+    let opts = spec.load_options();
+    let config = spec.sampler_config();
+    let key = file_cache_key(&bytes, &opts, &config);
+    let cache_file = cache_dir.map(|d| d.join(format!("lights-{key:016x}.json")));
+    let mut lights = None;
+    if let Some(cf) = &cache_file {
+        if let Ok((_, ls)) = read_json(cf) {
+            lights = Some(ls);
+        }
+    }
+    let cache_hit = lights.is_some();
+    let mut report = None;
+    let mut lights = match lights {
+        Some(ls) => ls,
+        None => {
+            drop(bytes);
+            let (probe, rep) =
+                Probe::load(&path, &opts).map_err(|e| Error::Message(e.to_string()))?;
+            report = Some(rep);
+            let ls = config.run(&probe);
+            if let Some(cf) = &cache_file {
+                // A cache that cannot be written only costs time: ignore the error.
+                if std::fs::create_dir_all(cf.parent().unwrap_or(Path::new("."))).is_ok() {
+                    let header = LightSetHeader::new(&config, path.to_str(), &ls);
+                    let _ = write_json(cf, &header, &ls);
+                }
+            }
+            ls
+        }
+    };
+    if spec.intensity != 1.0 {
+        for p in lights
+            .power_r
+            .iter_mut()
+            .chain(lights.power_g.iter_mut())
+            .chain(lights.power_b.iter_mut())
+        {
+            *p *= spec.intensity;
+        }
+    }
+    Ok(Prepared {
+        lights,
+        cache_hit,
+        report,
+        cache_file,
+    })
+}
+
+/// The light set as scene lights (directional, irradiance = power).
+pub fn to_scene_lights(ls: &LightSet) -> Vec<crate::light::Light> {
+    (0..ls.len())
+        .map(|i| crate::light::Light::Directional {
+            to_light: glam::Vec3::new(ls.dir_x[i], ls.dir_y[i], ls.dir_z[i]),
+            irradiance: glam::Vec3::new(ls.power_r[i], ls.power_g[i], ls.power_b[i]),
+        })
+        .collect()
+}
+
+/// Loads a probe for tools (the `lights` command), mapping its errors.
+pub fn load_probe(path: &Path, opts: &LoadOptions) -> Result<(Probe, LoadReport)> {
+    Probe::load(path, opts).map_err(|e| Error::Message(e.to_string()))
+}
