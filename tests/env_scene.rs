@@ -1,0 +1,152 @@
+//! Environment lighting through the whole renderer: white furnace per sampler, the
+//! teapot under real probes with every sampler against the full-probe reference, and the
+//! light-set cache.
+
+use brdfkit::env::prepare::{prepare, EnvSpec, SamplerKind};
+use brdfkit::image_io::Image;
+use brdfkit::render::render;
+use brdfkit::scene::{Scene, SceneFile};
+use std::path::{Path, PathBuf};
+
+const SAMPLERS: [SamplerKind; 5] = [SamplerKind::Uniform, SamplerKind::Importance, SamplerKind::Stratified, SamplerKind::MedianCut, SamplerKind::Lloyd];
+
+fn assets() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes")
+}
+
+/// A constant-radiance probe written as an EXR.
+fn constant_probe(dir: &Path, w: usize, h: usize, value: f32) -> PathBuf {
+    let p = dir.join("constant.exr");
+    exr::prelude::write_rgb_file(&p, w, h, |_, _| (value, value, value)).unwrap();
+    p
+}
+
+fn scene(toml: &str, w: u32, h: u32) -> Scene {
+    let mut f = SceneFile::parse(toml).unwrap();
+    f.render.width = w;
+    f.render.height = h;
+    Scene::resolve(&f, Path::new("/")).unwrap()
+}
+
+fn covered(img: &Image) -> Vec<glam::Vec3> {
+    img.pixels.iter().copied().filter(|p| p.max_element() > 0.0).collect()
+}
+
+#[test]
+fn white_furnace_lambert_sphere_per_sampler() {
+    // Constant radiance L = 2 and albedo 0.5: every visible point reflects 0.5 * 2 = 1,
+    // whatever its normal. The delta-light approximation converges to it as N grows.
+    let tmp = tempfile::tempdir().unwrap();
+    std::env::set_var("BRDFKIT_CACHE_DIR", tmp.path().join("cache"));
+    let probe = constant_probe(tmp.path(), 64, 32, 2.0);
+    for sampler in SAMPLERS {
+        let mut errs = Vec::new();
+        for n in [16, 128, 1024] {
+            let s = scene(&format!("[mesh]\nsource = \"sphere\"\nsegments = 24\n[material]\nkind = \"lambert\"\nalbedo = [0.5, 0.5, 0.5]\n[env]\nfile = \"{}\"\nsampler = \"{}\"\ncount = {n}\n", probe.display(), serde_plain(sampler)), 48, 48);
+            let img = render(&s, None);
+            let px = covered(&img);
+            assert!(px.len() > 800, "{sampler:?} N={n}: sphere not visible");
+            let rms = (px.iter().map(|p| ((*p - glam::Vec3::ONE).length_squared() / 3.0) as f64).sum::<f64>() / px.len() as f64).sqrt();
+            errs.push(rms);
+        }
+        assert!(errs[2] < errs[0], "{sampler:?}: error does not fall with N: {errs:?}");
+        assert!(errs[2] < 0.05, "{sampler:?}: N=1024 white furnace RMS error {:.4} (errors {errs:?})", errs[2]);
+    }
+}
+
+fn serde_plain(s: SamplerKind) -> &'static str {
+    match s {
+        SamplerKind::Uniform => "uniform",
+        SamplerKind::Importance => "importance",
+        SamplerKind::Stratified => "stratified",
+        SamplerKind::MedianCut => "median-cut",
+        SamplerKind::Lloyd => "lloyd",
+        SamplerKind::Full => "full",
+    }
+}
+
+#[test]
+fn teapot_under_real_probes_with_every_sampler() {
+    // Each sampler's render at N = 256 is within a few percent of the full-probe reference
+    // (every texel a light), on a Lambertian teapot where the error is only the lighting's.
+    let tmp = tempfile::tempdir().unwrap();
+    std::env::set_var("BRDFKIT_CACHE_DIR", tmp.path());
+    for probe in ["city.exr", "studio.exr"] {
+        let file = assets().join(probe);
+        let toml = |sampler: &str, n: usize| format!("[material]\nkind = \"lambert\"\nalbedo = [0.7, 0.7, 0.7]\n[render]\ncull = \"back\"\n[env]\nfile = \"{}\"\nsampler = \"{sampler}\"\ncount = {n}\n", file.display());
+        let reference = render(&scene(&toml("full", 1), 40, 30), None);
+        let ref_px = covered(&reference);
+        let mean: f64 = ref_px.iter().map(|p| p.element_sum() as f64 / 3.0).sum::<f64>() / ref_px.len() as f64;
+        assert!(ref_px.len() > 200 && mean > 0.0);
+        for sampler in SAMPLERS {
+            let img = render(&scene(&toml(serde_plain(sampler), 256), 40, 30), None);
+            assert!(img.pixels.iter().all(|p| p.is_finite()));
+            let rel_rmse = (img.pixels.iter().zip(&reference.pixels).filter(|(_, r)| r.max_element() > 0.0).map(|(a, r)| ((*a - *r).length_squared() / 3.0) as f64).sum::<f64>() / ref_px.len() as f64).sqrt() / mean;
+            let bound = if matches!(sampler, SamplerKind::Uniform | SamplerKind::Importance | SamplerKind::Stratified) { 0.25 } else { 0.05 };
+            assert!(rel_rmse < bound, "{probe} {sampler:?}: relative RMSE {rel_rmse:.4} against the full probe (bound {bound})");
+        }
+    }
+}
+
+#[test]
+fn light_sets_are_cached_by_contents_and_parameters() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cache = tmp.path().join("cache");
+    let probe = tmp.path().join("p.exr");
+    std::fs::copy(assets().join("city.exr"), &probe).unwrap();
+    let mut spec = EnvSpec::new(probe.clone());
+    spec.sampler = SamplerKind::Lloyd;
+    spec.count = 32;
+    let first = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
+    assert!(!first.cache_hit && first.report.is_some());
+    let second = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
+    assert!(second.cache_hit, "a re-render must skip preprocessing");
+    assert!(second.report.is_none(), "a cache hit must not decode the probe");
+    assert_eq!(first.lights, second.lights);
+    // Another parameter: another entry.
+    spec.count = 16;
+    assert!(!prepare(&spec, tmp.path(), Some(&cache)).unwrap().cache_hit);
+    spec.count = 32;
+    spec.rotation = 90.0;
+    assert!(!prepare(&spec, tmp.path(), Some(&cache)).unwrap().cache_hit);
+    spec.rotation = 0.0;
+    // Other contents under the same name: another entry.
+    std::fs::copy(assets().join("studio.exr"), &probe).unwrap();
+    let other = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
+    assert!(!other.cache_hit);
+    assert_ne!(other.lights, first.lights);
+    // A damaged cache entry is ignored and rewritten, never trusted.
+    let cf = other.cache_file.clone().unwrap();
+    std::fs::write(&cf, "{ not json").unwrap();
+    let again = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
+    assert!(!again.cache_hit);
+    assert_eq!(again.lights, other.lights);
+    assert!(prepare(&spec, tmp.path(), Some(&cache)).unwrap().cache_hit);
+}
+
+#[test]
+fn scenes_without_env_never_touch_a_probe() {
+    // The default scene has no [env]: nothing is prepared.
+    let s = Scene::default_scene();
+    assert!(s.env.is_none());
+    assert_eq!(s.lights.len(), 1);
+}
+
+#[test]
+fn env_errors_name_the_field_or_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut spec = EnvSpec::new(tmp.path().join("missing.exr"));
+    let e = prepare(&spec, tmp.path(), None).unwrap_err().to_string();
+    assert!(e.contains("missing.exr"), "{e}");
+    spec.count = 0;
+    let e = prepare(&spec, tmp.path(), None).unwrap_err().to_string();
+    assert!(e.contains("env.count"), "{e}");
+    let bad = tmp.path().join("bad.exr");
+    std::fs::write(&bad, b"not an exr").unwrap();
+    let e = prepare(&EnvSpec::new(bad), tmp.path(), None).unwrap_err().to_string();
+    assert!(e.contains("bad.exr"), "{e}");
+    let e = SceneFile::parse("[env]\nfile = \"x.exr\"\nsampler = \"magic\"\n").unwrap_err();
+    assert!(e.contains("magic"), "{e}");
+    let e = SceneFile::parse("[env]\nfile = \"x.exr\"\ncuont = 3\n").unwrap_err();
+    assert!(e.contains("cuont"), "{e}");
+}
