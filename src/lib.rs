@@ -19,7 +19,8 @@
 //! 4. **Pixels shaded**: [`shade`] (deferred: one shading per visible pixel), [`aov`]
 //!    (debug outputs: normal, depth, coverage, view and light angles).
 //! 5. **Images out**: [`image_io`] (linear EXR; PNG via exposure, tone map and sRGB;
-//!    atomic writes), [`golden`] (reference images and their check).
+//!    atomic writes), [`golden`] (reference images and their check), [`compare`] (error
+//!    metrics and FLIP for a GPU build's CI).
 //!
 //! [`render`] strings the stages together; [`cli`] is the command line.
 //!
@@ -46,6 +47,7 @@
 pub mod aov;
 pub mod brdf;
 pub mod cli;
+pub mod compare;
 pub mod conventions;
 pub mod env;
 pub mod error;

@@ -245,10 +245,34 @@ fn good_input_writes_exactly_the_requested_files() {
 #[test]
 fn environment_flags_and_lights_command_errors() {
     let d = dir_with(&[("junk.exr", "not an exr at all")]);
-    assert_error(d.path(), &["render", "--sampler", "lloyd", "-o", "a.png"], &["--sampler", "--env"]);
-    assert_error(d.path(), &["render", "--env", "nothere.exr", "-o", "a.png"], &["nothere.exr"]);
-    assert_error(d.path(), &["render", "--env", "junk.exr", "-o", "a.png"], &["junk.exr"]);
-    assert_error(d.path(), &["lights", "junk.exr", "-o", "l.json"], &["junk.exr"]);
-    assert_error(d.path(), &["lights", "junk.exr", "-o", "l.txt"], &["l.txt", ".json or .csv"]);
-    assert_error(d.path(), &["lights", "junk.exr", "-n", "0"], &["-n", "out of range"]);
+    assert_error(
+        d.path(),
+        &["render", "--sampler", "lloyd", "-o", "a.png"],
+        &["--sampler", "--env"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--env", "nothere.exr", "-o", "a.png"],
+        &["nothere.exr"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--env", "junk.exr", "-o", "a.png"],
+        &["junk.exr"],
+    );
+    assert_error(
+        d.path(),
+        &["lights", "junk.exr", "-o", "l.json"],
+        &["junk.exr"],
+    );
+    assert_error(
+        d.path(),
+        &["lights", "junk.exr", "-o", "l.txt"],
+        &["l.txt", ".json or .csv"],
+    );
+    assert_error(
+        d.path(),
+        &["lights", "junk.exr", "-n", "0"],
+        &["-n", "out of range"],
+    );
 }

@@ -8,7 +8,13 @@ use brdfkit::render::render;
 use brdfkit::scene::{Scene, SceneFile};
 use std::path::{Path, PathBuf};
 
-const SAMPLERS: [SamplerKind; 5] = [SamplerKind::Uniform, SamplerKind::Importance, SamplerKind::Stratified, SamplerKind::MedianCut, SamplerKind::Lloyd];
+const SAMPLERS: [SamplerKind; 5] = [
+    SamplerKind::Uniform,
+    SamplerKind::Importance,
+    SamplerKind::Stratified,
+    SamplerKind::MedianCut,
+    SamplerKind::Lloyd,
+];
 
 fn assets() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes")
@@ -29,7 +35,11 @@ fn scene(toml: &str, w: u32, h: u32) -> Scene {
 }
 
 fn covered(img: &Image) -> Vec<glam::Vec3> {
-    img.pixels.iter().copied().filter(|p| p.max_element() > 0.0).collect()
+    img.pixels
+        .iter()
+        .copied()
+        .filter(|p| p.max_element() > 0.0)
+        .collect()
 }
 
 #[test]
@@ -46,11 +56,23 @@ fn white_furnace_lambert_sphere_per_sampler() {
             let img = render(&s, None);
             let px = covered(&img);
             assert!(px.len() > 800, "{sampler:?} N={n}: sphere not visible");
-            let rms = (px.iter().map(|p| ((*p - glam::Vec3::ONE).length_squared() / 3.0) as f64).sum::<f64>() / px.len() as f64).sqrt();
+            let rms = (px
+                .iter()
+                .map(|p| ((*p - glam::Vec3::ONE).length_squared() / 3.0) as f64)
+                .sum::<f64>()
+                / px.len() as f64)
+                .sqrt();
             errs.push(rms);
         }
-        assert!(errs[2] < errs[0], "{sampler:?}: error does not fall with N: {errs:?}");
-        assert!(errs[2] < 0.05, "{sampler:?}: N=1024 white furnace RMS error {:.4} (errors {errs:?})", errs[2]);
+        assert!(
+            errs[2] < errs[0],
+            "{sampler:?}: error does not fall with N: {errs:?}"
+        );
+        assert!(
+            errs[2] < 0.05,
+            "{sampler:?}: N=1024 white furnace RMS error {:.4} (errors {errs:?})",
+            errs[2]
+        );
     }
 }
 
@@ -73,16 +95,38 @@ fn teapot_under_real_probes_with_every_sampler() {
     std::env::set_var("BRDFKIT_CACHE_DIR", tmp.path());
     for probe in ["city.exr", "studio.exr"] {
         let file = assets().join(probe);
-        let toml = |sampler: &str, n: usize| format!("[material]\nkind = \"lambert\"\nalbedo = [0.7, 0.7, 0.7]\n[render]\ncull = \"back\"\n[env]\nfile = \"{}\"\nsampler = \"{sampler}\"\ncount = {n}\n", file.display());
+        let toml = |sampler: &str, n: usize| {
+            format!("[material]\nkind = \"lambert\"\nalbedo = [0.7, 0.7, 0.7]\n[render]\ncull = \"back\"\n[env]\nfile = \"{}\"\nsampler = \"{sampler}\"\ncount = {n}\n", file.display())
+        };
         let reference = render(&scene(&toml("full", 1), 40, 30), None);
         let ref_px = covered(&reference);
-        let mean: f64 = ref_px.iter().map(|p| p.element_sum() as f64 / 3.0).sum::<f64>() / ref_px.len() as f64;
+        let mean: f64 = ref_px
+            .iter()
+            .map(|p| p.element_sum() as f64 / 3.0)
+            .sum::<f64>()
+            / ref_px.len() as f64;
         assert!(ref_px.len() > 200 && mean > 0.0);
         for sampler in SAMPLERS {
             let img = render(&scene(&toml(serde_plain(sampler), 256), 40, 30), None);
             assert!(img.pixels.iter().all(|p| p.is_finite()));
-            let rel_rmse = (img.pixels.iter().zip(&reference.pixels).filter(|(_, r)| r.max_element() > 0.0).map(|(a, r)| ((*a - *r).length_squared() / 3.0) as f64).sum::<f64>() / ref_px.len() as f64).sqrt() / mean;
-            let bound = if matches!(sampler, SamplerKind::Uniform | SamplerKind::Importance | SamplerKind::Stratified) { 0.25 } else { 0.05 };
+            let rel_rmse = (img
+                .pixels
+                .iter()
+                .zip(&reference.pixels)
+                .filter(|(_, r)| r.max_element() > 0.0)
+                .map(|(a, r)| ((*a - *r).length_squared() / 3.0) as f64)
+                .sum::<f64>()
+                / ref_px.len() as f64)
+                .sqrt()
+                / mean;
+            let bound = if matches!(
+                sampler,
+                SamplerKind::Uniform | SamplerKind::Importance | SamplerKind::Stratified
+            ) {
+                0.25
+            } else {
+                0.05
+            };
             assert!(rel_rmse < bound, "{probe} {sampler:?}: relative RMSE {rel_rmse:.4} against the full probe (bound {bound})");
         }
     }
@@ -101,7 +145,10 @@ fn light_sets_are_cached_by_contents_and_parameters() {
     assert!(!first.cache_hit && first.report.is_some());
     let second = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
     assert!(second.cache_hit, "a re-render must skip preprocessing");
-    assert!(second.report.is_none(), "a cache hit must not decode the probe");
+    assert!(
+        second.report.is_none(),
+        "a cache hit must not decode the probe"
+    );
     assert_eq!(first.lights, second.lights);
     // Another parameter: another entry.
     spec.count = 16;
@@ -143,7 +190,9 @@ fn env_errors_name_the_field_or_file() {
     assert!(e.contains("env.count"), "{e}");
     let bad = tmp.path().join("bad.exr");
     std::fs::write(&bad, b"not an exr").unwrap();
-    let e = prepare(&EnvSpec::new(bad), tmp.path(), None).unwrap_err().to_string();
+    let e = prepare(&EnvSpec::new(bad), tmp.path(), None)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("bad.exr"), "{e}");
     let e = SceneFile::parse("[env]\nfile = \"x.exr\"\nsampler = \"magic\"\n").unwrap_err();
     assert!(e.contains("magic"), "{e}");

@@ -2,6 +2,7 @@
 //! load and check input, call the pipeline, write output atomically. One file per
 //! subcommand; this file holds the argument definitions and the dispatch.
 
+mod compare;
 mod golden;
 mod lights;
 mod render;
@@ -39,6 +40,11 @@ pub enum Command {
         after_help = "Examples:\n  brdfkit lights city.exr --sampler median-cut -n 64 --overlay cut.png\n  brdfkit lights studio.exr --sampler lloyd -n 128 -o lights.json --report\n\nEvery light set carries exactly the probe's total power. --report prints the irradiance\nerror against the full probe (every texel a light)."
     )]
     Lights(LightsArgs),
+    /// Compare two images (EXR with EXR, PNG with PNG): error metrics, FLIP, pass or fail.
+    #[command(
+        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or channel layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff) and the error histogram printed.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01"
+    )]
+    Compare(CompareArgs),
     /// Check or update the golden reference images in golden/.
     Golden {
         #[command(subcommand)]
@@ -124,6 +130,29 @@ pub struct LightsArgs {
     pub report: bool,
 }
 
+#[derive(clap::Args, Debug)]
+pub struct CompareArgs {
+    /// The reference image (the oracle's render).
+    pub expected: PathBuf,
+    /// The image under test (e.g. a GPU build's render).
+    pub actual: PathBuf,
+    /// Largest passing FLIP mean (default 0.01).
+    #[arg(long)]
+    pub max_flip_mean: Option<f32>,
+    /// Percentile for the second FLIP bound, in (0, 1) (default 0.99).
+    #[arg(long)]
+    pub percentile: Option<f32>,
+    /// Largest passing FLIP value at --percentile (default 0.1).
+    #[arg(long)]
+    pub max_flip_at_percentile: Option<f32>,
+    /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png).
+    #[arg(long)]
+    pub diff: Option<PathBuf>,
+    /// Print the error histogram even when the comparison passes.
+    #[arg(long)]
+    pub histogram: bool,
+}
+
 /// A spinner on stderr for long work; hidden when stderr is not a terminal.
 pub(crate) fn spinner(message: &str) -> indicatif::ProgressBar {
     use std::io::IsTerminal;
@@ -164,5 +193,6 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Render(args) => render::run(args).map(|_| true),
         Command::Golden { action } => golden::run(action),
         Command::Lights(args) => lights::run(args).map(|_| true),
+        Command::Compare(args) => compare::run(args),
     }
 }

@@ -1,0 +1,99 @@
+//! `brdfkit compare A B`: exit 0 on pass, 1 on fail, 2 on unusable input.
+
+use super::CompareArgs;
+use crate::compare::{self, Thresholds};
+use crate::error::Result;
+use std::path::PathBuf;
+
+pub fn run(a: CompareArgs) -> Result<bool> {
+    let th = Thresholds {
+        flip_mean: a.max_flip_mean.unwrap_or(Thresholds::DEFAULT.flip_mean),
+        percentile: a.percentile.unwrap_or(Thresholds::DEFAULT.percentile),
+        flip_at_percentile: a
+            .max_flip_at_percentile
+            .unwrap_or(Thresholds::DEFAULT.flip_at_percentile),
+    };
+    if !(th.percentile > 0.0 && th.percentile < 1.0) {
+        return Err(crate::error::Error::field(
+            "--percentile",
+            format!("{} must be in (0, 1)", th.percentile),
+        ));
+    }
+    let expected = compare::load(&a.expected)?;
+    let actual = compare::load(&a.actual)?;
+    let (m, flip) = compare::compare(&expected, &actual, &th)?;
+    let pass = m.passes(&th);
+    println!(
+        "{} vs {} ({}x{} {} {})",
+        a.expected.display(),
+        a.actual.display(),
+        m.width,
+        m.height,
+        expected.layout.kind,
+        expected.layout.channels
+    );
+    println!("  max abs error   {:.6e}", m.max_abs);
+    println!("  max rel error   {:.6e}", m.max_rel);
+    println!("  RMSE            {:.6e}", m.rmse);
+    println!("  PSNR            {:.2} dB", m.psnr);
+    println!(
+        "  FLIP mean       {:.6}  (max {})",
+        m.flip_mean, th.flip_mean
+    );
+    println!(
+        "  FLIP p{:<5}     {:.6}  (max {})",
+        th.percentile * 100.0,
+        m.flip_at_percentile,
+        th.flip_at_percentile
+    );
+    println!(
+        "  FLIP p95/p99/p99.9  {:.6} / {:.6} / {:.6}",
+        m.flip_p95, m.flip_p99, m.flip_p999
+    );
+    println!(
+        "  differing pixels {} of {}{}",
+        m.differing_pixels,
+        m.width * m.height,
+        if m.non_finite > 0 {
+            format!(", {} non-finite", m.non_finite)
+        } else {
+            String::new()
+        }
+    );
+    if !pass || a.histogram {
+        println!("  error histogram (largest channel difference per pixel):");
+        let total = (m.width * m.height).max(1) as f64;
+        let mut lower = 0.0f32;
+        for &(ub, count) in &m.histogram {
+            let label = if ub == 0.0 {
+                "= 0".to_string()
+            } else if ub.is_infinite() {
+                format!("> {lower:.0e}")
+            } else {
+                format!("<= {ub:.0e}")
+            };
+            let bar = "#".repeat((50.0 * count as f64 / total).ceil() as usize);
+            println!("    {label:>9} {count:>9} {bar}");
+            lower = ub;
+        }
+    }
+    if pass {
+        println!("PASS");
+    } else {
+        let out = a.diff.clone().unwrap_or_else(|| {
+            let stem = a
+                .actual
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            a.actual.with_file_name(format!("{stem}.diff.png"))
+        });
+        compare::write_report_image(&out, &expected, &actual, &flip)?;
+        println!(
+            "FAIL: expected | FLIP heatmap | actual written to {}",
+            out.display()
+        );
+    }
+    let _ = PathBuf::new();
+    Ok(pass)
+}

@@ -1,0 +1,332 @@
+//! Image comparison: the measurements `brdfkit compare` reports and the pass/fail rule a
+//! GPU build's CI relies on.
+//!
+//! Design rule: like is compared with like. Two EXR files are compared as linear floats;
+//! two PNG files as their 8-bit sRGB values scaled to [0, 1]. A size, channel-layout or
+//! kind mismatch is *unusable input*, never a silent conversion. FLIP (NVIDIA's perceptual
+//! difference, through the `nv-flip` crate) is computed on what a person sees: PNGs as they
+//! are, EXRs after [`crate::image_io::display_u8`] (exposure 0, ACES, sRGB).
+//!
+//! Thresholds follow wgpu's image tests: a FLIP mean and a FLIP value at a high percentile,
+//! each with a reason (see [`Thresholds::DEFAULT`]).
+
+use crate::error::{Error, Result};
+use crate::image_io::{self, Image, Tonemap};
+use glam::Vec3;
+use std::path::Path;
+
+/// What kind of file an image came from, with its channel layout.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// "EXR" or "PNG".
+    pub kind: &'static str,
+    /// Channel names, e.g. "RGB", "RGBA", "L".
+    pub channels: String,
+}
+
+/// A loaded image for comparison: RGB values (linear for EXR, encoded/255 for PNG) and,
+/// for FLIP, 8-bit display bytes.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    pub image: Image,
+    pub display: Vec<u8>,
+    pub layout: Layout,
+}
+
+/// Largest image side accepted for comparison.
+pub const MAX_SIDE: u32 = 1 << 15;
+
+/// Loads an EXR (R, G, B, optional A) or PNG (any 8/16-bit colour type). Errors name the file.
+pub fn load(path: &Path) -> Result<Loaded> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("exr") => {
+            let meta = exr::meta::MetaData::read_from_file(path, false)
+                .map_err(|e| Error::format(path, format!("cannot read EXR: {e}")))?;
+            let header = meta
+                .headers
+                .first()
+                .ok_or_else(|| Error::format(path, "EXR has no layers"))?;
+            let names: Vec<String> = header
+                .channels
+                .list
+                .iter()
+                .map(|c| c.name.to_string())
+                .collect();
+            let size = header.layer_size;
+            if size.0 as u64 > MAX_SIDE as u64 || size.1 as u64 > MAX_SIDE as u64 {
+                return Err(Error::format(
+                    path,
+                    format!(
+                        "EXR is {}x{}, larger than {MAX_SIDE} per side",
+                        size.0, size.1
+                    ),
+                ));
+            }
+            for c in ["R", "G", "B"] {
+                if !names.iter().any(|n| n == c) {
+                    return Err(Error::format(
+                        path,
+                        format!("EXR has channels {names:?}: an R, G and B channel are needed"),
+                    ));
+                }
+            }
+            let mut sorted = names.clone();
+            sorted.sort();
+            let channels = if sorted.iter().any(|n| n == "A") {
+                "RGBA"
+            } else {
+                "RGB"
+            }
+            .to_string();
+            let image = image_io::read_exr(path)?;
+            let display = image
+                .pixels
+                .iter()
+                .flat_map(|p| {
+                    p.to_array()
+                        .map(|c| image_io::display_u8(c, 0.0, Tonemap::Aces))
+                })
+                .collect();
+            Ok(Loaded {
+                image,
+                display,
+                layout: Layout {
+                    kind: "EXR",
+                    channels,
+                },
+            })
+        }
+        Some("png") => {
+            let reader = image::ImageReader::open(path)
+                .map_err(|e| Error::io(path, "cannot read PNG", e))?;
+            let mut reader = reader
+                .with_guessed_format()
+                .map_err(|e| Error::io(path, "cannot read PNG", e))?;
+            let mut limits = image::Limits::default();
+            limits.max_image_width = Some(MAX_SIDE);
+            limits.max_image_height = Some(MAX_SIDE);
+            reader.limits(limits);
+            let img = reader
+                .decode()
+                .map_err(|e| Error::format(path, format!("cannot decode PNG: {e}")))?;
+            let channels = match img.color() {
+                image::ColorType::L8 | image::ColorType::L16 => "L",
+                image::ColorType::La8 | image::ColorType::La16 => "LA",
+                image::ColorType::Rgb8 | image::ColorType::Rgb16 => "RGB",
+                image::ColorType::Rgba8 | image::ColorType::Rgba16 => "RGBA",
+                _ => "other",
+            }
+            .to_string();
+            let rgb = img.to_rgb8();
+            let (w, h) = rgb.dimensions();
+            let display = rgb.into_raw();
+            let pixels = display
+                .chunks_exact(3)
+                .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) / 255.0)
+                .collect();
+            Ok(Loaded {
+                image: Image {
+                    width: w,
+                    height: h,
+                    pixels,
+                },
+                display,
+                layout: Layout {
+                    kind: "PNG",
+                    channels,
+                },
+            })
+        }
+        _ => Err(Error::format(
+            path,
+            "unknown image format: compare reads .exr and .png",
+        )),
+    }
+}
+
+/// Pass thresholds: FLIP mean and the FLIP value at a percentile (both in [0, 1]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Thresholds {
+    pub flip_mean: f32,
+    /// Percentile in (0, 1), e.g. 0.99.
+    pub percentile: f32,
+    pub flip_at_percentile: f32,
+}
+
+impl Thresholds {
+    /// Defaults for a GPU build against this oracle. The mean bound (0.01) admits what a
+    /// correct GPU port differs by (texture filtering with 8-bit sub-texel weights, fp32
+    /// evaluation order: measured FLIP means below 0.002 on our perturbation tests) and is
+    /// passed by every deliberate bug we seed (a missing cosine, a flipped azimuth: means of
+    /// 0.02 and more). The 99th-percentile bound (0.1) keeps a small bad region (a few
+    /// hundred wrong pixels, a seam) from hiding in a good mean.
+    pub const DEFAULT: Thresholds = Thresholds {
+        flip_mean: 0.01,
+        percentile: 0.99,
+        flip_at_percentile: 0.1,
+    };
+}
+
+/// The measurements of one comparison.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Metrics {
+    pub width: u32,
+    pub height: u32,
+    /// Largest absolute channel difference.
+    pub max_abs: f32,
+    /// Largest relative channel difference `|a - b| / max(|a|, 1e-3)`.
+    pub max_rel: f32,
+    /// Root mean square channel difference.
+    pub rmse: f64,
+    /// PSNR in dB against a peak of max(1, largest reference value); infinite if equal.
+    pub psnr: f64,
+    pub flip_mean: f32,
+    /// FLIP at the 95th, 99th and 99.9th percentiles.
+    pub flip_p95: f32,
+    pub flip_p99: f32,
+    pub flip_p999: f32,
+    /// FLIP at the threshold's percentile.
+    pub flip_at_percentile: f32,
+    /// Pixels whose largest channel difference is non-zero.
+    pub differing_pixels: usize,
+    /// Histogram of the per-pixel largest absolute difference: `(upper bound, count)`,
+    /// the first bucket holding exact zeros.
+    pub histogram: Vec<(f32, usize)>,
+    /// NaN or infinite values in either image.
+    pub non_finite: usize,
+}
+
+/// Compares `expected` with `actual`. Fails (unusable input) when sizes, kinds or channel
+/// layouts differ.
+pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(Metrics, Vec<f32>)> {
+    let (e, a) = (&expected.image, &actual.image);
+    if (e.width, e.height) != (a.width, a.height) {
+        return Err(Error::field(
+            "images",
+            format!(
+                "sizes differ: expected {}x{}, actual {}x{}",
+                e.width, e.height, a.width, a.height
+            ),
+        ));
+    }
+    if expected.layout != actual.layout {
+        return Err(Error::field(
+            "images",
+            format!(
+                "channel layouts differ: expected {} {}, actual {} {}",
+                expected.layout.kind,
+                expected.layout.channels,
+                actual.layout.kind,
+                actual.layout.channels
+            ),
+        ));
+    }
+    let n = e.pixels.len();
+    let mut max_abs = 0.0f32;
+    let mut max_rel = 0.0f32;
+    let mut sq = 0.0f64;
+    let mut peak = 1.0f32;
+    let mut differing = 0;
+    let mut non_finite = 0;
+    let bounds: Vec<f32> = std::iter::once(0.0)
+        .chain((0..8).map(|k| 10f32.powi(k - 7)))
+        .chain(std::iter::once(f32::INFINITY))
+        .collect();
+    let mut hist = vec![0usize; bounds.len()];
+    for (pe, pa) in e.pixels.iter().zip(&a.pixels) {
+        if !pe.is_finite() || !pa.is_finite() {
+            non_finite += 1;
+            *hist.last_mut().unwrap() += 1;
+            differing += 1;
+            continue;
+        }
+        let d = (*pa - *pe).abs();
+        let m = d.max_element();
+        max_abs = max_abs.max(m);
+        let rel = d / pe.abs().max(Vec3::splat(1e-3));
+        max_rel = max_rel.max(rel.max_element());
+        sq += d.length_squared() as f64;
+        peak = peak.max(pe.max_element());
+        if m > 0.0 {
+            differing += 1;
+        }
+        let b = bounds
+            .iter()
+            .position(|&ub| m <= ub)
+            .unwrap_or(bounds.len() - 1);
+        hist[b] += 1;
+    }
+    let rmse = (sq / (3 * n).max(1) as f64).sqrt();
+    let psnr = if rmse == 0.0 {
+        f64::INFINITY
+    } else {
+        20.0 * (peak as f64 / rmse).log10()
+    };
+    let fe = nv_flip::FlipImageRgb8::with_data(e.width, e.height, &expected.display);
+    let fa = nv_flip::FlipImageRgb8::with_data(a.width, a.height, &actual.display);
+    let err = nv_flip::flip(fe, fa, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    let mut pool = nv_flip::FlipPool::from_image(&err);
+    let flip = err.to_vec();
+    let metrics = Metrics {
+        width: e.width,
+        height: e.height,
+        max_abs: if non_finite > 0 {
+            f32::INFINITY
+        } else {
+            max_abs
+        },
+        max_rel: if non_finite > 0 {
+            f32::INFINITY
+        } else {
+            max_rel
+        },
+        rmse,
+        psnr,
+        flip_mean: pool.mean(),
+        flip_p95: pool.get_percentile(0.95, false),
+        flip_p99: pool.get_percentile(0.99, false),
+        flip_p999: pool.get_percentile(0.999, false),
+        flip_at_percentile: pool.get_percentile(th.percentile, false),
+        differing_pixels: differing,
+        histogram: bounds.into_iter().zip(hist).collect(),
+        non_finite,
+    };
+    Ok((metrics, flip))
+}
+
+impl Metrics {
+    /// Whether the comparison passes: no non-finite values, and both FLIP bounds hold.
+    pub fn passes(&self, th: &Thresholds) -> bool {
+        self.non_finite == 0
+            && self.flip_mean <= th.flip_mean
+            && self.flip_at_percentile <= th.flip_at_percentile
+    }
+}
+
+/// Writes `expected | FLIP heatmap (magma) | actual` side by side as a PNG.
+pub fn write_report_image(
+    path: &Path,
+    expected: &Loaded,
+    actual: &Loaded,
+    flip: &[f32],
+) -> Result<()> {
+    let (w, h) = (expected.image.width, expected.image.height);
+    let err = nv_flip::FlipImageFloat::with_data(w, h, flip);
+    let heat = err.apply_color_lut(&nv_flip::magma_lut()).to_vec();
+    let mut bytes = vec![0u8; (3 * w * h * 3) as usize];
+    for y in 0..h as usize {
+        for (k, src) in [&expected.display, &heat, &actual.display]
+            .into_iter()
+            .enumerate()
+        {
+            let row = &src[y * w as usize * 3..(y + 1) * w as usize * 3];
+            let start = (y * 3 * w as usize + k * w as usize) * 3;
+            bytes[start..start + row.len()].copy_from_slice(row);
+        }
+    }
+    image_io::write_png_bytes(path, 3 * w, h, bytes)
+}

@@ -1,0 +1,114 @@
+//! `brdfkit compare`: exit 0 on pass, 1 on fail (with a report image), 2 on unusable input.
+
+use std::path::Path;
+use std::process::Command;
+
+fn run(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn exit_codes_and_report() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::write(
+        p.join("dim.toml"),
+        "[[light]]\nkind = \"directional\"\nto_light = [0.4, 1.0, 0.6]\nintensity = 2.5\n",
+    )
+    .unwrap();
+    for (args, _) in [
+        (
+            vec!["render", "--width", "64", "--height", "48", "-o", "a.exr"],
+            0,
+        ),
+        (
+            vec!["render", "--width", "64", "--height", "48", "-o", "b.exr"],
+            0,
+        ),
+        (
+            vec![
+                "render", "dim.toml", "--width", "64", "--height", "48", "-o", "dim.exr",
+            ],
+            0,
+        ),
+        (
+            vec![
+                "render",
+                "--width",
+                "32",
+                "--height",
+                "48",
+                "-o",
+                "small.exr",
+            ],
+            0,
+        ),
+        (
+            vec!["render", "--width", "64", "--height", "48", "-o", "a.png"],
+            0,
+        ),
+    ] {
+        assert_eq!(run(p, &args).0, 0);
+    }
+    let (code, out, _) = run(p, &["compare", "a.exr", "b.exr"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("PASS"));
+    let (code, out, _) = run(p, &["compare", "a.exr", "dim.exr", "--diff", "report.png"]);
+    assert_eq!(code, 1, "a 17% dimmer light must fail: {out}");
+    assert!(out.contains("error histogram") && out.contains("FAIL"));
+    let report = image::open(p.join("report.png")).unwrap();
+    assert_eq!((report.width(), report.height()), (3 * 64, 48));
+    let (code, _, err) = run(p, &["compare", "a.exr", "small.exr"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("sizes differ"), "{err}");
+    let (code, _, err) = run(p, &["compare", "a.exr", "a.png"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("channel layouts differ"), "{err}");
+    let (code, _, err) = run(p, &["compare", "a.exr", "missing.exr"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("missing.exr"), "{err}");
+    std::fs::write(p.join("junk.exr"), b"junk").unwrap();
+    let (code, _, err) = run(p, &["compare", "a.exr", "junk.exr"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("junk.exr"), "{err}");
+    assert!(
+        !p.join("junk.diff.png").exists() && !p.join("small.diff.png").exists(),
+        "unusable input must write nothing"
+    );
+}
+
+#[test]
+fn image_one_pixel_off_is_caught_at_shipped_tolerances() {
+    // The whole render displaced by one pixel (an off-by-one in a viewport or a half-pixel
+    // centre convention): every edge moves, which the default FLIP percentile bound catches.
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    assert_eq!(
+        run(
+            p,
+            &["render", "--width", "160", "--height", "120", "-o", "a.exr"]
+        )
+        .0,
+        0
+    );
+    let img = brdfkit::image_io::read_exr(&p.join("a.exr")).unwrap();
+    let mut shifted = img.clone();
+    for y in 0..img.height {
+        for x in 0..img.width {
+            let sx = x.saturating_sub(1);
+            shifted.pixels[(y * img.width + x) as usize] = img.get(sx, y);
+        }
+    }
+    brdfkit::image_io::write_exr(&p.join("b.exr"), &shifted).unwrap();
+    let (code, out, _) = run(p, &["compare", "a.exr", "b.exr"]);
+    assert_eq!(code, 1, "a one-pixel shift passed: {out}");
+}
