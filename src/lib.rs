@@ -53,6 +53,7 @@ pub mod env;
 pub mod error;
 pub mod golden;
 pub mod image_io;
+pub mod kernel;
 pub mod light;
 pub mod mesh;
 pub mod raster;

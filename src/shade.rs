@@ -1,8 +1,11 @@
 //! Deferred shading: each visible pixel is shaded exactly once, after visibility is known.
 //!
 //! Design rule: shading reads only the visibility buffer, the mesh and the scene; it
-//! computes every pixel independently (parallel over rows), so the image does not depend
-//! on the thread count. Pixels of tiles that received no triangle are skipped.
+//! computes every pixel independently (parallel over tiles), so the image does not depend
+//! on the thread count or the tile size. Tiles that received no triangle are skipped.
+//! Directional lights go through the kernels of [`crate::kernel`] (structure of arrays,
+//! per-tile normal-cone culling that provably changes no bit); [`shade_point`], the plain
+//! per-light loop over [`Brdf::eval`], is the scalar oracle the kernels are tested against.
 //!
 //! Per pixel: perspective-correct barycentrics of the source triangle give the world
 //! position and the interpolated normal; back faces (two-sided mode) get the normal flipped,
@@ -12,11 +15,14 @@
 //! camera at silhouettes, and a BRDF is not defined there.
 
 use crate::brdf::{eval_cosine_weighted, Brdf};
-use crate::conventions::ShadingFrame;
+use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
 use crate::image_io::Image;
+use crate::kernel::{self, lanes::LANES, sh::ShRecurrence, Cone, DirLights};
+use crate::light::Light;
 use crate::mesh::Mesh;
 use crate::raster::{VisBuffer, NO_TRIANGLE};
 use crate::scene::Scene;
+use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -99,25 +105,123 @@ pub fn shade_point(brdf: &dyn Brdf, scene: &Scene, surface: &Surface, eye: Vec3)
     sum
 }
 
+/// Everything shading decides once per frame.
+pub struct FramePrep<'a> {
+    pub brdf: &'a dyn Brdf,
+    pub dir: DirLights,
+    pub points: Vec<Light>,
+    pub sh: Option<(&'a ShDataset, ShRecurrence)>,
+    pub eye: Vec3,
+}
+
+impl<'a> FramePrep<'a> {
+    pub fn new(scene: &'a Scene) -> FramePrep<'a> {
+        let brdf = scene.material.as_ref();
+        FramePrep {
+            brdf,
+            dir: DirLights::from_lights(&scene.lights),
+            points: scene
+                .lights
+                .iter()
+                .copied()
+                .filter(|l| matches!(l, Light::Point { .. }))
+                .collect(),
+            sh: brdf.as_sh().map(|ds| (ds, ShRecurrence::new(ds.bands()))),
+            eye: scene.camera.position,
+        }
+    }
+
+    /// Radiance of one surface point lit by the chunks `chunks` of the directional lights
+    /// and by every point light.
+    pub fn shade_surface(&self, s: &Surface, chunks: &[u32], coeff_buf: &mut Vec<f32>) -> Vec3 {
+        let frame = ShadingFrame::from_normal(s.normal);
+        let wo = local_view(&frame, s, self.eye);
+        let mut sum = match &self.sh {
+            Some((ds, rec)) => {
+                coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
+                let (p, a) = local_angles(wo);
+                let (ts, tt) = hemi_texcoord(p, a);
+                ds.lookup_coeffs(ts, tt, ds.coeff_lookup, coeff_buf);
+                kernel::sh::shade_pixel(
+                    rec,
+                    coeff_buf,
+                    ds.cosine_included(),
+                    &frame,
+                    &self.dir,
+                    chunks,
+                )
+            }
+            None => {
+                let mut sum = Vec3::ZERO;
+                for &c in chunks {
+                    for i in c as usize * LANES..(c as usize + 1) * LANES {
+                        let l = Vec3::new(self.dir.dx[i], self.dir.dy[i], self.dir.dz[i]);
+                        let wi = frame.to_local(l);
+                        if wi.z > 0.0 {
+                            let e = Vec3::new(self.dir.er[i], self.dir.eg[i], self.dir.eb[i]);
+                            sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
+                        }
+                    }
+                }
+                sum
+            }
+        };
+        for light in &self.points {
+            let (l, e) = light.at(s.position);
+            let wi = frame.to_local(l);
+            if wi.z > 0.0 {
+                sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
+            }
+        }
+        sum
+    }
+}
+
 /// Shades every visible pixel of `vis` into a linear radiance image (background black).
 pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
+    let prep = FramePrep::new(scene);
+    let per_tile = (vis.tile_size * vis.tile_size) as usize;
+    let mut tiles = vec![Vec3::ZERO; vis.visible.len()];
+    tiles
+        .par_chunks_mut(per_tile)
+        .enumerate()
+        .for_each(|(t, out)| {
+            if !vis.tile_occupied[t] {
+                return;
+            }
+            let surfaces: Vec<(usize, Surface)> = (0..per_tile)
+                .filter_map(|i| {
+                    let (x, y) = vis.pixel(t * per_tile + i)?;
+                    surface_at(&scene.mesh, vis, x, y).map(|s| (i, s))
+                })
+                .collect();
+            let cone = Cone::around(surfaces.iter().map(|(_, s)| s.normal));
+            let chunks = prep.dir.chunks_for(cone);
+            let mut buf = Vec::new();
+            for (i, s) in &surfaces {
+                out[*i] = prep.shade_surface(s, &chunks, &mut buf);
+            }
+        });
     let mut img = Image::new(vis.width, vis.height);
-    let eye = scene.camera.position;
+    for (i, c) in tiles.into_iter().enumerate() {
+        if let Some((x, y)) = vis.pixel(i) {
+            img.pixels[(y * vis.width + x) as usize] = c;
+        }
+    }
+    img
+}
+
+/// The scalar oracle: [`shade_point`] at every visible pixel, no kernel, no culling.
+pub fn shade_reference(scene: &Scene, vis: &VisBuffer) -> Image {
+    let mut img = Image::new(vis.width, vis.height);
     let brdf = scene.material.as_ref();
-    let ts = vis.tile_size;
     img.pixels
         .par_chunks_mut(vis.width as usize)
         .enumerate()
         .for_each(|(y, row)| {
-            let y = y as u32;
-            let tile_row = (y / ts) * vis.tiles_x;
             for (x, out) in row.iter_mut().enumerate() {
-                let x = x as u32;
-                if !vis.tile_occupied[(tile_row + x / ts) as usize] {
-                    continue;
-                }
-                if let Some(s) = surface_at(&scene.mesh, vis, x, y) {
-                    *out = shade_point(brdf, scene, &s, eye);
+                if let Some(s) = surface_at(&scene.mesh, vis, x as u32, y as u32) {
+                    *out = shade_point(brdf, scene, &s, scene.camera.position);
                 }
             }
         });

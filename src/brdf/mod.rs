@@ -44,6 +44,12 @@ pub trait Brdf: Send + Sync {
 
     /// A short human-readable name ("lambert", "blinn-phong", ...).
     fn name(&self) -> &str;
+
+    /// The SH data set behind this BRDF, if it is one: the renderer then uses the SH
+    /// kernel ([`crate::kernel::sh`]) instead of calling [`Brdf::eval`] per light.
+    fn as_sh(&self) -> Option<&crate::sh::dataset::ShDataset> {
+        None
+    }
 }
 
 /// `f * cos(polar_i)` whatever the model's cosine convention: the integrand of the

@@ -389,6 +389,10 @@ impl Brdf for ShDataset {
     fn name(&self) -> &str {
         "sh-dataset"
     }
+
+    fn as_sh(&self) -> Option<&ShDataset> {
+        Some(self)
+    }
 }
 
 #[cfg(test)]
