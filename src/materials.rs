@@ -52,12 +52,14 @@ pub struct Material {
 pub const LIBRARY: [Material; 7] = [
     Material {
         name: "blue-synthetic-fabric",
-        description: "blue synthetic fabric, broad mildly anisotropic sheen (Fig. 3.9); SH, 5 bands",
+        description:
+            "blue synthetic fabric, broad mildly anisotropic sheen (Fig. 3.9); SH, 5 bands",
         representation: Representation::Sh { bands: 5 },
     },
     Material {
         name: "blue-silk",
-        description: "blue silk, strongly anisotropic highlight across the threads (Fig. 3.10); SH, 8 bands",
+        description:
+            "blue silk, strongly anisotropic highlight across the threads (Fig. 3.10); SH, 8 bands",
         representation: Representation::Sh { bands: 8 },
     },
     Material {
@@ -82,7 +84,8 @@ pub const LIBRARY: [Material; 7] = [
     },
     Material {
         name: "red-velvet",
-        description: "red velvet, dark at normal incidence, bright grazing sheen (Fig. 3.15); SH, 6 bands",
+        description:
+            "red velvet, dark at normal incidence, bright grazing sheen (Fig. 3.15); SH, 6 bands",
         representation: Representation::Sh { bands: 6 },
     },
 ];

@@ -22,7 +22,8 @@
 use crate::brdf::DBrdf;
 use exr::prelude::read;
 use exr::prelude::{
-    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes, ReadChannels, ReadLayers, Text, WritableImage,
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
+    ReadChannels, ReadLayers, Text, WritableImage,
 };
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -50,7 +51,10 @@ pub enum DbrdfFileError {
     #[error("{path}: not a readable OpenEXR file: {message}")]
     Exr { path: PathBuf, message: String },
     #[error("{path}: not a brdfkit D-BRDF file (brdfkit.format is {found:?})")]
-    NotDbrdf { path: PathBuf, found: Option<String> },
+    NotDbrdf {
+        path: PathBuf,
+        found: Option<String>,
+    },
     #[error("{path}: attribute `{name}` missing or of the wrong type")]
     MissingAttribute { path: PathBuf, name: &'static str },
     #[error("{path}: attribute `{name}` has unsupported value {value}")]
@@ -240,8 +244,13 @@ mod tests {
         let ds = crate::sh::ShDataset::zeros(2, 2, 1, true, "x").unwrap();
         crate::sh::write_sh_dataset(&sh, &ds).unwrap();
         let e = read_dbrdf(&sh).unwrap_err().to_string();
-        assert!(e.contains("not a brdfkit D-BRDF file") && e.contains("sh.exr"), "{e}");
-        let e = read_dbrdf(&dir.join("missing.exr")).unwrap_err().to_string();
+        assert!(
+            e.contains("not a brdfkit D-BRDF file") && e.contains("sh.exr"),
+            "{e}"
+        );
+        let e = read_dbrdf(&dir.join("missing.exr"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("missing.exr"), "{e}");
         std::fs::remove_dir_all(&dir).ok();
     }

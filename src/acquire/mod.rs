@@ -43,7 +43,7 @@
 //! Measured against the source over a dense midpoint grid of the upper hemisphere of `wi`
 //! ([`ErrorGrid`], equal solid-angle cells) times the view texel centres of the data set:
 //! relative L2 of `f_r cos` (all three colours), the most negative reconstructed value
-//! relative to the source's peak, and the share of samples where any colour is below zero.
+//! relative to the reconstruction's peak, and the share of samples where any colour is below zero.
 
 pub mod dbrdf_file;
 pub mod fit;
@@ -62,7 +62,7 @@ use rayon::prelude::*;
 pub const DEFAULT_LAMBDA: f64 = 1e-6;
 
 /// Ringing threshold of [`ringing_flagged`]: a reconstruction whose most negative value is
-/// below `-5 %` of the source's peak is visibly wrong (dark or coloured bands where the
+/// below `-5 %` of the reconstruction's peak is visibly wrong (dark or coloured bands where the
 /// material should be lit) and should use its D-BRDF fit instead (thesis 2.3.4: "To resolve
 /// the ringing artifacts, we can fit the acquired data to an analytical model").
 pub const RINGING_THRESHOLD: f64 = -0.05;
@@ -331,7 +331,11 @@ pub fn acquire_with_progress(
     tick: &(dyn Fn() + Sync),
 ) -> Result<ShDataset, AcquireError> {
     let AcquireOptions {
-        bands, nu, nv, method, ..
+        bands,
+        nu,
+        nv,
+        method,
+        ..
     } = *opts;
     if bands == 0 || bands > MAX_BANDS {
         return Err(AcquireError::Bands(bands));
@@ -355,9 +359,7 @@ pub fn acquire_with_progress(
         }
         _ => None,
     };
-    let texels: Vec<(usize, usize)> = (0..nv)
-        .flat_map(|j| (0..nu).map(move |i| (i, j)))
-        .collect();
+    let texels: Vec<(usize, usize)> = (0..nv).flat_map(|j| (0..nu).map(move |i| (i, j))).collect();
     let blocks: Vec<Result<Vec<f32>, AcquireError>> = texels
         .par_iter()
         .map(|&(i, j)| {
@@ -365,9 +367,9 @@ pub fn acquire_with_progress(
             let wo = local_direction_f64(p, a);
             let c = match method {
                 Method::Zero => quad.project(|wi| acquired_value(src, wi, wo)),
-                Method::Even => quad.project(|wi| {
-                    acquired_value(src, DVec3::new(wi.x, wi.y, wi.z.abs()), wo)
-                }),
+                Method::Even => {
+                    quad.project(|wi| acquired_value(src, DVec3::new(wi.x, wi.y, wi.z.abs()), wo))
+                }
                 Method::Lsq { .. } => {
                     let b = quad.project_upper(|wi| acquired_value(src, wi, wo));
                     let l = factor.as_ref().expect("factor computed for lsq");
@@ -453,8 +455,11 @@ impl ErrorGrid {
 pub struct ErrorReport {
     /// `sqrt(sum |a - s|^2 / sum |s|^2)` of `f_r cos` over the samples, all colours.
     pub rel_l2: f64,
-    /// Most negative approximated value (any colour) divided by the source's peak value
-    /// (any colour); 0 when nothing is negative.
+    /// Most negative approximated value (any colour) divided by the approximation's own
+    /// peak value (any colour); 0 when nothing is negative. Relative to the reconstruction's
+    /// peak, not the source's: a band-limited fit of a sharp lobe has a far lower peak than
+    /// the source, and what shows in an image is the dark ring next to the highlight that is
+    /// actually rendered.
     pub min_over_peak: f64,
     /// Share of samples (direction x view texel) where any colour of the approximation is
     /// below `-1e-6` times the peak, in [0, 1].
@@ -474,10 +479,8 @@ pub fn hemisphere_error(
     grid: ErrorGrid,
 ) -> ErrorReport {
     let dirs = grid.directions();
-    let texels: Vec<(usize, usize)> = (0..nv)
-        .flat_map(|j| (0..nu).map(move |i| (i, j)))
-        .collect();
-    // Per texel: (sum err^2, sum src^2, max src, smallest colour of each approximation).
+    let texels: Vec<(usize, usize)> = (0..nv).flat_map(|j| (0..nu).map(move |i| (i, j))).collect();
+    // Per texel: (sum err^2, sum src^2, max approx, smallest colour of each approximation).
     let parts: Vec<(f64, f64, f64, Vec<f64>)> = texels
         .par_iter()
         .map(|&(i, j)| {
@@ -491,7 +494,7 @@ pub fn hemisphere_error(
                 let x = eval_cosine_weighted(approx, wi, wo).as_dvec3();
                 e2 += (x - s).length_squared();
                 s2 += s.length_squared();
-                hi = hi.max(s.max_element());
+                hi = hi.max(x.max_element());
                 mins.push(x.min_element());
             }
             (e2, s2, hi, mins)

@@ -19,10 +19,12 @@ use std::path::Path;
 use std::sync::Arc;
 
 fn number(key: &str, v: &str) -> Result<f32> {
-    let x: f32 = v
-        .trim()
-        .parse()
-        .map_err(|_| Error::field(format!("SOURCE key `{key}`"), format!("{v:?} is not a number")))?;
+    let x: f32 = v.trim().parse().map_err(|_| {
+        Error::field(
+            format!("SOURCE key `{key}`"),
+            format!("{v:?} is not a number"),
+        )
+    })?;
     if !(x.is_finite() && x >= 0.0) {
         return Err(Error::field(
             format!("SOURCE key `{key}`"),
@@ -36,11 +38,7 @@ fn colour(key: &str, v: &str) -> Result<Vec3> {
     let parts: Vec<&str> = v.split('/').collect();
     match parts.as_slice() {
         [g] => Ok(Vec3::splat(number(key, g)?)),
-        [r, g, b] => Ok(Vec3::new(
-            number(key, r)?,
-            number(key, g)?,
-            number(key, b)?,
-        )),
+        [r, g, b] => Ok(Vec3::new(number(key, r)?, number(key, g)?, number(key, b)?)),
         _ => Err(Error::field(
             format!("SOURCE key `{key}`"),
             format!("{v:?} is not a colour (r/g/b or one number)"),
@@ -61,9 +59,9 @@ pub fn parse_source(s: &str) -> Result<Arc<dyn Brdf>> {
     let (kind, rest) = s.split_once(':').unwrap_or((s, ""));
     let mut kv = Vec::new();
     for item in rest.split(',').filter(|x| !x.trim().is_empty()) {
-        let (k, v) = item.split_once('=').ok_or_else(|| {
-            Error::field("SOURCE", format!("{item:?} is not KEY=VALUE"))
-        })?;
+        let (k, v) = item
+            .split_once('=')
+            .ok_or_else(|| Error::field("SOURCE", format!("{item:?} is not KEY=VALUE")))?;
         kv.push((k.trim().to_string(), v.trim().to_string()));
     }
     let allowed: &[&str] = match kind {
@@ -123,14 +121,22 @@ mod tests {
         let b = parse_source("ashikhmin-shirley:nu=10,nv=200,rs=0.1/0.2/0.3").unwrap();
         assert_eq!(b.name(), "ashikhmin-shirley");
         assert_eq!(parse_source("lambert").unwrap().name(), "lambert");
-        assert_eq!(parse_source("blue-silk").unwrap().name(), "ashikhmin-shirley");
+        assert_eq!(
+            parse_source("blue-silk").unwrap().name(),
+            "ashikhmin-shirley"
+        );
         let e = parse_source("lambert:kd=1").unwrap_err().to_string();
         assert!(e.contains("`kd`"), "{e}");
         let e = parse_source("phong:exponent=x").unwrap_err().to_string();
-        assert!(e.contains("`exponent`") && e.contains("not a number"), "{e}");
+        assert!(
+            e.contains("`exponent`") && e.contains("not a number"),
+            "{e}"
+        );
         let e = parse_source("nonsense").unwrap_err().to_string();
         assert!(e.starts_with("SOURCE"), "{e}");
-        let e = parse_source("/nonexistent/x.binary").unwrap_err().to_string();
+        let e = parse_source("/nonexistent/x.binary")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("x.binary"), "{e}");
     }
 }

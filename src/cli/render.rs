@@ -55,6 +55,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         // A mesh path given on the command line is relative to the working directory.
         file.mesh.source = m.clone();
     }
+    if let Some(m) = &a.material {
+        file.material = crate::scene::MaterialSpec::from_cli(m)?;
+    }
     let cli_mesh_base = a.mesh.is_some().then(|| PathBuf::from("."));
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
