@@ -154,7 +154,7 @@ pub fn source_model(name: &str) -> Option<Arc<dyn Brdf>> {
         // Silk: very different exponents along and across the threads.
         "blue-silk" => asx(4.0, 160.0, [0.3, 0.35, 0.6], [0.02, 0.04, 0.22]),
         // Crinkled gold foil: sharp, slightly anisotropic metallic lobe, little diffuse.
-        "lindt-paper" => asx(120.0, 400.0, [0.85, 0.62, 0.25], [0.08, 0.05, 0.01]),
+        "lindt-paper" => asx(30.0, 90.0, [0.85, 0.62, 0.25], [0.3, 0.2, 0.05]),
         // Metallic flakes in a gold base: sharp coloured highlight over a gold diffuse.
         "gold-dust-paint" => asx(250.0, 250.0, [0.7, 0.5, 0.15], [0.3, 0.2, 0.04]),
         // Glossy dielectric paint: white highlight over teal.
