@@ -24,6 +24,11 @@
 //!
 //! [`render`] strings the stages together; [`cli`] is the command line.
 //!
+//! Off the rendering path: [`acquire`] measures any BRDF as an SH data set (projection,
+//! least squares, error and ringing reports) or fits a D-BRDF to it (thesis 2.3.3-2.3.6);
+//! [`materials`] is the library of materials after the thesis's figures 3.9-3.15, each a
+//! source model plus the representation it is rendered with.
+//!
 //! ## Conventions
 //! Every coordinate convention (world axes, spherical angle names, the shading frame and
 //! its azimuth, texel centres, probe orientation) lives in [`conventions`], and every other
@@ -44,6 +49,7 @@
 //! - Probe texels are weighted by their exact solid angle: the thesis's linspace gives the
 //!   pole rows zero weight.
 
+pub mod acquire;
 pub mod aov;
 pub mod brdf;
 pub mod cli;
@@ -55,6 +61,7 @@ pub mod golden;
 pub mod image_io;
 pub mod kernel;
 pub mod light;
+pub mod materials;
 pub mod mesh;
 pub mod raster;
 pub mod render;

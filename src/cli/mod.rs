@@ -2,6 +2,7 @@
 //! load and check input, call the pipeline, write output atomically. One file per
 //! subcommand; this file holds the argument definitions and the dispatch.
 
+mod acquire;
 mod compare;
 mod golden;
 mod lights;
@@ -50,6 +51,54 @@ pub enum Command {
         #[command(subcommand)]
         action: GoldenAction,
     },
+    /// Acquire a BRDF as an SH data set (f_r cos per view texel) and print its error table.
+    #[command(
+        after_help = "SOURCE is a library material (`brdfkit materials`), a MERL .binary path, or an analytic spec:\n  lambert:albedo=0.8/0.2/0.1\n  blinn-phong:kd=0.5,ks=0.2,exponent=60   (also phong)\n  ashikhmin-shirley:nu=10,nv=200,rs=0.05,rd=0.5/0.1/0.1\n\nExample:\n  brdfkit acquire teal-paint --bands 8 --method lsq --grid 16x8 -o teal.exr\n\nThe table lists bands 1..N for every method: relative L2 error of f_r cos over the hemisphere,\nthe most negative value relative to the peak, and the share of samples below zero."
+    )]
+    Acquire(AcquireArgs),
+    /// Fit a D-BRDF (p(h) table, c, R_s) to a BRDF, print its error and write it.
+    #[command(
+        after_help = "Example:\n  brdfkit fit-dbrdf lindt-paper -o lindt.exr\n\nSOURCE as for `brdfkit acquire`. The file is a single-channel EXR (see acquire::dbrdf_file)."
+    )]
+    FitDbrdf(FitDbrdfArgs),
+    /// List the material library (name, representation, description).
+    Materials,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct AcquireArgs {
+    /// Library material name, MERL .binary path, or analytic spec (see below).
+    pub source: String,
+    /// Number of SH bands (orders), 1 to 10.
+    #[arg(long, default_value_t = 8)]
+    pub bands: usize,
+    /// Hemisphere fit: `zero` (zero extension, exact projection), `lsq` (regularised least squares on the hemisphere), `even` (mirror extension).
+    #[arg(long, default_value = "lsq")]
+    pub method: String,
+    /// Tikhonov weight for `--method lsq` (default 1e-6).
+    #[arg(long)]
+    pub lambda: Option<f64>,
+    /// View grid NUxNV (azimuth x polar texels).
+    #[arg(long, default_value = "16x8")]
+    pub grid: String,
+    /// Output SH data set (.exr).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Skip the bands x method table (only the chosen order and method are measured).
+    #[arg(long)]
+    pub no_table: bool,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct FitDbrdfArgs {
+    /// Library material name, MERL .binary path, or analytic spec (as for `acquire`).
+    pub source: String,
+    /// Half-vector table NUxNV.
+    #[arg(long, default_value = "64x32")]
+    pub grid: String,
+    /// Output D-BRDF file (.exr).
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 #[derive(clap::Args, Debug)]
@@ -95,6 +144,9 @@ pub struct RenderArgs {
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
+    /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's [material].
+    #[arg(long)]
+    pub material: Option<String>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -194,5 +246,8 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Golden { action } => golden::run(action),
         Command::Lights(args) => lights::run(args).map(|_| true),
         Command::Compare(args) => compare::run(args),
+        Command::Acquire(args) => acquire::run_acquire(args).map(|_| true),
+        Command::FitDbrdf(args) => acquire::run_fit(args).map(|_| true),
+        Command::Materials => acquire::run_materials().map(|_| true),
     }
 }

@@ -77,6 +77,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
             env.count = n;
         }
     }
+    if let Some(m) = &a.material {
+        file.material = crate::scene::MaterialSpec::from_cli(m)?;
+    }
     let cli_mesh_base = a.mesh.is_some().then(|| PathBuf::from("."));
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],

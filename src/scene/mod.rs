@@ -17,7 +17,9 @@
 //! segments = 16             # teapot: quads per patch edge; sphere: stacks
 //!
 //! [material]
-//! kind = "blinn-phong"      # "lambert" (albedo) or "blinn-phong" (kd, ks, exponent)
+//! kind = "blinn-phong"      # "lambert" (albedo), "blinn-phong" (kd, ks, exponent),
+//!                           # "library" (name = "blue-silk", see `brdfkit materials`),
+//!                           # "sh-file" or "dbrdf-file" (path = "x.exr", relative to this file)
 //! kd = [0.55, 0.22, 0.12]
 //! ks = [0.25, 0.25, 0.25]
 //! exponent = 60.0
@@ -126,6 +128,51 @@ pub enum MaterialSpec {
         #[serde(default = "default_exponent")]
         exponent: f32,
     },
+    /// A library material by name (`brdfkit materials`), built at load time
+    /// ([`crate::materials::build`]).
+    Library { name: String },
+    /// An SH data set file ([`crate::sh::read_sh_dataset`]), path relative to the scene file.
+    ShFile { path: PathBuf },
+    /// A D-BRDF file ([`crate::acquire::dbrdf_file::read_dbrdf`]), path relative to the
+    /// scene file.
+    DbrdfFile { path: PathBuf },
+}
+
+impl MaterialSpec {
+    /// The spec for a `--material` value: a library name, else a file path whose kind (SH
+    /// data set or D-BRDF) is read from its `brdfkit.format` header. Fails with a field
+    /// error naming `--material` when the value is neither.
+    pub fn from_cli(value: &str) -> Result<MaterialSpec> {
+        if crate::materials::find(value).is_some() {
+            return Ok(MaterialSpec::Library {
+                name: value.to_string(),
+            });
+        }
+        let path = PathBuf::from(value);
+        let path = if path.is_absolute() {
+            path
+        } else {
+            std::env::current_dir()
+                .map(|d| d.join(&path))
+                .unwrap_or(path)
+        };
+        use crate::acquire::dbrdf_file::{read_dbrdf, DbrdfFileError};
+        match read_dbrdf(&path) {
+            Ok(_) => Ok(MaterialSpec::DbrdfFile { path }),
+            Err(DbrdfFileError::NotDbrdf { found: Some(f), .. })
+                if f == crate::sh::file::FORMAT_NAME =>
+            {
+                Ok(MaterialSpec::ShFile { path })
+            }
+            Err(DbrdfFileError::Io { .. }) if !path.exists() => Err(Error::field(
+                "--material",
+                format!(
+                    "{value:?} is neither a library material (see `brdfkit materials`) nor an existing file"
+                ),
+            )),
+            Err(e) => Err(Error::field("--material", e.to_string())),
+        }
+    }
 }
 
 fn default_albedo() -> [f32; 3] {
@@ -310,6 +357,14 @@ fn rgb(field: &str, v: [f32; 3]) -> Result<Vec3> {
     Ok(Vec3::from(v))
 }
 
+/// The message of a field error without its field (to re-attach another field name).
+fn strip_field(e: Error) -> String {
+    match e {
+        Error::Field { message, .. } => message,
+        other => other.to_string(),
+    }
+}
+
 /// Loads the mesh named by `source`: "teapot", "sphere" or an OBJ path (relative paths
 /// resolve against `base`).
 pub fn load_mesh(source: &str, segments: u32, base: &Path) -> Result<Mesh> {
@@ -368,6 +423,17 @@ impl Scene {
                 ks: rgb("material.ks", *ks)?,
                 exponent: nonneg("material.exponent", *exponent)?,
             }),
+            MaterialSpec::Library { name } => crate::materials::build(name)
+                .map_err(|e| Error::field("material.name", strip_field(e)))?,
+            MaterialSpec::ShFile { path } => Arc::new(
+                crate::sh::read_sh_dataset(&base.join(path))
+                    .map_err(|e| Error::field("material.path", e.to_string()))?,
+            ),
+            MaterialSpec::DbrdfFile { path } => Arc::new(
+                crate::acquire::dbrdf_file::read_dbrdf(&base.join(path))
+                    .map_err(|e| Error::field("material.path", e.to_string()))?
+                    .0,
+            ),
         };
 
         let specs = match (&file.lights, &file.env) {

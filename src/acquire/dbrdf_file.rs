@@ -1,0 +1,257 @@
+//! The brdfkit D-BRDF file: the half-vector table `p(h)` of a [`DBrdf`] as a single-channel
+//! OpenEXR image, with `c` and `R_s` in the header (thesis 2.3.6).
+//!
+//! Design rule: self-describing, like the SH file ([`crate::sh::file`]): the reader checks
+//! every attribute and refuses a file that is missing one rather than guessing.
+//!
+//! # Format, version 1
+//! * OpenEXR, one part named `dbrdf-p`, scan lines, lossless (ZIP), one 32-bit float channel
+//!   named `p`. Image **width = nu** (half-vector azimuth texels), **height = nv** (polar
+//!   texels); pixel `(x, y) = (i, j)` holds `p` at texel `(i, j)`, so row 0 (the top in EXR
+//!   viewers) is next to the normal. Values are finite and `>= 0`, normalised to unit
+//!   projected area (`sum p cos(polar) dω = 1`).
+//! * Attributes: `brdfkit.format: string = "brdfkit-dbrdf"`, `brdfkit.version: int = 1`,
+//!   `brdfkit.param: string` = [`PARAMETERIZATION`] (the hemispherical texel convention of
+//!   [`crate::conventions`], applied to the local half vector), `brdfkit.c: float` (the
+//!   constant `c`, finite, > 0), `brdfkit.rs: v3f` (`R_s`, RGB, each in [0, 1]),
+//!   `brdfkit.provenance: string` (free text).
+//!
+//! Reading fails with a [`DbrdfFileError`] naming the file and the problem; writing goes to
+//! a temporary file in the same directory that is renamed over the target.
+
+use crate::brdf::DBrdf;
+use exr::prelude::read;
+use exr::prelude::{
+    AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
+    ReadChannels, ReadLayers, Text, WritableImage,
+};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+/// Value of `brdfkit.format`.
+pub const FORMAT_NAME: &str = "brdfkit-dbrdf";
+/// Value of `brdfkit.version` written and read.
+pub const FORMAT_VERSION: i32 = 1;
+/// Value of `brdfkit.param`.
+pub const PARAMETERIZATION: &str = "half-vector hemisphere; s=azimuth_h/(2pi), t=polar_h/(pi/2); \
+texel (i,j) centre ((i+0.5)/nu, (j+0.5)/nv); GL_LINEAR, azimuth GL_REPEAT, polar GL_CLAMP_TO_EDGE; \
+local frame: +z normal, azimuth 0 = world +y projected onto the tangent plane; \
+f = c p(h) F(k.h) / (k1.n + k2.n - (k1.n)(k2.n)), F Schlick with R_s";
+const LAYER: &str = "dbrdf-p";
+
+/// What went wrong with a D-BRDF file.
+#[derive(Debug, thiserror::Error)]
+pub enum DbrdfFileError {
+    #[error("{path}: I/O error: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{path}: not a readable OpenEXR file: {message}")]
+    Exr { path: PathBuf, message: String },
+    #[error("{path}: not a brdfkit D-BRDF file (brdfkit.format is {found:?})")]
+    NotDbrdf {
+        path: PathBuf,
+        found: Option<String>,
+    },
+    #[error("{path}: attribute `{name}` missing or of the wrong type")]
+    MissingAttribute { path: PathBuf, name: &'static str },
+    #[error("{path}: attribute `{name}` has unsupported value {value}")]
+    BadAttribute {
+        path: PathBuf,
+        name: &'static str,
+        value: String,
+    },
+    #[error("{path}: no 32-bit float channel `p`")]
+    Channel { path: PathBuf },
+    #[error("{path}: channel `p` is negative or non-finite at texel ({i}, {j})")]
+    Value { path: PathBuf, i: usize, j: usize },
+}
+
+fn text(s: &str) -> Text {
+    Text::from_bytes_unchecked(s.as_bytes().into())
+}
+
+fn exr_err(path: &Path, e: exr::error::Error) -> DbrdfFileError {
+    match e {
+        exr::error::Error::Io(source) if source.kind() != std::io::ErrorKind::UnexpectedEof => {
+            DbrdfFileError::Io {
+                path: path.to_owned(),
+                source,
+            }
+        }
+        other => DbrdfFileError::Exr {
+            path: path.to_owned(),
+            message: other.to_string(),
+        },
+    }
+}
+
+/// Writes `d` to `path` (module doc), through `.<name>.tmp-<pid>` and a rename. Fails with
+/// [`DbrdfFileError::Io`] or [`DbrdfFileError::Exr`]; the temporary file is removed.
+pub fn write_dbrdf(path: &Path, d: &DBrdf, provenance: &str) -> Result<(), DbrdfFileError> {
+    let (nu, nv) = d.grid();
+    let mut a = LayerAttributes::named(text(LAYER));
+    let o = &mut a.other;
+    o.insert(
+        text("brdfkit.format"),
+        AttributeValue::Text(text(FORMAT_NAME)),
+    );
+    o.insert(text("brdfkit.version"), AttributeValue::I32(FORMAT_VERSION));
+    o.insert(
+        text("brdfkit.param"),
+        AttributeValue::Text(text(PARAMETERIZATION)),
+    );
+    o.insert(text("brdfkit.c"), AttributeValue::F32(d.c));
+    o.insert(
+        text("brdfkit.rs"),
+        AttributeValue::FloatVec3((d.rs.x, d.rs.y, d.rs.z)),
+    );
+    o.insert(
+        text("brdfkit.provenance"),
+        AttributeValue::Text(text(provenance)),
+    );
+    let chans = vec![AnyChannel::new(
+        text("p"),
+        FlatSamples::F32(d.table().to_vec()),
+    )];
+    let layer = Layer::new(
+        (nu, nv),
+        a,
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(chans.into()),
+    );
+    let image = Image::from_layer(layer);
+    let file_name = path
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
+    if let Err(e) = image.write().to_file(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(exr_err(path, e));
+    }
+    std::fs::rename(&tmp, path).map_err(|source| {
+        let _ = std::fs::remove_file(&tmp);
+        DbrdfFileError::Io {
+            path: path.to_owned(),
+            source,
+        }
+    })
+}
+
+/// Reads a file written by [`write_dbrdf`]; returns the D-BRDF and its provenance. Fails
+/// with a [`DbrdfFileError`] naming the file and the problem; never returns partial data.
+pub fn read_dbrdf(path: &Path) -> Result<(DBrdf, String), DbrdfFileError> {
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| exr_err(path, e))?;
+    let p = || path.to_owned();
+    let layer = image.layer_data.first().ok_or(DbrdfFileError::NotDbrdf {
+        path: p(),
+        found: None,
+    })?;
+    let attrs = &layer.attributes.other;
+    let get_text = |name: &str| match attrs.get(&text(name)) {
+        Some(AttributeValue::Text(t)) => Some(String::from_utf8_lossy(t.bytes()).into_owned()),
+        _ => None,
+    };
+    let format = get_text("brdfkit.format");
+    if format.as_deref() != Some(FORMAT_NAME) {
+        return Err(DbrdfFileError::NotDbrdf {
+            path: p(),
+            found: format,
+        });
+    }
+    let missing = |name| DbrdfFileError::MissingAttribute { path: p(), name };
+    let bad = |name, value: String| DbrdfFileError::BadAttribute {
+        path: p(),
+        name,
+        value,
+    };
+    match attrs.get(&text("brdfkit.version")) {
+        Some(AttributeValue::I32(FORMAT_VERSION)) => {}
+        Some(AttributeValue::I32(v)) => return Err(bad("brdfkit.version", v.to_string())),
+        _ => return Err(missing("brdfkit.version")),
+    }
+    let param = get_text("brdfkit.param").ok_or_else(|| missing("brdfkit.param"))?;
+    if param != PARAMETERIZATION {
+        return Err(bad("brdfkit.param", format!("{param:?}")));
+    }
+    let c = match attrs.get(&text("brdfkit.c")) {
+        Some(AttributeValue::F32(c)) => *c,
+        _ => return Err(missing("brdfkit.c")),
+    };
+    if !(c.is_finite() && c > 0.0) {
+        return Err(bad("brdfkit.c", c.to_string()));
+    }
+    let rs = match attrs.get(&text("brdfkit.rs")) {
+        Some(AttributeValue::FloatVec3((x, y, z))) => Vec3::new(*x, *y, *z),
+        _ => return Err(missing("brdfkit.rs")),
+    };
+    if !rs.is_finite() || rs.min_element() < 0.0 || rs.max_element() > 1.0 {
+        return Err(bad("brdfkit.rs", format!("{rs}")));
+    }
+    let provenance = get_text("brdfkit.provenance").ok_or_else(|| missing("brdfkit.provenance"))?;
+    let (nu, nv) = (layer.size.0, layer.size.1);
+    let chan = layer
+        .channel_data
+        .list
+        .iter()
+        .find(|ch| ch.name.eq("p"))
+        .ok_or(DbrdfFileError::Channel { path: p() })?;
+    let values = match &chan.sample_data {
+        FlatSamples::F32(v) => v.clone(),
+        _ => return Err(DbrdfFileError::Channel { path: p() }),
+    };
+    if let Some(k) = values.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err(DbrdfFileError::Value {
+            path: p(),
+            i: k % nu,
+            j: k / nu,
+        });
+    }
+    let mut d = DBrdf::new(nu, nv, values, rs);
+    d.c = c;
+    Ok((d, provenance))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_clear_errors() {
+        let dir = std::env::temp_dir().join(format!("brdfkit-dbrdf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut d = DBrdf::from_fn(8, 4, Vec3::new(0.1, 0.5, 0.9), |h| h.z.powi(8) + h.x.abs());
+        d.c = 0.31;
+        let path = dir.join("a.exr");
+        write_dbrdf(&path, &d, "test").unwrap();
+        let (back, prov) = read_dbrdf(&path).unwrap();
+        assert_eq!(prov, "test");
+        assert_eq!(back.table(), d.table());
+        assert_eq!(back.grid(), d.grid());
+        assert_eq!((back.c, back.rs), (d.c, d.rs));
+        // An SH data set is refused with a message naming the format found.
+        let sh = dir.join("sh.exr");
+        let ds = crate::sh::ShDataset::zeros(2, 2, 1, true, "x").unwrap();
+        crate::sh::write_sh_dataset(&sh, &ds).unwrap();
+        let e = read_dbrdf(&sh).unwrap_err().to_string();
+        assert!(
+            e.contains("not a brdfkit D-BRDF file") && e.contains("sh.exr"),
+            "{e}"
+        );
+        let e = read_dbrdf(&dir.join("missing.exr"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("missing.exr"), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -1,0 +1,258 @@
+//! Fitting a D-BRDF (thesis 2.3.6; Ashikhmin & Premoze, "Distribution-based BRDFs", 2007)
+//! to any BRDF, and measuring the fit like an SH acquisition ([`super::hemisphere_error`]).
+//!
+//! Design rule: every parameter is derived from the data, in three linear steps, and a step
+//! is kept only if it lowers the error:
+//! 1. **p(h) from back-scattering.** On the back-scatter slice `k1 = k2 = h` the D-BRDF is
+//!    `f(h, h) = c p(h) R_s / D(h)` with `D(h) = 2 h.n - (h.n)^2` (Fresnel at `k.h = 1` is
+//!    `R_s`), so `p(h)` is proportional to `f(h, h) D(h)` (mean of the colours, negative
+//!    values clamped to 0); the table is normalised to unit projected area
+//!    ([`DBrdf::normalize_projected`]).
+//! 2. **c and R_s by linear least squares.** With `m = (1 - k.h)^5`, Schlick's Fresnel is
+//!    `R_s (1 - m) + m`, so `c F = a (1 - m) + c m` with `a = c R_s` is linear in
+//!    `(c, a_R, a_G, a_B)`. We minimise the squared error of `f cos(polar_i)` over the
+//!    sample set (view texel centres x an [`ErrorGrid`] of light directions) by the normal
+//!    equations, then set `R_s = clamp(a / c, 0, 1)` and refit `c` alone for that `R_s`.
+//! 3. **p(h) by least squares on the half-vector table.** With `c` and `R_s` fixed the model
+//!    is linear in each table value: every sample votes for the texel containing its half
+//!    vector (`GL_NEAREST` texel, [`crate::conventions::hemi_nearest_texel`]) with
+//!    `p = sum f k / sum k^2`, `k = c F cos / D`; texels no sample reaches keep step 1's value.
+//!    The table is renormalised and step 2 is repeated.
+
+use super::{acquired_value, cholesky, cholesky_solve, hemisphere_error, ErrorGrid, ErrorReport};
+use crate::brdf::ashikhmin_shirley::schlick_fresnel;
+use crate::brdf::{Brdf, DBrdf};
+use crate::conventions::{
+    hemi_nearest_texel, hemi_texcoord, hemi_texel_angles_f64, local_angles, local_direction_f64,
+};
+use glam::{DVec3, Vec3};
+
+/// What to fit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitOptions {
+    /// Half-vector table: azimuth texels.
+    pub nu: usize,
+    /// Half-vector table: polar texels.
+    pub nv: usize,
+    /// View grid of the samples and of the error report (azimuth, polar texels).
+    pub view: (usize, usize),
+    /// Light directions of the samples and of the error report.
+    pub grid: ErrorGrid,
+}
+
+impl Default for FitOptions {
+    /// A 64 x 32 half-vector table, 16 x 8 view texels, the default error grid.
+    fn default() -> Self {
+        FitOptions {
+            nu: 64,
+            nv: 32,
+            view: (16, 8),
+            grid: ErrorGrid::default(),
+        }
+    }
+}
+
+/// A fitted D-BRDF and its error against the source.
+#[derive(Clone, Debug)]
+pub struct DbrdfFit {
+    pub brdf: DBrdf,
+    pub report: ErrorReport,
+    /// Whether step 3 (least squares on the half-vector table) was kept.
+    pub refined: bool,
+}
+
+/// Why a fit could not be made.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum FitError {
+    #[error("grid: {0}x{1} is empty or larger than 1024x1024")]
+    Grid(usize, usize),
+    #[error("source is zero (or negative) on the whole back-scatter slice: no p(h) to fit")]
+    ZeroBackscatter,
+    #[error("source returned a non-finite value")]
+    NonFinite,
+}
+
+/// `D(k1, k2) = k1.n + k2.n - (k1.n)(k2.n)`, the D-BRDF denominator.
+fn denom(a: f64, b: f64) -> f64 {
+    a + b - a * b
+}
+
+struct Sample {
+    wi: DVec3,
+    wo: DVec3,
+    /// `p`-table texel of the half vector (flat index).
+    texel: usize,
+    kh: f64,
+    /// `cos(polar_i) / D`.
+    geo: f64,
+    /// Source `f cos`.
+    y: DVec3,
+}
+
+fn samples(src: &dyn Brdf, o: &FitOptions) -> Result<Vec<Sample>, FitError> {
+    let dirs = o.grid.directions();
+    let (vu, vv) = o.view;
+    let mut out = Vec::with_capacity(vu * vv * dirs.len());
+    for j in 0..vv {
+        for i in 0..vu {
+            let (p, a) = hemi_texel_angles_f64(i, j, vu, vv);
+            let wo = local_direction_f64(p, a);
+            for &wi in &dirs {
+                let sum = wi + wo;
+                let len = sum.length();
+                if len <= 1e-6 {
+                    continue;
+                }
+                let h = (sum / len).as_vec3();
+                let (hp, ha) = local_angles(h);
+                let (s, t) = hemi_texcoord(hp, ha);
+                let (ti, tj) = hemi_nearest_texel(s, t, o.nu, o.nv);
+                let y = acquired_value(src, wi, wo);
+                if !y.is_finite() {
+                    return Err(FitError::NonFinite);
+                }
+                out.push(Sample {
+                    wi,
+                    wo,
+                    texel: tj * o.nu + ti,
+                    kh: (0.5 * len).min(1.0),
+                    geo: wi.z / denom(wi.z, wo.z),
+                    y,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Step 2 of the module doc: `(c, R_s)` for a fixed table.
+fn fit_c_rs(d: &DBrdf, ss: &[Sample]) -> (f32, Vec3) {
+    // Unknowns x = (c, a_R, a_G, a_B); rows per sample and colour.
+    let mut ata = [0.0f64; 16];
+    let mut aty = [0.0f64; 4];
+    for s in ss {
+        let h = (s.wi + s.wo).normalize().as_vec3();
+        let g = d.p(h) as f64 * s.geo;
+        if g == 0.0 {
+            continue;
+        }
+        let m = (1.0 - s.kh).powi(5);
+        for ch in 0..3 {
+            let (u, v) = (g * m, g * (1.0 - m)); // coefficients of c and a_ch
+            let idx = [0usize, 1 + ch];
+            let val = [u, v];
+            for r in 0..2 {
+                for q in 0..2 {
+                    ata[idx[r] * 4 + idx[q]] += val[r] * val[q];
+                }
+                aty[idx[r]] += val[r] * s.y[ch];
+            }
+        }
+    }
+    let tr = (0..4).map(|k| ata[k * 5]).sum::<f64>().max(1e-300);
+    for k in 0..4 {
+        ata[k * 5] += 1e-12 * tr;
+    }
+    let (mut c, mut rs) = (0.25f64, DVec3::splat(0.05));
+    if let Some(l) = cholesky(&ata, 4) {
+        let mut x = aty.to_vec();
+        cholesky_solve(&l, 4, &mut x);
+        if x[0] > 0.0 {
+            c = x[0];
+            rs = (DVec3::new(x[1], x[2], x[3]) / x[0]).clamp(DVec3::ZERO, DVec3::ONE);
+        }
+    }
+    // Refit c alone for the clamped R_s: c = sum y k / sum k^2 with k = g F.
+    let (mut num, mut den) = (0.0, 0.0);
+    for s in ss {
+        let h = (s.wi + s.wo).normalize().as_vec3();
+        let g = d.p(h) as f64 * s.geo;
+        let f = schlick_fresnel(rs.as_vec3(), s.kh as f32).as_dvec3();
+        let k = g * f;
+        num += k.dot(s.y);
+        den += k.length_squared();
+    }
+    if den > 0.0 && num > 0.0 {
+        c = num / den;
+    }
+    (c as f32, rs.as_vec3())
+}
+
+/// Fits a D-BRDF to `src` (module doc) and reports its error over the view grid and light
+/// grid of `opts`. Fails on an empty or oversized grid, a source that is zero on its whole
+/// back-scatter slice, or a non-finite source value.
+pub fn fit_dbrdf(src: &dyn Brdf, opts: &FitOptions) -> Result<DbrdfFit, FitError> {
+    for (a, b) in [(opts.nu, opts.nv), opts.view] {
+        if a == 0 || b == 0 || a > 1024 || b > 1024 {
+            return Err(FitError::Grid(a, b));
+        }
+    }
+    // Step 1: back-scatter.
+    let mut table = Vec::with_capacity(opts.nu * opts.nv);
+    for j in 0..opts.nv {
+        for i in 0..opts.nu {
+            let (p, a) = hemi_texel_angles_f64(i, j, opts.nu, opts.nv);
+            let h = local_direction_f64(p, a);
+            let f = acquired_value(src, h, h) / h.z.max(1e-9);
+            if !f.is_finite() {
+                return Err(FitError::NonFinite);
+            }
+            table.push(((f.element_sum() / 3.0).max(0.0) * denom(h.z, h.z)) as f32);
+        }
+    }
+    if table.iter().all(|v| *v <= 0.0) {
+        return Err(FitError::ZeroBackscatter);
+    }
+    let mut d = DBrdf::new(opts.nu, opts.nv, table, Vec3::ONE);
+    d.normalize_projected();
+
+    // Step 2.
+    let ss = samples(src, opts)?;
+    let (c, rs) = fit_c_rs(&d, &ss);
+    d.c = c;
+    d.rs = rs;
+    let (vu, vv) = opts.view;
+    let report = hemisphere_error(src, &d, vu, vv, opts.grid);
+
+    // Step 3: least squares per half-vector texel.
+    let mut num = vec![0.0f64; opts.nu * opts.nv];
+    let mut den = vec![0.0f64; opts.nu * opts.nv];
+    for s in &ss {
+        let f = schlick_fresnel(d.rs, s.kh as f32).as_dvec3();
+        let k = d.c as f64 * s.geo * f;
+        num[s.texel] += k.dot(s.y);
+        den[s.texel] += k.length_squared();
+    }
+    let refined_table: Vec<f32> = d
+        .table()
+        .iter()
+        .enumerate()
+        .map(|(t, &p0)| {
+            if den[t] > 0.0 {
+                (num[t] / den[t]).max(0.0) as f32
+            } else {
+                p0
+            }
+        })
+        .collect();
+    if refined_table.iter().any(|v| *v > 0.0) {
+        let mut d2 = DBrdf::new(opts.nu, opts.nv, refined_table, d.rs);
+        d2.normalize_projected();
+        let (c2, rs2) = fit_c_rs(&d2, &ss);
+        d2.c = c2;
+        d2.rs = rs2;
+        let r2 = hemisphere_error(src, &d2, vu, vv, opts.grid);
+        if r2.rel_l2 < report.rel_l2 {
+            return Ok(DbrdfFit {
+                brdf: d2,
+                report: r2,
+                refined: true,
+            });
+        }
+    }
+    Ok(DbrdfFit {
+        brdf: d,
+        report,
+        refined: false,
+    })
+}

@@ -1,0 +1,206 @@
+//! `brdfkit acquire`, `brdfkit fit-dbrdf` and `brdfkit materials`.
+
+use super::{AcquireArgs, FitDbrdfArgs};
+use crate::acquire::dbrdf_file::write_dbrdf;
+use crate::acquire::fit::{fit_dbrdf, FitOptions};
+use crate::acquire::source::parse_source;
+use crate::acquire::{
+    acquire_with_progress, hemisphere_error, ringing_flagged, AcquireOptions, ErrorGrid,
+    ErrorReport, Method, RINGING_THRESHOLD,
+};
+use crate::error::{Error, Result};
+use crate::materials::{Representation, LIBRARY};
+use crate::sh::write_sh_dataset;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+
+/// Parses `NUxNV` (each 1 to 1024). Fails with a field error naming `option`.
+pub fn parse_grid(option: &str, s: &str) -> Result<(usize, usize)> {
+    let bad = || {
+        Error::field(
+            option,
+            format!("{s:?} is not NUxNV (e.g. 16x8, each 1 to 1024)"),
+        )
+    };
+    let (a, b) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (a, b): (usize, usize) = (a.parse().map_err(|_| bad())?, b.parse().map_err(|_| bad())?);
+    if a == 0 || b == 0 || a > 1024 || b > 1024 {
+        return Err(bad());
+    }
+    Ok((a, b))
+}
+
+fn progress(len: u64, msg: &str) -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if !std::io::stderr().is_terminal() {
+        pb.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    pb.set_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} view texels")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    pb.set_message(msg.to_string());
+    pb
+}
+
+fn row(bands: usize, method: &str, r: &ErrorReport) -> String {
+    format!(
+        "{bands:>5}  {method:<6} {:>9.4} {:>11.2}% {:>9.2}%{}",
+        r.rel_l2,
+        100.0 * r.min_over_peak,
+        100.0 * r.share_below_zero,
+        if ringing_flagged(r) { "  ringing" } else { "" }
+    )
+}
+
+pub fn run_acquire(a: AcquireArgs) -> Result<()> {
+    if a.bands == 0 || a.bands > 10 {
+        return Err(Error::field(
+            "--bands",
+            format!("{} is out of range (1 to 10)", a.bands),
+        ));
+    }
+    let method = Method::parse(&a.method).ok_or_else(|| {
+        Error::field(
+            "--method",
+            format!("{:?} is not one of zero, lsq, even", a.method),
+        )
+    })?;
+    let method = match (method, a.lambda) {
+        (Method::Lsq { .. }, Some(l)) => {
+            if !(l.is_finite() && l > 0.0) {
+                return Err(Error::field("--lambda", format!("{l} must be > 0")));
+            }
+            Method::Lsq { lambda: l }
+        }
+        (m, _) => m,
+    };
+    let (nu, nv) = parse_grid("--grid", &a.grid)?;
+    let src = parse_source(&a.source)?;
+    let grid = ErrorGrid::default();
+    let methods: Vec<Method> = if a.no_table {
+        vec![]
+    } else {
+        vec![Method::Zero, method_lsq(method), Method::Even]
+    };
+    if !methods.is_empty() {
+        println!(
+            "source {} ({}), view grid {nu}x{nv}, f_r cos(polar_i) over {}x{} light directions per view texel",
+            a.source, src.name(), grid.n_mu, grid.n_az
+        );
+        println!("bands  method    rel L2  min/peak  below zero");
+    }
+    let pb = progress((a.bands * methods.len() * nu * nv) as u64, "acquire");
+    let mut flagged = None;
+    for bands in 1..=a.bands {
+        for m in &methods {
+            let ds = acquire_with_progress(
+                src.as_ref(),
+                &AcquireOptions::new(bands, nu, nv, *m),
+                &|| pb.inc(1),
+            )
+            .map_err(|e| Error::field("acquire", e.to_string()))?;
+            let r = hemisphere_error(src.as_ref(), &ds, nu, nv, grid);
+            pb.suspend(|| println!("{}", row(bands, m.name(), &r)));
+            if bands == a.bands && m.name() == method.name() && ringing_flagged(&r) {
+                flagged = Some(r);
+            }
+        }
+    }
+    pb.finish_and_clear();
+    let ds = acquire_with_progress(
+        src.as_ref(),
+        &AcquireOptions::new(a.bands, nu, nv, method),
+        &|| {},
+    )
+    .map_err(|e| Error::field("acquire", e.to_string()))?;
+    if a.no_table {
+        let r = hemisphere_error(src.as_ref(), &ds, nu, nv, grid);
+        println!("{}", row(a.bands, method.name(), &r));
+        if ringing_flagged(&r) {
+            flagged = Some(r);
+        }
+    }
+    if let Some(r) = flagged {
+        println!(
+            "warning: ringing: min/peak {:.1}% is below the {:.0}% threshold at {} bands ({}); \
+             render this material from its D-BRDF fit instead (`brdfkit fit-dbrdf {}`), thesis 2.3.4",
+            100.0 * r.min_over_peak,
+            100.0 * RINGING_THRESHOLD,
+            a.bands,
+            method.name(),
+            a.source
+        );
+    }
+    write_sh_dataset(&a.output, &ds).map_err(|e| Error::format(&a.output, e.to_string()))?;
+    eprintln!(
+        "wrote {} ({} bands, {nu}x{nv} view texels, method {}, f_r cos(polar_i))",
+        a.output.display(),
+        a.bands,
+        method.name()
+    );
+    Ok(())
+}
+
+fn method_lsq(chosen: Method) -> Method {
+    match chosen {
+        Method::Lsq { .. } => chosen,
+        _ => Method::Lsq {
+            lambda: crate::acquire::DEFAULT_LAMBDA,
+        },
+    }
+}
+
+pub fn run_fit(a: FitDbrdfArgs) -> Result<()> {
+    let (nu, nv) = parse_grid("--grid", &a.grid)?;
+    let src = parse_source(&a.source)?;
+    let opts = FitOptions {
+        nu,
+        nv,
+        ..FitOptions::default()
+    };
+    let pb = progress(1, "fit-dbrdf");
+    pb.tick();
+    let fit = fit_dbrdf(src.as_ref(), &opts)
+        .map_err(|e| Error::field("fit-dbrdf", format!("{}: {e}", a.source)))?;
+    pb.finish_and_clear();
+    let d = &fit.brdf;
+    println!(
+        "source {} ({}): D-BRDF p(h) {nu}x{nv}, c = {:.4}, R_s = ({:.3}, {:.3}, {:.3}), p(h) refined by least squares: {}",
+        a.source,
+        src.name(),
+        d.c,
+        d.rs.x,
+        d.rs.y,
+        d.rs.z,
+        if fit.refined { "yes" } else { "no (back-scatter kept)" }
+    );
+    let (vu, vv) = opts.view;
+    println!(
+        "error over {vu}x{vv} view texels x {}x{} light directions: rel L2 {:.4}, min/peak {:.2}%, below zero {:.2}%",
+        opts.grid.n_mu,
+        opts.grid.n_az,
+        fit.report.rel_l2,
+        100.0 * fit.report.min_over_peak,
+        100.0 * fit.report.share_below_zero
+    );
+    let prov = format!(
+        "brdfkit fit-dbrdf: source {}, p(h) {nu}x{nv}, rel L2 {:.4}",
+        a.source, fit.report.rel_l2
+    );
+    write_dbrdf(&a.output, d, &prov).map_err(|e| Error::format(&a.output, e.to_string()))?;
+    eprintln!("wrote {}", a.output.display());
+    Ok(())
+}
+
+pub fn run_materials() -> Result<()> {
+    for m in LIBRARY {
+        let kind = match m.representation {
+            Representation::Sh { .. } => "sh",
+            Representation::Dbrdf => "dbrdf",
+        };
+        println!("{:<22} {:<6} {}", m.name, kind, m.description);
+    }
+    Ok(())
+}
