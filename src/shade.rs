@@ -112,6 +112,9 @@ pub struct FramePrep<'a> {
     pub points: Vec<Light>,
     pub sh: Option<(&'a ShDataset, ShRecurrence)>,
     pub eye: Vec3,
+    /// Per-tile normal-cone culling of light chunks (on by default; it changes no bit, and
+    /// a test proves it by turning it off).
+    pub cull_lights: bool,
 }
 
 impl<'a> FramePrep<'a> {
@@ -128,6 +131,7 @@ impl<'a> FramePrep<'a> {
                 .collect(),
             sh: brdf.as_sh().map(|ds| (ds, ShRecurrence::new(ds.bands()))),
             eye: scene.camera.position,
+            cull_lights: true,
         }
     }
 
@@ -179,7 +183,11 @@ impl<'a> FramePrep<'a> {
 
 /// Shades every visible pixel of `vis` into a linear radiance image (background black).
 pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
-    let prep = FramePrep::new(scene);
+    shade_with(&FramePrep::new(scene), scene, vis)
+}
+
+/// [`shade`] with explicit frame preparation (to switch optimisations off in tests).
+pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
     let per_tile = (vis.tile_size * vis.tile_size) as usize;
     let mut tiles = vec![Vec3::ZERO; vis.visible.len()];
     tiles
@@ -195,7 +203,11 @@ pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
                     surface_at(&scene.mesh, vis, x, y).map(|s| (i, s))
                 })
                 .collect();
-            let cone = Cone::around(surfaces.iter().map(|(_, s)| s.normal));
+            let cone = if prep.cull_lights {
+                Cone::around(surfaces.iter().map(|(_, s)| s.normal))
+            } else {
+                None
+            };
             let chunks = prep.dir.chunks_for(cone);
             let mut buf = Vec::new();
             for (i, s) in &surfaces {
