@@ -13,6 +13,9 @@ fn frame(c: &mut Criterion) {
     let mut g = c.benchmark_group("default-640x480");
     g.bench_function("raster", |b| b.iter(|| render::rasterize(&scene, false)));
     g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis)));
+    g.bench_function("shade-scalar-oracle", |b| {
+        b.iter(|| shade::shade_reference(&scene, &vis))
+    });
     g.bench_function("frame", |b| b.iter(|| render::render(&scene, None)));
     g.finish();
 }

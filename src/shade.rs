@@ -45,7 +45,12 @@ pub struct Surface {
 /// The surface seen through pixel `(x, y)`, if any.
 #[inline]
 pub fn surface_at(mesh: &Mesh, vis: &VisBuffer, x: u32, y: u32) -> Option<Surface> {
-    let i = vis.index(x, y);
+    surface_at_index(mesh, vis, vis.index(x, y), x, y)
+}
+
+/// [`surface_at`] for a pixel whose tile-major index `i` the caller already knows.
+#[inline]
+pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) -> Option<Surface> {
     let id = vis.visible[i];
     if id == NO_TRIANGLE {
         return None;
@@ -70,6 +75,17 @@ pub fn surface_at(mesh: &Mesh, vis: &VisBuffer, x: u32, y: u32) -> Option<Surfac
         front_facing: t.front_facing,
         view_depth: 1.0 / vis.depth[i],
     })
+}
+
+/// Pixels of tile `t` as `(index within the tile, x, y)`, row by row, without divisions
+/// per pixel; the padding of edge tiles is left out.
+pub fn tile_pixels(vis: &VisBuffer, t: usize) -> impl Iterator<Item = (usize, u32, u32)> + '_ {
+    let ts = vis.tile_size;
+    let x0 = (t as u32 % vis.tiles_x) * ts;
+    let y0 = (t as u32 / vis.tiles_x) * ts;
+    let w = ts.min(vis.width - x0);
+    let h = ts.min(vis.height - y0);
+    (0..h).flat_map(move |ly| (0..w).map(move |lx| ((ly * ts + lx) as usize, x0 + lx, y0 + ly)))
 }
 
 /// Local view direction at a surface: `local_from_world(v)`, lifted above the horizon.
@@ -159,10 +175,13 @@ impl<'a> FramePrep<'a> {
                 let mut sum = Vec3::ZERO;
                 for &c in chunks {
                     for i in c as usize * LANES..(c as usize + 1) * LANES {
+                        let e = Vec3::new(self.dir.er[i], self.dir.eg[i], self.dir.eb[i]);
+                        if e == Vec3::ZERO {
+                            continue; // padding (or a black light): contributes exactly 0
+                        }
                         let l = Vec3::new(self.dir.dx[i], self.dir.dy[i], self.dir.dz[i]);
                         let wi = frame.to_local(l);
                         if wi.z > 0.0 {
-                            let e = Vec3::new(self.dir.er[i], self.dir.eg[i], self.dir.eb[i]);
                             sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
                         }
                     }
@@ -215,9 +234,9 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
             }
         });
     let mut img = Image::new(vis.width, vis.height);
-    for (i, c) in tiles.into_iter().enumerate() {
-        if let Some((x, y)) = vis.pixel(i) {
-            img.pixels[(y * vis.width + x) as usize] = c;
+    for t in 0..vis.tile_occupied.len() {
+        for (i, x, y) in tile_pixels(vis, t) {
+            img.pixels[(y * vis.width + x) as usize] = tiles[t * per_tile + i];
         }
     }
     img
