@@ -7,7 +7,7 @@
 use brdfkit::conventions::ShadingFrame;
 use brdfkit::env::prepare::{EnvSpec, SamplerKind};
 use brdfkit::kernel::lanes::{F32x8, LANES};
-use brdfkit::kernel::sh::{shade_pixel, ShRecurrence};
+use brdfkit::kernel::sh::{shade_pixel, Scratch, ShRecurrence};
 use brdfkit::kernel::DirLights;
 use brdfkit::light::Light;
 use brdfkit::render;
@@ -78,10 +78,11 @@ fn kernel_throughput(c: &mut Criterion) {
             BenchmarkId::new("128-lights", format!("{bands}-orders")),
             &bands,
             |b, _| {
+                let mut scratch = Scratch::default();
                 b.iter(|| {
                     let mut s = Vec3::ZERO;
                     for f in &frames {
-                        s += shade_pixel(&rec, &coeffs, true, f, &dl, &all);
+                        s += shade_pixel(&rec, &coeffs, true, f, &dl, &all, &mut scratch);
                     }
                     black_box(s)
                 })

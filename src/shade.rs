@@ -153,7 +153,13 @@ impl<'a> FramePrep<'a> {
 
     /// Radiance of one surface point lit by the chunks `chunks` of the directional lights
     /// and by every point light.
-    pub fn shade_surface(&self, s: &Surface, chunks: &[u32], coeff_buf: &mut Vec<f32>) -> Vec3 {
+    pub fn shade_surface(
+        &self,
+        s: &Surface,
+        chunks: &[u32],
+        coeff_buf: &mut Vec<f32>,
+        scratch: &mut kernel::sh::Scratch,
+    ) -> Vec3 {
         let frame = ShadingFrame::from_normal(s.normal);
         let wo = local_view(&frame, s, self.eye);
         let mut sum = match &self.sh {
@@ -169,6 +175,7 @@ impl<'a> FramePrep<'a> {
                     &frame,
                     &self.dir,
                     chunks,
+                    scratch,
                 )
             }
             None => {
@@ -229,8 +236,9 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
             };
             let chunks = prep.dir.chunks_for(cone);
             let mut buf = Vec::new();
+            let mut scratch = kernel::sh::Scratch::default();
             for (i, s) in &surfaces {
-                out[*i] = prep.shade_surface(s, &chunks, &mut buf);
+                out[*i] = prep.shade_surface(s, &chunks, &mut buf, &mut scratch);
             }
         });
     let mut img = Image::new(vis.width, vis.height);

@@ -108,8 +108,27 @@ fn sh_dot(rec: &ShRecurrence, c: &[f32], x: F32x8, y: F32x8, z: F32x8) -> (F32x8
     (ar, ag, ab)
 }
 
+/// Per-pixel scratch space for [`shade_pixel`]: the lights above the pixel's horizon,
+/// compacted (in light order) into local coordinates and weights.
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    x: Vec<f32>,
+    y: Vec<f32>,
+    z: Vec<f32>,
+    wr: Vec<f32>,
+    wg: Vec<f32>,
+    wb: Vec<f32>,
+}
+
 /// Reflected radiance of one pixel: view coefficients `c`, shading frame, the lights and
 /// the chunk list to visit. `includes_cosine`: the data already holds `f cos`.
+///
+/// Two passes: the first computes every visited light's local direction and weight and
+/// keeps, in light order, those above the horizon (weight > 0); the second runs the SH sum
+/// over the kept lights eight at a time (the last group padded with zero weights). Lights
+/// below the horizon thus cost three dot products, not a basis evaluation. The kept list,
+/// and so the result, depends only on the pixel and the lights, never on which chunks a
+/// tile's culling dropped (those lights are below the horizon and would not be kept).
 #[multiversion::multiversion(targets("x86_64+avx2"))]
 pub fn shade_pixel(
     rec: &ShRecurrence,
@@ -118,16 +137,22 @@ pub fn shade_pixel(
     frame: &ShadingFrame,
     lights: &DirLights,
     chunks: &[u32],
+    scratch: &mut Scratch,
 ) -> Vec3 {
-    let (mut tr, mut tg, mut tb) = (F32x8::default(), F32x8::default(), F32x8::default());
     let (t, b, n) = (frame.t, frame.b, frame.n);
+    let sc = scratch;
+    for v in [
+        &mut sc.x, &mut sc.y, &mut sc.z, &mut sc.wr, &mut sc.wg, &mut sc.wb,
+    ] {
+        v.clear();
+    }
     for &ch in chunks {
         let o = ch as usize * LANES;
         let dx = F32x8::from_slice(&lights.dx[o..]);
         let dy = F32x8::from_slice(&lights.dy[o..]);
         let dz = F32x8::from_slice(&lights.dz[o..]);
         let z = dx * n.x + dy * n.y + dz * n.z;
-        // Horizon: lanes at or below it weigh exactly zero.
+        // Horizon: lanes at or below it weigh exactly zero and are not kept.
         let cosw = if includes_cosine {
             F32x8::splat(1.0)
         } else {
@@ -139,10 +164,44 @@ pub fn shade_pixel(
         }
         let x = dx * t.x + dy * t.y + dz * t.z;
         let y = dx * b.x + dy * b.y + dz * b.z;
-        let (fr, fg, fb) = sh_dot(rec, c, x, y, z);
-        tr += fr * (w * F32x8::from_slice(&lights.er[o..]));
-        tg += fg * (w * F32x8::from_slice(&lights.eg[o..]));
-        tb += fb * (w * F32x8::from_slice(&lights.eb[o..]));
+        let er = w * F32x8::from_slice(&lights.er[o..]);
+        let eg = w * F32x8::from_slice(&lights.eg[o..]);
+        let eb = w * F32x8::from_slice(&lights.eb[o..]);
+        for i in 0..LANES {
+            if er.0[i] != 0.0 || eg.0[i] != 0.0 || eb.0[i] != 0.0 {
+                sc.x.push(x.0[i]);
+                sc.y.push(y.0[i]);
+                sc.z.push(z.0[i]);
+                sc.wr.push(er.0[i]);
+                sc.wg.push(eg.0[i]);
+                sc.wb.push(eb.0[i]);
+            }
+        }
+    }
+    while sc.x.len() % LANES != 0 {
+        for (v, fill) in [
+            (&mut sc.x, 0.0),
+            (&mut sc.y, 0.0),
+            (&mut sc.z, 1.0),
+            (&mut sc.wr, 0.0),
+            (&mut sc.wg, 0.0),
+            (&mut sc.wb, 0.0),
+        ] {
+            v.push(fill);
+        }
+    }
+    let (mut tr, mut tg, mut tb) = (F32x8::default(), F32x8::default(), F32x8::default());
+    for o in (0..sc.x.len()).step_by(LANES) {
+        let (fr, fg, fb) = sh_dot(
+            rec,
+            c,
+            F32x8::from_slice(&sc.x[o..]),
+            F32x8::from_slice(&sc.y[o..]),
+            F32x8::from_slice(&sc.z[o..]),
+        );
+        tr += fr * F32x8::from_slice(&sc.wr[o..]);
+        tg += fg * F32x8::from_slice(&sc.wg[o..]);
+        tb += fb * F32x8::from_slice(&sc.wb[o..]);
     }
     Vec3::new(tr.sum(), tg.sum(), tb.sum())
 }
