@@ -44,6 +44,13 @@ pub fn render(scene: &Scene, aov: Option<Aov>) -> Image {
     }
 }
 
+/// The reference render (`--reference`): [`crate::shade::shade_reference_f64`]; the scene
+/// should carry the full probe as its environment light set (the CLI sets that up).
+pub fn render_reference(scene: &Scene) -> Image {
+    let vis = rasterize(scene, false);
+    crate::shade::shade_reference_f64(scene, &vis)
+}
+
 /// [`render`] on a dedicated pool of `threads` worker threads (0: one per core).
 pub fn render_with_threads(scene: &Scene, aov: Option<Aov>, threads: usize) -> Image {
     let pool = rayon::ThreadPoolBuilder::new()

@@ -250,6 +250,69 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
     img
 }
 
+/// The reference render: every light, no culling, the BRDF through [`Brdf::eval_f64`],
+/// frames, directions and the light sum in f64; the result is rounded to f32 once per
+/// pixel. Used by `brdfkit render --reference` (with the full probe as the light set) and
+/// as the converged reference of the run-time-against-error measurements.
+pub fn shade_reference_f64(scene: &Scene, vis: &VisBuffer) -> Image {
+    use glam::DVec3;
+    let mut img = Image::new(vis.width, vis.height);
+    let brdf = scene.material.as_ref();
+    let eye = scene.camera.position.as_dvec3();
+    img.pixels
+        .par_chunks_mut(vis.width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, out) in row.iter_mut().enumerate() {
+                let Some(s) = surface_at(&scene.mesh, vis, x as u32, y as u32) else {
+                    continue;
+                };
+                let f = ShadingFrame::from_normal(s.normal);
+                let (t, b, n) = (f.t.as_dvec3(), f.b.as_dvec3(), f.n.as_dvec3());
+                let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
+                let p = s.position.as_dvec3();
+                let mut wo = local((eye - p).normalize_or(n));
+                if wo.z < MIN_VIEW_COS as f64 {
+                    let h = (wo.x * wo.x + wo.y * wo.y).sqrt();
+                    let c = MIN_VIEW_COS as f64;
+                    let sn = (1.0 - c * c).sqrt();
+                    wo = if h > 0.0 {
+                        DVec3::new(wo.x / h * sn, wo.y / h * sn, c)
+                    } else {
+                        DVec3::Z
+                    };
+                }
+                let mut sum = DVec3::ZERO;
+                for light in &scene.lights {
+                    let (l, e) = match *light {
+                        Light::Directional {
+                            to_light,
+                            irradiance,
+                        } => (to_light.as_dvec3(), irradiance.as_dvec3()),
+                        Light::Point {
+                            position,
+                            intensity,
+                        } => {
+                            let d = position.as_dvec3() - p;
+                            let d2 = d.length_squared();
+                            if !(d2 > 0.0 && d2.is_finite()) {
+                                continue;
+                            }
+                            (d / d2.sqrt(), intensity.as_dvec3() / d2)
+                        }
+                    };
+                    let wi = local(l);
+                    if wi.z > 0.0 {
+                        let f = brdf.eval_f64(wi, wo);
+                        sum += if brdf.includes_cosine() { f } else { f * wi.z } * e;
+                    }
+                }
+                *out = sum.as_vec3();
+            }
+        });
+    img
+}
+
 /// The scalar oracle: [`shade_point`] at every visible pixel, no kernel, no culling.
 pub fn shade_reference(scene: &Scene, vis: &VisBuffer) -> Image {
     let mut img = Image::new(vis.width, vis.height);

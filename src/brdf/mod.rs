@@ -45,6 +45,12 @@ pub trait Brdf: Send + Sync {
     /// A short human-readable name ("lambert", "blinn-phong", ...).
     fn name(&self) -> &str;
 
+    /// [`Brdf::eval`] in f64, for reference renders. The default promotes the f32 result;
+    /// models with a meaningful f64 evaluation (SH data sets) override it.
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        self.eval(wi.as_vec3(), wo.as_vec3()).as_dvec3()
+    }
+
     /// The SH data set behind this BRDF, if it is one: the renderer then uses the SH
     /// kernel ([`crate::kernel::sh`]) instead of calling [`Brdf::eval`] per light.
     fn as_sh(&self) -> Option<&crate::sh::dataset::ShDataset> {

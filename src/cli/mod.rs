@@ -144,6 +144,9 @@ pub struct RenderArgs {
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
+    /// Reference render: every light of the full probe (with an environment), no culling, f64 shading. Slow; the converged reference the fast path is measured against.
+    #[arg(long)]
+    pub reference: bool,
     /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's [material].
     #[arg(long)]
     pub material: Option<String>,

@@ -77,6 +77,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
             env.count = n;
         }
     }
+    if a.reference {
+        if let Some(env) = file.env.as_mut() {
+            env.sampler = crate::env::prepare::SamplerKind::Full;
+        }
+    }
     if let Some(m) = &a.material {
         file.material = crate::scene::MaterialSpec::from_cli(m)?;
     }
@@ -114,7 +119,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     let start = std::time::Instant::now();
-    let img = render::render_with_threads(&scene, a.aov, scene.render.threads);
+    let img = if a.reference && a.aov.is_none() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(scene.render.threads)
+            .build()
+            .expect("thread pool");
+        pool.install(|| render::render_reference(&scene))
+    } else {
+        render::render_with_threads(&scene, a.aov, scene.render.threads)
+    };
     let elapsed = start.elapsed();
     for (path, fmt) in outputs.iter().zip(formats) {
         match (fmt, a.aov) {

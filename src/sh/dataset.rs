@@ -393,6 +393,25 @@ impl Brdf for ShDataset {
     fn as_sh(&self) -> Option<&ShDataset> {
         Some(self)
     }
+
+    /// `sum_k c_k(wo) Y_k(wi)` with the basis evaluated and the sum accumulated in f64 (the
+    /// coefficients are the stored f32 values, filtered as in [`ShDataset::reconstruct`]);
+    /// a basis table, if set, is ignored: the reference uses the exact basis.
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return glam::DVec3::ZERO;
+        }
+        let nt = num_terms(self.bands);
+        let mut ybuf = [0.0f64; MAX_BANDS * MAX_BANDS];
+        let y = &mut ybuf[..nt];
+        eval_sh_f64(wi, y);
+        let mut c = vec![0.0f32; 3 * nt];
+        let (p, a) = local_angles(wo.as_vec3());
+        let (s, t) = hemi_texcoord(p, a);
+        self.lookup_coeffs(s, t, self.coeff_lookup, &mut c);
+        let dot = |o: usize| -> f64 { (0..nt).map(|k| c[o + k] as f64 * y[k]).sum() };
+        glam::DVec3::new(dot(0), dot(nt), dot(2 * nt))
+    }
 }
 
 #[cfg(test)]
