@@ -15,7 +15,8 @@ use std::path::Path;
 pub const MAX_OBJ_BYTES: u64 = 1 << 30;
 
 /// Loads an OBJ file. Fails with an [`Error`] naming the file for unreadable, malformed or
-/// empty files.
+/// empty files, files over [`MAX_OBJ_BYTES`], face indices out of range and non-finite
+/// coordinates. `mtllib` statements are ignored (no other file is opened).
 pub fn load_obj(path: &Path) -> Result<Mesh> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read OBJ file", e))?;
     if meta.len() > MAX_OBJ_BYTES {
@@ -34,9 +35,15 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
         ignore_points: true,
         ignore_lines: true,
     };
-    // Materials are ignored: brdfkit takes its material from the scene.
-    let (models, _materials) = tobj::load_obj(path, &opts)
-        .map_err(|e| Error::format(path, format!("malformed OBJ: {e}")))?;
+    // Materials are ignored: brdfkit takes its material from the scene, so `mtllib` files
+    // are never opened (a hostile `mtllib /dev/zero` would otherwise be read without end).
+    // The reader stops at the size limit even where metadata reports no length.
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, "cannot read OBJ file", e))?;
+    let mut reader = std::io::BufReader::new(file.take(MAX_OBJ_BYTES));
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut reader, &opts, |_| Ok((Vec::new(), Default::default())))
+            .map_err(|e| Error::format(path, format!("malformed OBJ: {e}")))?;
     let mut mesh = Mesh::default();
     let mut any_missing_normals = false;
     for model in &models {
