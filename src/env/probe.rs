@@ -121,8 +121,8 @@ impl Probe {
     /// alpha ignored) or Radiance (`.hdr`) file. The extension picks the decoder.
     ///
     /// Fails with [`ProbeError`]: unreadable file, unknown extension, decoder error (also a
-    /// Radiance header declaring more texels than the file's length can hold, see
-    /// [`HDR_TEXELS_PER_BYTE`]), empty or oversized image, non-finite texels (unless zeroed
+    /// header declaring more texels than the file's length can hold, see
+    /// [`HDR_TEXELS_PER_BYTE`] and [`crate::image_io::check_exr_declared_size`]), empty or oversized image, non-finite texels (unless zeroed
     /// by option).
     pub fn load(path: &Path, opts: &LoadOptions) -> Result<(Probe, LoadReport), ProbeError> {
         let ext = path
@@ -327,6 +327,18 @@ fn read_exr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
     })?;
     let size = header.layer_size;
     check_size(path, size.width(), size.height(), opts)?;
+    let file_len = std::fs::metadata(path)
+        .map_err(|source| ProbeError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?
+        .len();
+    crate::image_io::check_exr_declared_size(&meta.headers, file_len).map_err(|message| {
+        ProbeError::Decode {
+            path: path.to_path_buf(),
+            message,
+        }
+    })?;
 
     struct Px {
         w: usize,
