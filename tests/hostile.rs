@@ -321,13 +321,28 @@ fn sh_dataset_hostile_files() {
     let p = write(d, "dims.exr", &dims);
     expect_err(&g, "SH dims", &p, || read_sh_dataset(&p));
     // absurd declared sizes
-    for (w, h) in [(1_000_000, 1_000_000), (8192, 8192), (1 << 20, 1)] {
+    // (2^22 x 3 keeps the chunk count of the 6 x 3 original.)
+    for (w, h) in [
+        (1_000_000, 1_000_000),
+        (8192, 8192),
+        (1 << 20, 1),
+        (1 << 22, 3),
+        (i32::MAX, 3),
+    ] {
         let mut b = good.clone();
         patch_exr_size(&mut b, w, h);
         let p = write(d, "absurd.exr", &b);
         expect_err(&g, &format!("SH claims {w}x{h}"), &p, || {
             read_sh_dataset(&p)
         });
+    }
+    // Only the first part's data window widened (chunk counts stay consistent).
+    for w in [1 << 22, 1 << 26] {
+        let mut b = good.clone();
+        let at = find(&b, b"dataWindow\0box2i\0") + 21;
+        b[at + 8..at + 12].copy_from_slice(&(w - 1i32).to_le_bytes());
+        let p = write(d, "wide.exr", &b);
+        expect_err(&g, &format!("SH claims {w}x3"), &p, || read_sh_dataset(&p));
     }
     // NaN coefficient
     let nan = {
@@ -384,6 +399,16 @@ fn probe_hostile_files() {
         patch_exr_size(&mut b, w, h);
         let p = write(d, "absurd.exr", &b);
         expect_err(&g, &format!("probe EXR claims {w}x{h}"), &p, || {
+            Probe::load(&p, &opts)
+        });
+    }
+    // Only the width patched, so the chunk count still matches: the decoder would reach
+    // its pixel allocation (400 MiB for 2^22 x 8) if the size were not checked first.
+    for w in [1 << 22, 1 << 28, i32::MAX] {
+        let mut b = probe_exr_scanlines();
+        patch_exr_size(&mut b, w, 8);
+        let p = write(d, "wide.exr", &b);
+        expect_err(&g, &format!("probe EXR claims {w}x8"), &p, || {
             Probe::load(&p, &opts)
         });
     }
@@ -700,6 +725,11 @@ fn bad_images() -> Vec<(String, Vec<u8>)> {
             patch_png_size(&png, w as u32, h as u32),
         ));
     }
+    for w in [1 << 22, i32::MAX] {
+        let mut b = probe_exr_scanlines();
+        patch_exr_size(&mut b, w, 8);
+        v.push((format!("wide{w}.exr"), b));
+    }
     v
 }
 
@@ -852,6 +882,9 @@ fn cli_hostile_probes() {
         b.extend_from_slice(&hdr[at + 9..]);
         files.push((format!("absurd{w}.hdr"), b));
     }
+    let mut b = probe_exr_scanlines();
+    patch_exr_size(&mut b, 1 << 26, 8);
+    files.push(("wide.exr".into(), b));
     for (name, bytes) in &files {
         std::fs::write(d.join(name), bytes).unwrap();
     }
@@ -921,4 +954,24 @@ fn cli_hostile_images_and_manifests() {
     patch_exr_size(&mut b, 1_000_000, 1_000_000);
     std::fs::write(g.join("a.exr"), b).unwrap();
     assert_cli_error(d, &["golden", "check", "--dir", "golden"], "a.exr");
+    let mut b = probe_exr_scanlines();
+    patch_exr_size(&mut b, 1 << 26, 8);
+    std::fs::write(g.join("a.exr"), b).unwrap();
+    assert_cli_error(d, &["golden", "check", "--dir", "golden"], "a.exr");
+}
+/// A 16 x 8 RGB f32 EXR in uncompressed scan lines (one line per chunk, no chunkCount
+/// attribute): patching its width keeps the chunk count consistent.
+fn probe_exr_scanlines() -> Vec<u8> {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("s.exr");
+    let chans = SpecificChannels::rgb(|pos: Vec2<usize>| (pos.x() as f32 * 0.1, 0.5f32, 0.25f32));
+    let layer = Layer::new(
+        (16, 8),
+        LayerAttributes::default(),
+        Encoding::UNCOMPRESSED,
+        chans,
+    );
+    Image::from_layer(layer).write().to_file(&p).unwrap();
+    std::fs::read(p).unwrap()
 }
