@@ -905,6 +905,16 @@ fn cli_hostile_scenes_and_objs() {
         assert_cli_error(d, &["render", &name, "-o", "o.png"], &name);
         std::fs::remove_file(d.join(&name)).unwrap();
     }
+    // A scene naming a device as its mesh or probe: refused, not read without end.
+    for (what, text) in [
+        ("dev-obj", SCENE.replace("\"sphere\"", "\"/dev/zero\"")),
+        ("dev-probe", format!("{SCENE}[env]\nfile = \"/dev/zero\"\n")),
+    ] {
+        let name = format!("{what}.toml");
+        std::fs::write(d.join(&name), text).unwrap();
+        assert_cli_error(d, &["render", &name, "-o", "o.png"], "/dev/zero");
+        std::fs::remove_file(d.join(&name)).unwrap();
+    }
     let mut objs = bad_objs();
     objs.push(("empty", String::new()));
     // A material library that never ends: materials are ignored, so it must not be read.
