@@ -58,7 +58,16 @@ impl Loaded {
 /// Largest image side accepted for comparison.
 pub const MAX_SIDE: u32 = 1 << 15;
 
-/// Loads an EXR (R, G, B, optional A) or PNG (any 8/16-bit colour type). Errors name the file.
+/// Bytes a PNG's decoder may allocate per byte of file (deflate's worst ratio, 1032:1,
+/// rounded up).
+pub const PNG_MAX_EXPANSION: u64 = 1100;
+/// Bytes a PNG's decoder may allocate whatever the file's length.
+pub const PNG_ALLOC_SLACK: u64 = 16 << 20;
+
+/// Loads an EXR (R, G, B, optional A) or PNG (any 8/16-bit colour type). Errors name the
+/// file: unreadable, unknown extension, undecodable or truncated, over [`MAX_SIDE`] per
+/// side, missing R/G/B (EXR), or a PNG whose declared size needs more memory than
+/// [`PNG_MAX_EXPANSION`] x its length + [`PNG_ALLOC_SLACK`].
 pub fn load(path: &Path) -> Result<Loaded> {
     let ext = path
         .extension()
@@ -129,6 +138,16 @@ pub fn load(path: &Path) -> Result<Loaded> {
                 .with_guessed_format()
                 .map_err(|e| Error::io(path, "cannot read PNG", e))?;
             let mut limits = image::Limits::default();
+            // Decoded bytes are bounded by what the file's length can hold (deflate expands
+            // at most 1032:1) plus a fixed slack, before the decoder allocates.
+            let file_len = std::fs::metadata(path)
+                .map_err(|e| Error::io(path, "cannot read PNG", e))?
+                .len();
+            limits.max_alloc = Some(
+                file_len
+                    .saturating_mul(PNG_MAX_EXPANSION)
+                    .saturating_add(PNG_ALLOC_SLACK),
+            );
             limits.max_image_width = Some(MAX_SIDE);
             limits.max_image_height = Some(MAX_SIDE);
             reader.limits(limits);

@@ -144,8 +144,69 @@ pub fn write_png(path: &Path, img: &Image, exposure: f32, tonemap: Tonemap) -> R
     write_png_bytes(path, img.width, img.height, bytes)
 }
 
+/// Bytes any EXR file may declare (decoded, all parts) whatever its length.
+pub const EXR_DECODE_SLACK: u64 = 16 << 20;
+
+/// The largest factor by which an EXR compression can expand data: exact for none (1),
+/// RLE (a 2-byte run of at most 128 bytes: 64) and ZIP/ZIPS/PXR24 (deflate's 1032:1,
+/// rounded up, with PXR24's 24-to-32-bit widening); PIZ, B44 and DWA have no small bound,
+/// and 4096 is assumed (far above what photographic images reach).
+pub fn exr_max_expansion(c: exr::compression::Compression) -> u64 {
+    use exr::compression::Compression as C;
+    match c {
+        C::Uncompressed => 1,
+        C::RLE => 64,
+        C::ZIP1 | C::ZIP16 => 1100,
+        C::PXR24 => 1500,
+        _ => 4096,
+    }
+}
+
+/// Checks the pixel bytes an EXR file's headers declare (every part, largest level)
+/// against what a file of `file_len` bytes can hold: at most
+/// [`exr_max_expansion`] x `file_len` + [`EXR_DECODE_SLACK`]. Call it on the headers
+/// (`exr::meta::MetaData::read_from_file`) before decoding: the `exr` crate allocates
+/// every declared pixel up front. Fails with a message (without the path) naming the
+/// declared size.
+pub fn check_exr_declared_size(
+    headers: &[exr::meta::header::Header],
+    file_len: u64,
+) -> std::result::Result<(), String> {
+    let mut declared: u64 = 0;
+    let mut limit: u64 = 0;
+    for h in headers {
+        let (w, ht) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
+        let bytes = w
+            .saturating_mul(ht)
+            .saturating_mul(h.channels.bytes_per_pixel as u64);
+        declared = declared.saturating_add(bytes);
+        limit = limit.max(file_len.saturating_mul(exr_max_expansion(h.compression)));
+    }
+    let limit = limit.saturating_add(EXR_DECODE_SLACK);
+    if declared > limit {
+        let sizes: Vec<String> = headers
+            .iter()
+            .map(|h| format!("{}x{}", h.layer_size.width(), h.layer_size.height()))
+            .collect();
+        return Err(format!(
+            "EXR header declares {} pixels ({declared} bytes), more than a {file_len}-byte file can hold",
+            sizes.join(" + ")
+        ));
+    }
+    Ok(())
+}
+
 /// Reads an OpenEXR file's RGB channels (first layer) into an [`Image`].
+///
+/// Fails with an error naming the file if it cannot be read or decoded, or if its header
+/// declares more pixels than its length can hold ([`check_exr_declared_size`]).
 pub fn read_exr(path: &Path) -> Result<Image> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| Error::format(path, format!("cannot read EXR: {e}")))?;
+    let file_len = std::fs::metadata(path)
+        .map_err(|e| Error::io(path, "cannot read EXR", e))?
+        .len();
+    check_exr_declared_size(&meta.headers, file_len).map_err(|m| Error::format(path, m))?;
     let img = exr::prelude::read_first_rgba_layer_from_file(
         path,
         |res, _| Image::new(res.width() as u32, res.height() as u32),

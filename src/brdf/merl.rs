@@ -62,6 +62,13 @@ pub enum MerlError {
         got: usize,
         expected: usize,
     },
+    #[error("{path}: channel {channel} sample {index} is {value}: samples must be finite")]
+    NonFinite {
+        path: PathBuf,
+        channel: char,
+        index: usize,
+        value: f64,
+    },
 }
 
 /// A tabulated MERL BRDF (stored values as in the file, unscaled, planar R, G, B).
@@ -135,6 +142,12 @@ pub fn directions_from_half_diff(theta_h: f64, theta_d: f64, phi_d: f64) -> (DVe
 
 impl MerlBrdf {
     /// Parses the bytes of a `.binary` file; `path` only labels errors.
+    ///
+    /// Fails with [`MerlError::NoHeader`] (under 12 bytes), [`MerlError::Dims`] (header
+    /// other than `(90, 90, 180)`), [`MerlError::Size`] (length other than
+    /// [`MERL_FILE_SIZE`]) or [`MerlError::NonFinite`] (a NaN or infinite sample: the
+    /// format's "no data" marker is a negative value, never NaN). Allocates only after the
+    /// length is checked, and never more than the input's size.
     pub fn from_bytes(bytes: &[u8], path: &Path, name: &str) -> Result<Self, MerlError> {
         if bytes.len() < 12 {
             return Err(MerlError::NoHeader {
@@ -157,10 +170,18 @@ impl MerlBrdf {
                 expected: MERL_FILE_SIZE,
             });
         }
-        let data = bytes[12..]
+        let data: Vec<f64> = bytes[12..]
             .chunks_exact(8)
             .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
             .collect();
+        if let Some(k) = data.iter().position(|v| !v.is_finite()) {
+            return Err(MerlError::NonFinite {
+                path: path.to_owned(),
+                channel: ['R', 'G', 'B'][k / MERL_SAMPLES],
+                index: k % MERL_SAMPLES,
+                value: data[k],
+            });
+        }
         Ok(MerlBrdf {
             data,
             name: name.to_owned(),
@@ -168,11 +189,44 @@ impl MerlBrdf {
     }
 
     /// Reads a `.binary` file (errors name the file and say what size was expected).
+    ///
+    /// Fails as [`MerlBrdf::from_bytes`], or with [`MerlError::Io`]. A file whose length
+    /// is not [`MERL_FILE_SIZE`] is not read beyond its 12-byte header.
     pub fn read(path: &Path) -> Result<Self, MerlError> {
-        let bytes = std::fs::read(path).map_err(|source| MerlError::Io {
+        use std::io::Read;
+        let io = |source| MerlError::Io {
             path: path.to_owned(),
             source,
-        })?;
+        };
+        let mut file = std::fs::File::open(path).map_err(io)?;
+        let len = file.metadata().map_err(io)?.len();
+        let mut bytes = Vec::new();
+        // Read at most one byte more than a MERL file has, so a wrong length is reported
+        // without reading (or allocating for) a huge file.
+        (&mut file)
+            .take(if len == MERL_FILE_SIZE as u64 {
+                MERL_FILE_SIZE as u64 + 1
+            } else {
+                12
+            })
+            .read_to_end(&mut bytes)
+            .map_err(io)?;
+        if bytes.len() == 12 && len != MERL_FILE_SIZE as u64 {
+            // Header complete: report wrong dimensions first, else the length.
+            let dims = |k: usize| i32::from_le_bytes(bytes[4 * k..4 * k + 4].try_into().unwrap());
+            let dims = [dims(0), dims(1), dims(2)];
+            if dims != [90, 90, 180] {
+                return Err(MerlError::Dims {
+                    path: path.to_owned(),
+                    dims,
+                });
+            }
+            return Err(MerlError::Size {
+                path: path.to_owned(),
+                got: usize::try_from(len).unwrap_or(usize::MAX),
+                expected: MERL_FILE_SIZE,
+            });
+        }
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())

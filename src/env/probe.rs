@@ -120,8 +120,10 @@ impl Probe {
     /// Loads an OpenEXR (`.exr`, first layer with R, G and B channels, any sample type,
     /// alpha ignored) or Radiance (`.hdr`) file. The extension picks the decoder.
     ///
-    /// Fails with [`ProbeError`]: unreadable file, unknown extension, decoder error, empty
-    /// or oversized image, non-finite texels (unless zeroed by option).
+    /// Fails with [`ProbeError`]: unreadable file, unknown extension, decoder error (also a
+    /// header declaring more texels than the file's length can hold, see
+    /// [`HDR_TEXELS_PER_BYTE`] and [`crate::image_io::check_exr_declared_size`]), empty or oversized image, non-finite texels (unless zeroed
+    /// by option).
     pub fn load(path: &Path, opts: &LoadOptions) -> Result<(Probe, LoadReport), ProbeError> {
         let ext = path
             .extension()
@@ -325,6 +327,18 @@ fn read_exr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
     })?;
     let size = header.layer_size;
     check_size(path, size.width(), size.height(), opts)?;
+    let file_len = std::fs::metadata(path)
+        .map_err(|source| ProbeError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?
+        .len();
+    crate::image_io::check_exr_declared_size(&meta.headers, file_len).map_err(|message| {
+        ProbeError::Decode {
+            path: path.to_path_buf(),
+            message,
+        }
+    })?;
 
     struct Px {
         w: usize,
@@ -353,6 +367,15 @@ fn read_exr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
     Ok((w, h, layer.channel_data.pixels.data))
 }
 
+/// Texels a Radiance file may declare per byte of file: run-length encoded scan lines
+/// spend at least 2 bytes per run of at most 127 values of one component, so a texel costs
+/// at least 8/127 of a byte; 16 texels per byte is that bound rounded up.
+pub const HDR_TEXELS_PER_BYTE: u64 = 16;
+/// Texels any Radiance file may declare whatever its length (12 MiB of f32 RGB), which
+/// admits the rare old-style run-length files that compress better than
+/// [`HDR_TEXELS_PER_BYTE`].
+pub const HDR_TEXEL_SLACK: u64 = 1 << 20;
+
 fn read_hdr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
     let io_err = |source| ProbeError::Io {
         path: path.to_path_buf(),
@@ -371,6 +394,20 @@ fn read_hdr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
     reader.limits(limits);
     let (w, h) = reader.into_dimensions().map_err(decode_err)?;
     check_size(path, w as usize, h as usize, opts)?;
+    // The header's resolution is checked against the file length before the decoder
+    // allocates for it (a 100-byte file must not claim 2^26 texels).
+    let file_len = std::fs::metadata(path).map_err(io_err)?.len();
+    let justified = file_len
+        .saturating_mul(HDR_TEXELS_PER_BYTE)
+        .saturating_add(HDR_TEXEL_SLACK);
+    if (w as u64) * (h as u64) > justified {
+        return Err(ProbeError::Decode {
+            path: path.to_path_buf(),
+            message: format!(
+                "header declares {w}x{h} texels, more than a {file_len}-byte Radiance file can hold"
+            ),
+        });
+    }
     let file = std::fs::File::open(path).map_err(io_err)?;
     let mut reader =
         image::ImageReader::with_format(std::io::BufReader::new(file), image::ImageFormat::Hdr);

@@ -15,9 +15,14 @@ use std::path::Path;
 pub const MAX_OBJ_BYTES: u64 = 1 << 30;
 
 /// Loads an OBJ file. Fails with an [`Error`] naming the file for unreadable, malformed or
-/// empty files.
+/// empty files, files that are not regular files (devices), files over [`MAX_OBJ_BYTES`], face indices out of range and non-finite
+/// coordinates. `mtllib` statements are ignored (no other file is opened).
 pub fn load_obj(path: &Path) -> Result<Mesh> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read OBJ file", e))?;
+    if !meta.is_file() {
+        // A device or FIFO (e.g. `/dev/zero`) has no length to check and may never end.
+        return Err(Error::format(path, "OBJ file is not a regular file"));
+    }
     if meta.len() > MAX_OBJ_BYTES {
         return Err(Error::format(
             path,
@@ -34,9 +39,15 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
         ignore_points: true,
         ignore_lines: true,
     };
-    // Materials are ignored: brdfkit takes its material from the scene.
-    let (models, _materials) = tobj::load_obj(path, &opts)
-        .map_err(|e| Error::format(path, format!("malformed OBJ: {e}")))?;
+    // Materials are ignored: brdfkit takes its material from the scene, so `mtllib` files
+    // are never opened (a hostile `mtllib /dev/zero` would otherwise be read without end).
+    // The reader stops at the size limit even where metadata reports no length.
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, "cannot read OBJ file", e))?;
+    let mut reader = std::io::BufReader::new(file.take(MAX_OBJ_BYTES));
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut reader, &opts, |_| Ok((Vec::new(), Default::default())))
+            .map_err(|e| Error::format(path, format!("malformed OBJ: {e}")))?;
     let mut mesh = Mesh::default();
     let mut any_missing_normals = false;
     for model in &models {

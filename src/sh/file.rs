@@ -415,9 +415,26 @@ impl<'a> Part<'a> {
 }
 
 /// Reads a data set written by [`write_sh_dataset`] (with its basis table if the file has
-/// one). Fails with a [`ShFileError`] naming the file and the problem (see the module doc);
-/// never returns partial data.
+/// one). Fails with a [`ShFileError`] naming the file and the problem (see the module doc),
+/// among them [`ShFileError::Exr`] for a header declaring more pixels than the file's
+/// length can hold ([`crate::image_io::check_exr_declared_size`]); never returns partial
+/// data.
 pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
+    // Headers first: the declared pixels are checked against the file length before the
+    // decoder allocates them.
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| exr_err(path, e))?;
+    let file_len = std::fs::metadata(path)
+        .map_err(|source| ShFileError::Io {
+            path: path.to_owned(),
+            source,
+        })?
+        .len();
+    crate::image_io::check_exr_declared_size(&meta.headers, file_len).map_err(|message| {
+        ShFileError::Exr {
+            path: path.to_owned(),
+            message,
+        }
+    })?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
