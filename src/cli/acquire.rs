@@ -46,9 +46,11 @@ fn progress(len: u64, msg: &str) -> ProgressBar {
 
 fn row(bands: usize, method: &str, r: &ErrorReport) -> String {
     format!(
-        "{bands:>5}  {method:<6} {:>9.4} {:>11.2}% {:>9.2}%{}",
+        "{bands:>5}  {method:<6} {:>9.4} {:>10.4} {:>9.2}% {:>9.2}% {:>9.2}%{}",
         r.rel_l2,
+        r.rel_l2_unweighted,
         100.0 * r.min_over_peak,
+        100.0 * r.worst_min_over_peak,
         100.0 * r.share_below_zero,
         if ringing_flagged(r) { "  ringing" } else { "" }
     )
@@ -89,7 +91,12 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
             "source {} ({}), view grid {nu}x{nv}, f_r cos(polar_i) over {}x{} light directions per view texel",
             a.source, src.name(), grid.n_mu, grid.n_az
         );
-        println!("bands  method    rel L2  min/peak  below zero");
+        println!(
+            "rel L2 and min/peak weighted by view texels' projected solid angle (screen area); \
+             unweighted worst cases for comparison; flag: min/peak < {:.0}%",
+            100.0 * RINGING_THRESHOLD
+        );
+        println!("bands  method    rel L2 unweighted  min/peak     worst below zero");
     }
     let pb = progress((a.bands * methods.len() * nu * nv) as u64, "acquire");
     let mut flagged = None;
@@ -178,11 +185,14 @@ pub fn run_fit(a: FitDbrdfArgs) -> Result<()> {
     );
     let (vu, vv) = opts.view;
     println!(
-        "error over {vu}x{vv} view texels x {}x{} light directions: rel L2 {:.4}, min/peak {:.2}%, below zero {:.2}%",
+        "error over {vu}x{vv} view texels (weighted by projected solid angle) x {}x{} light directions: \
+         rel L2 {:.4} (unweighted {:.4}), min/peak {:.2}% (worst {:.2}%), below zero {:.2}%",
         opts.grid.n_mu,
         opts.grid.n_az,
         fit.report.rel_l2,
+        fit.report.rel_l2_unweighted,
         100.0 * fit.report.min_over_peak,
+        100.0 * fit.report.worst_min_over_peak,
         100.0 * fit.report.share_below_zero
     );
     let prov = format!(
