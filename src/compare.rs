@@ -113,23 +113,9 @@ pub fn load(path: &Path) -> Result<Loaded> {
                 "RGB"
             }
             .to_string();
-            let image = image_io::read_exr(path)?;
-            let display = image
-                .pixels
-                .iter()
-                .flat_map(|p| {
-                    p.to_array()
-                        .map(|c| image_io::display_u8(c, 0.0, Tonemap::Aces))
-                })
-                .collect();
-            Ok(Loaded {
-                image,
-                display,
-                layout: Layout {
-                    kind: "EXR",
-                    channels,
-                },
-            })
+            let mut loaded = Loaded::from_linear(image_io::read_exr(path)?);
+            loaded.layout.channels = channels;
+            Ok(loaded)
         }
         Some("png") => {
             let reader = image::ImageReader::open(path)
