@@ -99,17 +99,26 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
 }
 
-/// Runs `write` on a temporary file beside `path`, then renames it to `path`. On any error
-/// the temporary file is removed and nothing appears under `path`.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+/// Runs `write` on a temporary file beside `path`, then renames it to `path`; on any
+/// failure the temporary file is removed and nothing appears under `path`. The one
+/// implementation of "write to a temporary name, then rename" for every writer in the
+/// crate, whatever its error type: `rename_err` turns a failed rename into that type.
+pub fn replace_via_temp<E>(
+    path: &Path,
+    write: impl FnOnce(&Path) -> std::result::Result<(), E>,
+    rename_err: impl FnOnce(std::io::Error) -> E,
+) -> std::result::Result<(), E> {
     let tmp = temp_path(path);
-    let result = write(&tmp).and_then(|_| {
-        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, "cannot write output", e))
-    });
+    let result = write(&tmp).and_then(|_| std::fs::rename(&tmp, path).map_err(rename_err));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// [`replace_via_temp`] with the crate's [`Error`].
+pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    replace_via_temp(path, write, |e| Error::io(path, "cannot write output", e))
 }
 
 /// Writes linear RGB as a 32-bit float OpenEXR file.

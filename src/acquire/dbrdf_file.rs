@@ -123,22 +123,14 @@ pub fn write_dbrdf(path: &Path, d: &DBrdf, provenance: &str) -> Result<(), Dbrdf
         AnyChannels::sort(chans.into()),
     );
     let image = Image::from_layer(layer);
-    let file_name = path
-        .file_name()
-        .map(|f| f.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
-    if let Err(e) = image.write().to_file(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(exr_err(path, e));
-    }
-    std::fs::rename(&tmp, path).map_err(|source| {
-        let _ = std::fs::remove_file(&tmp);
-        DbrdfFileError::Io {
+    crate::image_io::replace_via_temp(
+        path,
+        |tmp| image.write().to_file(tmp).map_err(|e| exr_err(path, e)),
+        |source| DbrdfFileError::Io {
             path: path.to_owned(),
             source,
-        }
-    })
+        },
+    )
 }
 
 /// Reads a file written by [`write_dbrdf`]; returns the D-BRDF and its provenance. Fails

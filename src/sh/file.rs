@@ -238,22 +238,14 @@ pub fn write_sh_dataset(path: &Path, ds: &ShDataset) -> Result<(), ShFileError> 
         ImageAttributes::new(IntegerBounds::from_dimensions((nu, nv))),
         layers,
     );
-    let file_name = path
-        .file_name()
-        .map(|f| f.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
-    if let Err(e) = image.write().to_file(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(exr_err(path, e));
-    }
-    std::fs::rename(&tmp, path).map_err(|source| {
-        let _ = std::fs::remove_file(&tmp);
-        ShFileError::Io {
+    crate::image_io::replace_via_temp(
+        path,
+        |tmp| image.write().to_file(tmp).map_err(|e| exr_err(path, e)),
+        |source| ShFileError::Io {
             path: path.to_owned(),
             source,
-        }
-    })
+        },
+    )
 }
 
 fn exr_err(path: &Path, e: exr::error::Error) -> ShFileError {
