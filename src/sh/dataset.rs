@@ -245,6 +245,32 @@ impl ShDataset {
         Self::new(nu, nv, bands, includes_cosine, provenance, vec![0.0; n])
     }
 
+    /// The same data set keeping only the first `bands` bands (terms `l < bands`): the
+    /// truncated SH expansion, as a lower-order acquisition would store it. The basis table
+    /// is dropped (it has the old band count); lookups and provenance are kept, the
+    /// provenance noting the truncation. Err (`Bands`) unless `1 <= bands <= self.bands()`.
+    pub fn truncated(&self, bands: usize) -> Result<Self, ShDataError> {
+        if bands == 0 || bands > self.bands {
+            return Err(ShDataError::Bands(bands));
+        }
+        let (old, new) = (num_terms(self.bands), num_terms(bands));
+        let mut coeffs = Vec::with_capacity(self.nu * self.nv * 3 * new);
+        for block in self.coeffs.chunks_exact(old) {
+            coeffs.extend_from_slice(&block[..new]);
+        }
+        let mut out = Self::new(
+            self.nu,
+            self.nv,
+            bands,
+            self.includes_cosine,
+            format!("{} (truncated to {} bands)", self.provenance, bands),
+            coeffs,
+        )?;
+        out.coeff_lookup = self.coeff_lookup;
+        out.basis_lookup = self.basis_lookup;
+        Ok(out)
+    }
+
     /// Uses `table` for the basis (as a GPU build does) instead of analytic evaluation.
     /// Err (`Bands`) if its band count differs from the data set's.
     pub fn set_basis_table(&mut self, table: Option<ShBasisTable>) -> Result<(), ShDataError> {
@@ -419,6 +445,26 @@ mod tests {
     use super::*;
     use crate::conventions::local_direction;
     use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn truncation_keeps_leading_terms_and_rejects_bad_counts() {
+        let (nu, nv, l) = (3, 2, 4);
+        let t = num_terms(l);
+        let coeffs: Vec<f32> = (0..nu * nv * 3 * t).map(|i| i as f32).collect();
+        let ds = ShDataset::new(nu, nv, l, true, "test", coeffs).unwrap();
+        let tr = ds.truncated(2).unwrap();
+        assert_eq!(tr.bands(), 2);
+        for j in 0..nv {
+            for i in 0..nu {
+                for c in 0..3 {
+                    assert_eq!(tr.texel(i, j, c), &ds.texel(i, j, c)[..4]);
+                }
+            }
+        }
+        assert_eq!(ds.truncated(l).unwrap().coeffs(), ds.coeffs());
+        assert!(ds.truncated(0).is_err());
+        assert!(ds.truncated(l + 1).is_err());
+    }
 
     /// Scalar GL reference written as a tent filter over *all* texels with periodic distance
     /// in s and a clamped coordinate in t (OpenGL 4.6 spec 8.14.2 restated), independent of
