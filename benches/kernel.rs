@@ -120,7 +120,10 @@ fn scene(material: MaterialSpec, env_lights: Option<usize>) -> Scene {
 fn frames(c: &mut Criterion) {
     let mut g = c.benchmark_group("frame-640x480");
     g.sample_size(20);
-    let lib = |n: &str| MaterialSpec::Library { name: n.into() };
+    let lib = |n: &str| MaterialSpec::Library {
+        name: n.into(),
+        lookup: None,
+    };
     // magenta-plastic: 5 orders; gold-dust-paint: 8 orders; lindt-paper: D-BRDF.
     for (name, material, env) in [
         ("sh5-point", lib("magenta-plastic"), None),

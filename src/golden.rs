@@ -3,45 +3,140 @@
 //! Design rule: golden files change only through `brdfkit golden bless` (the [`bless`]
 //! function); checking never writes under `golden/`. A failing check leaves, under
 //! `target/golden-failures/`, an `expected | difference | actual` PNG strip and a JSON
-//! report for whoever investigates. Tolerances are the named constants of this module.
+//! report for whoever investigates. Tolerances are the named constants of this module
+//! ([`TOLERANCES`]), each with the reason for its size.
 //!
 //! `golden/manifest.toml` lists the entries:
 //! ```toml
 //! [[entry]]
-//! name = "default"            # also the stem of golden/<name>.exr
-//! scene = "default.toml"      # relative to golden/
-//! tolerance = "cross-platform"
-//! hash = "fnv1a64:..."        # of the EXR's pixel values, written by bless
+//! name = "fig3-3-view-polar"  # also the stem of golden/<name>.exr and .png
+//! figure = "3.3 (left)"       # the thesis figure it reproduces ("" for none)
+//! shows = "..."               # one line: what the image shows
+//! scene = "fig3-3-view-polar.toml"   # relative to golden/
+//! aov = "view-polar"          # optional: a debug output instead of the shaded image
+//! tolerance = "cross-platform"       # a name in TOLERANCES
+//! flip = { mean = 0.01, percentile = 0.99, at_percentile = 0.1 }  # optional: overrides the
+//!                             # tolerance's FLIP bounds for `brdfkit compare --entry`
+//! # written by `golden bless`, never by hand:
+//! config = "..."              # summary of the scene's configuration (checked for staleness)
+//! hash = "fnv1a64:..."        # of the EXR's pixel values
+//! fast_vs_reference = { max_abs = .., rel_rmse = .., flip_mean = .. }   # see [`Bound`]
 //! ```
+//!
+//! The check compares each entry's render with its stored render (same path, same
+//! precision) at the entry's tolerance; the slow reference render ([`measure`]) is run only
+//! by `bless`, which records the measured fast-vs-reference bound in the manifest.
 
+use crate::aov::Aov;
+use crate::compare::{self, Loaded, Thresholds};
+use crate::env::prepare::SamplerKind;
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image};
 use crate::render;
-use crate::scene::{Scene, SceneFile};
+use crate::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
+use crate::sh::dataset::Lookup;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// A per-pixel tolerance: `|actual - expected| <= abs + rel * |expected|` on every channel.
+/// A per-pixel tolerance for the golden check, plus the FLIP bounds `brdfkit compare
+/// --manifest --entry` applies to a GPU build's image of the entry.
+///
+/// Per channel: `|actual - expected| <= abs + rel * max(|expected|, peak_floor * peak)`,
+/// `peak` being the largest channel value of the expected image. `peak_floor` keeps the
+/// relative bound meaningful where a sum of large terms of both signs cancels to a value
+/// far below its terms (SH ringing; thesis 2.3.4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tolerance {
     pub abs: f32,
     pub rel: f32,
+    pub peak_floor: f32,
+    /// FLIP bounds for another implementation's image of the entry (see [`Thresholds`]).
+    pub flip: Thresholds,
 }
 
-/// For renders that must agree across machines and compilers: the f32 results may differ
-/// by a few ulps where `powf`, `acos` and `sin` come from another libm, never by a
-/// shading or coverage change (a covered pixel's value moves by far more than 1e-4).
+/// For values that must agree across machines and compilers bit for bit up to libm: the
+/// debug outputs (angles through `acos`/`atan2`, depths, normals, integer coverage) and the
+/// f64 path (rounded to f32 once per pixel). Another libm moves an f32 result by a few
+/// ulps (about 1e-7 relative) and an f64 one by far less; never by a shading or coverage
+/// change (a covered pixel moves by far more than 1e-4, an angle AOV at a texel seam by
+/// 1e-2 and more).
 pub const CROSS_PLATFORM: Tolerance = Tolerance {
     abs: 1e-5,
     rel: 1e-4,
+    peak_floor: 0.0,
+    flip: Thresholds::DEFAULT,
 };
+
+/// For shaded images of the f32 fast path: the render may come from another kernel
+/// dispatch path than the stored one (scalar, AVX2, AVX2+FMA, AVX-512, vectorised
+/// transcendental approximations), each of which is held within
+/// [`crate::kernel::SH_KERNEL_TOLERANCE`] (1e-3, relative to the pixel or to 1% of the
+/// image's peak) of the scalar oracle. Measured on this set: the kernel against the
+/// scalar oracle differs by at most 1.3e-4 relative (`gold-dust-paint`, the worst case
+/// of tests/kernel.rs), so two dispatch paths differ by at most 2.6e-4, well inside 1e-3.
+/// The faults of tests/perturbation.rs (half-texel lookup shift, wrong cosine factor,
+/// flipped azimuth) move pixels by 1e-2 and more, 10x this bound, and tests/golden.rs
+/// shows a lookup-mode change, an environment turned by 2 degrees and a 1% pixel change
+/// are each caught.
+pub const KERNEL_DISPATCH: Tolerance = Tolerance {
+    abs: 1e-6,
+    rel: crate::kernel::SH_KERNEL_TOLERANCE,
+    peak_floor: 0.01,
+    flip: Thresholds::DEFAULT,
+};
+
+/// Every tolerance with its manifest name.
+pub const TOLERANCES: [(&str, Tolerance); 2] = [
+    ("cross-platform", CROSS_PLATFORM),
+    ("kernel-dispatch", KERNEL_DISPATCH),
+];
 
 /// Looks up a tolerance by its manifest name.
 pub fn tolerance_named(name: &str) -> Option<Tolerance> {
-    match name {
-        "cross-platform" => Some(CROSS_PLATFORM),
-        _ => None,
+    TOLERANCES.iter().find(|(n, _)| *n == name).map(|(_, t)| *t)
+}
+
+/// FLIP bounds written in a manifest entry (override the tolerance's).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlipSpec {
+    /// Largest passing FLIP mean, in [0, 1].
+    pub mean: f32,
+    /// Percentile of the second bound, in (0, 1).
+    pub percentile: f32,
+    /// Largest passing FLIP value at `percentile`, in [0, 1].
+    pub at_percentile: f32,
+}
+
+/// The measured difference between an entry's render and its reference render
+/// ([`crate::render::render_reference`]: f64, every light of the full probe, no light
+/// culling), over all pixels and channels of the linear images.
+/// Each value is rounded *up* to three significant digits, so it stays a bound.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bound {
+    /// Largest absolute channel difference (radiance units).
+    pub max_abs: f64,
+    /// `sqrt(sum (fast - ref)^2 / sum ref^2)`: the error relative to the image's energy.
+    pub rel_rmse: f64,
+    /// Mean FLIP of the two images' displays (exposure 0, ACES, sRGB).
+    pub flip_mean: f64,
+}
+
+/// `x` rounded up to three significant digits (0 stays 0).
+fn round_up_3(x: f64) -> f64 {
+    if !(x > 0.0 && x.is_finite()) {
+        return x;
+    }
+    let text = format!("{x:.2e}");
+    let (m, e) = text.split_once('e').expect("exponent form");
+    let (m, e): (f64, i32) = (m.parse().expect("mantissa"), e.parse().expect("exponent"));
+    let r: f64 = text.parse().expect("number");
+    if r >= x {
+        r
+    } else {
+        format!("{:.2}e{e}", m + 0.01).parse().expect("number")
     }
 }
 
@@ -56,10 +151,61 @@ pub struct Manifest {
 #[serde(deny_unknown_fields)]
 pub struct Entry {
     pub name: String,
+    /// The thesis figure the entry reproduces ("" for none).
+    #[serde(default)]
+    pub figure: String,
+    /// What the image shows (one line, for golden/README.md).
+    #[serde(default)]
+    pub shows: String,
     pub scene: String,
+    /// A debug output rendered instead of the shaded image.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aov: Option<Aov>,
     pub tolerance: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flip: Option<FlipSpec>,
+    /// Configuration summary ([`summarize`]), written by bless.
+    #[serde(default)]
+    pub config: String,
     #[serde(default)]
     pub hash: String,
+    /// Written by bless ([`measure`]); absent for debug outputs (nothing is shaded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fast_vs_reference: Option<Bound>,
+}
+
+impl Entry {
+    /// The entry's FLIP bounds: its own `flip`, else its tolerance's.
+    pub fn thresholds(&self) -> Option<Thresholds> {
+        let tol = tolerance_named(&self.tolerance)?;
+        Some(match self.flip {
+            Some(f) => Thresholds {
+                flip_mean: f.mean,
+                percentile: f.percentile,
+                flip_at_percentile: f.at_percentile,
+            },
+            None => tol.flip,
+        })
+    }
+
+    /// The entry called `name` in `manifest`; the error names the manifest and lists the
+    /// entries.
+    pub fn find<'a>(manifest: &'a Manifest, path: &Path, name: &str) -> Result<&'a Entry> {
+        manifest.entries.iter().find(|e| e.name == name).ok_or_else(|| {
+            Error::format(
+                path,
+                format!(
+                    "no entry named '{name}' (entries: {})",
+                    manifest
+                        .entries
+                        .iter()
+                        .map(|e| e.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )
+        })
+    }
 }
 
 /// The outcome of comparing one entry.
@@ -86,33 +232,258 @@ pub fn content_hash(img: &Image) -> String {
     format!("fnv1a64:{h:016x}")
 }
 
-/// Reads `dir/manifest.toml`.
-pub fn load_manifest(dir: &Path) -> Result<Manifest> {
-    let path = dir.join("manifest.toml");
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| Error::io(&path, "cannot read golden manifest", e))?;
-    toml::from_str(&text).map_err(|e| Error::format(&path, e.message().trim().replace('\n', " ")))
+/// Largest manifest read (bytes): a set of a few hundred entries is far below it.
+pub const MAX_MANIFEST_BYTES: u64 = 1 << 20;
+
+/// The manifest's path in `dir`.
+pub fn manifest_path(dir: &Path) -> PathBuf {
+    dir.join("manifest.toml")
 }
 
-/// Renders an entry's scene (threads: all cores; the result does not depend on it).
-pub fn render_entry(dir: &Path, entry: &Entry) -> Result<Image> {
+/// Reads and checks `dir/manifest.toml` ([`parse_manifest`]).
+pub fn load_manifest(dir: &Path) -> Result<Manifest> {
+    let path = manifest_path(dir);
+    load_manifest_file(&path)
+}
+
+/// Reads and checks a manifest file. Errors name the file and, for content errors, the
+/// line or the entry and field.
+pub fn load_manifest_file(path: &Path) -> Result<Manifest> {
+    let meta =
+        std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read golden manifest", e))?;
+    if meta.len() > MAX_MANIFEST_BYTES {
+        return Err(Error::format(
+            path,
+            format!(
+                "golden manifest is {} bytes, over the {MAX_MANIFEST_BYTES} byte limit",
+                meta.len()
+            ),
+        ));
+    }
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::io(path, "cannot read golden manifest", e))?;
+    parse_manifest(&text).map_err(|m| Error::format(path, m))
+}
+
+/// Parses manifest text and checks every entry: a name usable as a file stem
+/// (`[a-z0-9._-]`, not starting with `.`), unique; a known tolerance; FLIP bounds in range.
+/// The error is one line naming the entry and field (or the line, for TOML errors).
+pub fn parse_manifest(text: &str) -> std::result::Result<Manifest, String> {
+    let m: Manifest = toml::from_str(text).map_err(|e| {
+        let msg = e.message().trim().replace('\n', " ");
+        match e.span() {
+            Some(span) => {
+                let line = text[..span.start].matches('\n').count() + 1;
+                format!("line {line}: {msg}")
+            }
+            None => msg,
+        }
+    })?;
+    let mut seen = std::collections::HashSet::new();
+    for (i, e) in m.entries.iter().enumerate() {
+        let at = |field: &str| format!("entry[{i}] ('{}').{field}", e.name);
+        let stem_ok = !e.name.is_empty()
+            && !e.name.starts_with('.')
+            && e.name
+                .bytes()
+                .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b"._-".contains(&b));
+        if !stem_ok {
+            return Err(format!(
+                "{}: must be a file stem of a-z, 0-9, '.', '_', '-' (not starting with '.')",
+                at("name")
+            ));
+        }
+        if !seen.insert(e.name.as_str()) {
+            return Err(format!("{}: duplicate entry name", at("name")));
+        }
+        if e.scene.is_empty() {
+            return Err(format!("{}: must name a scene file", at("scene")));
+        }
+        if tolerance_named(&e.tolerance).is_none() {
+            let known: Vec<&str> = TOLERANCES.iter().map(|(n, _)| *n).collect();
+            return Err(format!(
+                "{}: unknown tolerance '{}' (known: {})",
+                at("tolerance"),
+                e.tolerance,
+                known.join(", ")
+            ));
+        }
+        if let Some(f) = e.flip {
+            let unit = |x: f32| (0.0..=1.0).contains(&x);
+            if !(unit(f.mean) && unit(f.at_percentile) && f.percentile > 0.0 && f.percentile < 1.0)
+            {
+                return Err(format!(
+                    "{}: mean and at_percentile must be in [0, 1], percentile in (0, 1)",
+                    at("flip")
+                ));
+            }
+        }
+    }
+    Ok(m)
+}
+
+/// Loads and resolves an entry's scene file; errors name the scene file.
+fn load_scene(dir: &Path, entry: &Entry) -> Result<(SceneFile, Scene)> {
     let scene_path = dir.join(&entry.scene);
     let file = SceneFile::load(&scene_path)?;
-    let scene =
-        Scene::resolve(&file, dir).map_err(|e| Error::format(&scene_path, e.to_string()))?;
-    Ok(render::render(&scene, None))
+    let scene = resolve_named(&file, dir, &scene_path)?;
+    Ok((file, scene))
 }
 
-/// Compares two images with a tolerance; `None` if their sizes differ.
+fn resolve_named(file: &SceneFile, dir: &Path, scene_path: &Path) -> Result<Scene> {
+    Scene::resolve(file, dir).map_err(|e| match e {
+        Error::Field { .. } => Error::format(scene_path, e.to_string()),
+        other => other,
+    })
+}
+
+/// Renders an entry: its AOV, or its shaded image at the scene's precision (threads: all
+/// cores; the result does not depend on it).
+pub fn render_entry(dir: &Path, entry: &Entry) -> Result<Image> {
+    let (_, scene) = load_scene(dir, entry)?;
+    Ok(render::render(&scene, entry.aov))
+}
+
+/// The configuration summary of an entry's scene: mesh, size, material (with its
+/// representation, SH bands and lookup), lights, environment sampler, precision, AOV.
+pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
+    let mut parts = vec![format!(
+        "{}/{} {}x{}",
+        file.mesh.source, file.mesh.segments, scene.render.width, scene.render.height
+    )];
+    let representation = match scene.material.as_sh() {
+        Some(ds) => format!(
+            " (SH {} bands, {} lookup)",
+            ds.bands(),
+            match ds.coeff_lookup {
+                Lookup::Nearest => "nearest",
+                Lookup::Bilinear => "bilinear",
+            }
+        ),
+        None => match &file.material {
+            MaterialSpec::Library { .. } => format!(" ({})", scene.material.name()),
+            _ => String::new(),
+        },
+    };
+    let file_name = |p: &Path| {
+        p.file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    parts.push(match &file.material {
+        MaterialSpec::Lambert { .. } => "lambert".to_string(),
+        MaterialSpec::BlinnPhong { .. } => "blinn-phong".to_string(),
+        MaterialSpec::Library { name, .. } => format!("library {name}{representation}"),
+        MaterialSpec::ShFile { path, .. } => format!("sh-file {}{representation}", file_name(path)),
+        MaterialSpec::DbrdfFile { path } => format!("dbrdf-file {}", file_name(path)),
+    });
+    let specs = match (&file.lights, &file.env) {
+        (Some(l), _) => l.clone(),
+        (None, Some(_)) => Vec::new(),
+        (None, None) => crate::scene::default_lights(),
+    };
+    let count = |point: bool| {
+        specs
+            .iter()
+            .filter(|l| matches!(l, LightSpec::Point { .. }) == point)
+            .count()
+    };
+    for (n, kind) in [(count(true), "point"), (count(false), "directional")] {
+        if n > 0 {
+            parts.push(format!("{n} {kind}"));
+        }
+    }
+    if let Some(env) = &file.env {
+        use clap::ValueEnum;
+        let sampler = env
+            .sampler
+            .to_possible_value()
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default();
+        let lights = scene.env.as_ref().map_or(0, |e| e.lights);
+        parts.push(match env.sampler {
+            SamplerKind::Full => format!("env {} full ({lights} lights)", file_name(&env.file)),
+            _ => format!("env {} {sampler} {lights}", file_name(&env.file)),
+        });
+    }
+    if scene.render.cull == crate::raster::Cull::Back {
+        parts.push("back-face culling".into());
+    }
+    parts.push(match aov {
+        Some(a) => {
+            use clap::ValueEnum;
+            format!(
+                "aov {}",
+                a.to_possible_value()
+                    .map(|v| v.get_name().to_string())
+                    .unwrap_or_default()
+            )
+        }
+        None => match scene.render.precision {
+            Precision::F32 => "f32".into(),
+            Precision::F64 => "f64".into(),
+        },
+    });
+    parts.join(", ")
+}
+
+/// Measures an entry's render `fast` against its reference render: the same scene with
+/// the environment (if any) as the full probe, through [`render::render_reference`].
+/// `None` for debug outputs (nothing is shaded). Slow with an environment (every probe
+/// texel is a light): this is run by bless, never by the check.
+pub fn measure(dir: &Path, entry: &Entry, fast: &Image) -> Result<Option<Bound>> {
+    if entry.aov.is_some() {
+        return Ok(None);
+    }
+    let scene_path = dir.join(&entry.scene);
+    let mut file = SceneFile::load(&scene_path)?;
+    if let Some(env) = file.env.as_mut() {
+        env.sampler = SamplerKind::Full;
+    }
+    let scene = resolve_named(&file, dir, &scene_path)?;
+    let reference = render::render_reference(&scene);
+    Ok(Some(bound(fast, &reference)?))
+}
+
+/// The [`Bound`] between two images of one size (a size difference is an error).
+pub fn bound(fast: &Image, reference: &Image) -> Result<Bound> {
+    let (mut max_abs, mut num, mut den) = (0.0f32, 0.0f64, 0.0f64);
+    for (f, r) in fast.pixels.iter().zip(&reference.pixels) {
+        let d = *f - *r;
+        max_abs = max_abs.max(d.abs().max_element());
+        num += d.as_dvec3().length_squared();
+        den += r.as_dvec3().length_squared();
+    }
+    let (m, _) = compare::compare(
+        &Loaded::from_linear(reference.clone()),
+        &Loaded::from_linear(fast.clone()),
+        &Thresholds::DEFAULT,
+    )?;
+    Ok(Bound {
+        max_abs: round_up_3(max_abs as f64),
+        rel_rmse: round_up_3(if den > 0.0 { (num / den).sqrt() } else { 0.0 }),
+        flip_mean: round_up_3(m.flip_mean as f64),
+    })
+}
+
+/// Compares two images with a tolerance: `(largest absolute error, pixels over the
+/// tolerance)`; `None` if their sizes differ. A NaN in either image fails its pixel.
 pub fn compare(expected: &Image, actual: &Image, tol: Tolerance) -> Option<(f32, usize)> {
     if expected.width != actual.width || expected.height != actual.height {
         return None;
     }
+    let peak = expected
+        .pixels
+        .iter()
+        .map(|p| p.abs().max_element())
+        .filter(|v| v.is_finite())
+        .fold(0.0f32, f32::max);
+    let floor = Vec3::splat(tol.peak_floor * peak);
     let mut max_abs = 0.0f32;
     let mut over = 0;
     for (e, a) in expected.pixels.iter().zip(&actual.pixels) {
         let d = (*a - *e).abs();
-        let lim = Vec3::splat(tol.abs) + e.abs() * tol.rel;
+        let lim = Vec3::splat(tol.abs) + e.abs().max(floor) * tol.rel;
         // NaN in either image fails.
         if !(d.cmple(lim).all()) {
             over += 1;
@@ -171,23 +542,27 @@ pub fn write_triptych(path: &Path, expected: &Image, actual: &Image) -> Result<(
     image_io::write_png_bytes(path, 3 * w, h, bytes)
 }
 
-/// Checks every entry of `dir`; failures leave artefacts in `report_dir`.
-pub fn check(dir: &Path, report_dir: &Path) -> Result<Vec<Outcome>> {
+/// Checks the named entries of `dir` (all if `names` is empty; an unknown name is an
+/// error): re-renders each, compares it with its stored EXR at its tolerance, and checks
+/// the stored EXR's hash and the manifest's configuration summary. Failures leave
+/// `<name>.png` (expected | difference | actual) and `<name>.json` in `report_dir`.
+/// Never writes under `dir`.
+pub fn check(dir: &Path, report_dir: &Path, names: &[String]) -> Result<Vec<Outcome>> {
     let manifest = load_manifest(dir)?;
+    for n in names {
+        Entry::find(&manifest, &manifest_path(dir), n)?;
+    }
     let mut out = Vec::new();
     for entry in &manifest.entries {
-        let tol = tolerance_named(&entry.tolerance).ok_or_else(|| {
-            Error::format(
-                dir.join("manifest.toml"),
-                format!(
-                    "entry '{}': unknown tolerance '{}'",
-                    entry.name, entry.tolerance
-                ),
-            )
-        })?;
+        if !names.is_empty() && !names.contains(&entry.name) {
+            continue;
+        }
+        let tol = tolerance_named(&entry.tolerance).expect("checked by parse_manifest");
         let image_path = dir.join(format!("{}.exr", entry.name));
         let expected = image_io::read_exr(&image_path)?;
-        let actual = render_entry(dir, entry)?;
+        let (file, scene) = load_scene(dir, entry)?;
+        let actual = render::render(&scene, entry.aov);
+        let config = summarize(&file, &scene, entry.aov);
         let hash_ok = entry.hash == content_hash(&expected);
         let outcome = match compare(&expected, &actual, tol) {
             None => Outcome {
@@ -202,21 +577,26 @@ pub fn check(dir: &Path, report_dir: &Path) -> Result<Vec<Outcome>> {
             },
             Some((max_abs, over)) => Outcome {
                 name: entry.name.clone(),
-                passed: over == 0 && hash_ok,
+                passed: over == 0 && hash_ok && config == entry.config,
                 max_abs_error: max_abs,
                 pixels_over_tolerance: over,
-                message: if !hash_ok {
-                    format!(
-                        "{} does not match its manifest hash: edited outside `golden bless`?",
-                        image_path.display()
-                    )
-                } else if over > 0 {
+                message: if over > 0 {
                     format!(
                         "{over} pixels over tolerance '{}' (max abs error {max_abs:e})",
                         entry.tolerance
                     )
+                } else if !hash_ok {
+                    format!(
+                        "{} does not match its manifest hash: edited outside `golden bless`?",
+                        image_path.display()
+                    )
+                } else if config != entry.config {
+                    format!(
+                        "manifest config is stale (scene now gives '{config}'): run `brdfkit golden bless {}`",
+                        entry.name
+                    )
                 } else {
-                    "ok".into()
+                    format!("ok (tolerance '{}')", entry.tolerance)
                 },
             },
         };
@@ -239,37 +619,100 @@ pub fn check(dir: &Path, report_dir: &Path) -> Result<Vec<Outcome>> {
     Ok(out)
 }
 
-/// Re-renders and rewrites the named entries (all if `names` is empty) and their hashes.
+/// Re-renders and rewrites the named entries (all if `names` is empty): EXR, PNG preview
+/// (AOVs in their linear encoding, [`crate::aov::png_bytes`]), hash, configuration summary
+/// and the measured fast-vs-reference bound ([`measure`]); then the manifest and the table
+/// in `README.md` ([`readme_table`]). Every entry is rendered before anything is written,
+/// so a failing entry leaves golden/ as it was.
 pub fn bless(dir: &Path, names: &[String]) -> Result<Vec<PathBuf>> {
     let mut manifest = load_manifest(dir)?;
     for n in names {
-        if !manifest.entries.iter().any(|e| &e.name == n) {
-            return Err(Error::field(
-                "golden bless",
-                format!(
-                    "no entry named '{n}' in {}",
-                    dir.join("manifest.toml").display()
-                ),
-            ));
-        }
+        Entry::find(&manifest, &manifest_path(dir), n)?;
     }
-    let mut written = Vec::new();
-    for entry in manifest.entries.iter_mut() {
+    let mut rendered = Vec::new();
+    for (i, entry) in manifest.entries.iter_mut().enumerate() {
         if !names.is_empty() && !names.contains(&entry.name) {
             continue;
         }
-        let img = render_entry(dir, entry)?;
+        let (file, scene) = load_scene(dir, entry)?;
+        let img = render::render(&scene, entry.aov);
+        entry.config = summarize(&file, &scene, entry.aov);
+        entry.fast_vs_reference = measure(dir, entry, &img)?;
+        rendered.push((i, img));
+    }
+    let mut written = Vec::new();
+    for (i, img) in rendered {
+        let entry = &mut manifest.entries[i];
         let path = dir.join(format!("{}.exr", entry.name));
         image_io::write_exr(&path, &img)?;
         let png = dir.join(format!("{}.png", entry.name));
-        image_io::write_png(&png, &img, 0.0, image_io::Tonemap::Aces)?;
+        match entry.aov {
+            None => image_io::write_png(&png, &img, 0.0, image_io::Tonemap::Aces)?,
+            Some(a) => image_io::write_png_bytes(
+                &png,
+                img.width,
+                img.height,
+                crate::aov::png_bytes(&img, a),
+            )?,
+        }
         entry.hash = content_hash(&image_io::read_exr(&path)?);
         written.push(path);
     }
-    let mpath = dir.join("manifest.toml");
-    let text = toml::to_string_pretty(&manifest).expect("serialisable");
+    let mpath = manifest_path(dir);
+    let text = format!(
+        "# Golden images: see README.md. config, hash and fast_vs_reference are written by\n\
+         # `brdfkit golden bless`; everything else by hand.\n\n{}",
+        toml::to_string_pretty(&manifest).expect("serialisable")
+    );
     image_io::write_atomically(&mpath, |tmp| {
         std::fs::write(tmp, &text).map_err(|e| Error::io(&mpath, "cannot write manifest", e))
     })?;
+    let readme = dir.join("README.md");
+    if let Ok(old) = std::fs::read_to_string(&readme) {
+        if let Some(new) = with_readme_table(&old, &manifest) {
+            image_io::write_atomically(&readme, |tmp| {
+                std::fs::write(tmp, &new).map_err(|e| Error::io(&readme, "cannot write", e))
+            })?;
+        }
+    }
     Ok(written)
+}
+
+/// Marks the start of the generated table in golden/README.md.
+pub const README_BEGIN: &str = "<!-- golden-table: generated by `brdfkit golden bless` -->";
+/// Marks its end.
+pub const README_END: &str = "<!-- golden-table end -->";
+
+/// The Markdown table of the set: entry, thesis figure, configuration, tolerance, measured
+/// fast-vs-reference bound, what it shows.
+pub fn readme_table(manifest: &Manifest) -> String {
+    let mut t = String::from(
+        "| entry | figure | configuration | tolerance | fast vs reference: max abs / rel RMSE / FLIP mean | shows |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for e in &manifest.entries {
+        let bound = match e.fast_vs_reference {
+            Some(b) => format!("{:.2e} / {:.2e} / {:.4}", b.max_abs, b.rel_rmse, b.flip_mean),
+            None => "n/a (debug output)".into(),
+        };
+        let fig = if e.figure.is_empty() { "-" } else { &e.figure };
+        t += &format!(
+            "| `{}` | {} | {} | `{}` | {} | {} |\n",
+            e.name, fig, e.config, e.tolerance, bound, e.shows
+        );
+    }
+    t
+}
+
+/// `readme` with the text between [`README_BEGIN`] and [`README_END`] replaced by
+/// [`readme_table`]; `None` when the markers are missing.
+pub fn with_readme_table(readme: &str, manifest: &Manifest) -> Option<String> {
+    let a = readme.find(README_BEGIN)? + README_BEGIN.len();
+    let b = readme[a..].find(README_END)? + a;
+    Some(format!(
+        "{}\n\n{}\n{}",
+        &readme[..a],
+        readme_table(manifest),
+        &readme[b..]
+    ))
 }

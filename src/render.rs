@@ -5,7 +5,7 @@
 use crate::aov::{self, Aov};
 use crate::image_io::Image;
 use crate::raster::{self, RasterConfig, VisBuffer};
-use crate::scene::Scene;
+use crate::scene::{Precision, Scene};
 use glam::Vec4;
 
 /// Clip-space positions of the scene's mesh vertices (`clip_from_world` applied).
@@ -35,12 +35,15 @@ pub fn rasterize(scene: &Scene, count_coverage: bool) -> VisBuffer {
     raster::rasterize(&clip_positions(scene), &scene.mesh.triangles, &cfg)
 }
 
-/// Renders the beauty image (linear radiance) or, with `aov`, that debug output.
+/// Renders the beauty image (linear radiance) or, with `aov`, that debug output. The beauty
+/// image follows the scene's `render.precision`: [`crate::shade::shade`] (f32 kernels) or
+/// [`crate::shade::shade_reference_f64`] (f64, every light).
 pub fn render(scene: &Scene, aov: Option<Aov>) -> Image {
     let vis = rasterize(scene, aov.is_some_and(Aov::needs_coverage));
-    match aov {
-        None => crate::shade::shade(scene, &vis),
-        Some(a) => aov::compute(scene, &vis, a),
+    match (aov, scene.render.precision) {
+        (None, Precision::F32) => crate::shade::shade(scene, &vis),
+        (None, Precision::F64) => crate::shade::shade_reference_f64(scene, &vis),
+        (Some(a), _) => aov::compute(scene, &vis, a),
     }
 }
 

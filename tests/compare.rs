@@ -112,3 +112,62 @@ fn image_one_pixel_off_is_caught_at_shipped_tolerances() {
     let (code, out, _) = run(p, &["compare", "a.exr", "b.exr"]);
     assert_eq!(code, 1, "a one-pixel shift passed: {out}");
 }
+
+#[test]
+fn thresholds_come_from_the_manifest_entry_and_flags_override_them() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    std::fs::write(
+        p.join("dim.toml"),
+        "[[light]]\nkind = \"directional\"\nto_light = [0.4, 1.0, 0.6]\nintensity = 2.5\n",
+    )
+    .unwrap();
+    for args in [
+        vec!["render", "--width", "48", "--height", "36", "-o", "a.exr"],
+        vec![
+            "render", "dim.toml", "--width", "48", "--height", "36", "-o", "dim.exr",
+        ],
+    ] {
+        assert_eq!(run(p, &args).0, 0);
+    }
+    // A loose entry (a 17% dimmer light passes it) and one that keeps its tolerance's
+    // defaults (it fails them, as in `exit_codes_and_report`).
+    std::fs::write(
+        p.join("manifest.toml"),
+        "[[entry]]\nname = \"loose\"\nscene = \"s.toml\"\ntolerance = \"kernel-dispatch\"\n\
+         flip = { mean = 0.9, percentile = 0.5, at_percentile = 0.99 }\n\n\
+         [[entry]]\nname = \"strict\"\nscene = \"s.toml\"\ntolerance = \"cross-platform\"\n",
+    )
+    .unwrap();
+    let m = ["--manifest", "manifest.toml", "--entry"];
+    let cmp = |extra: &[&str]| {
+        let mut args = vec!["compare", "a.exr", "dim.exr", "--diff", "r.png"];
+        args.extend_from_slice(extra);
+        run(p, &args)
+    };
+    let (code, out, err) = cmp(&[m[0], m[1], m[2], "loose"]);
+    assert_eq!(code, 0, "entry thresholds not applied: {out}{err}");
+    assert!(out.contains("FLIP mean <= 0.9") && out.contains("(max 0.9)"), "{out}");
+    let (code, out, _) = cmp(&[m[0], m[1], m[2], "strict"]);
+    assert_eq!(code, 1, "the tolerance's default thresholds must fail: {out}");
+    let (code, out, _) = cmp(&[m[0], m[1], m[2], "loose", "--max-flip-mean", "0.01"]);
+    assert_eq!(code, 1, "--max-flip-mean must override the entry: {out}");
+    assert!(out.contains("(max 0.01)"), "{out}");
+    let (code, _, err) = cmp(&[m[0], m[1], m[2], "nope"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("manifest.toml") && err.contains("no entry named 'nope'"),
+        "{err}"
+    );
+    std::fs::write(
+        p.join("bad.toml"),
+        "[[entry]]\nname = \"x\"\nscene = \"s.toml\"\ntolerance = \"loose-ish\"\n",
+    )
+    .unwrap();
+    let (code, _, err) = cmp(&["--manifest", "bad.toml", "--entry", "x"]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("bad.toml") && err.contains("tolerance") && err.contains("loose-ish"),
+        "{err}"
+    );
+}

@@ -1,7 +1,12 @@
 //! Golden images: every entry of golden/manifest.toml re-renders within its tolerance, and
 //! the check is able to fail (a perturbed reference is caught and leaves its report).
 
-use brdfkit::golden::{self, CROSS_PLATFORM};
+use brdfkit::aov::Aov;
+use brdfkit::env::prepare::SamplerKind;
+use brdfkit::golden::{self, CROSS_PLATFORM, KERNEL_DISPATCH};
+use brdfkit::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
+use brdfkit::sh::Lookup;
+use std::collections::BTreeSet;
 use brdfkit::image_io;
 use std::path::Path;
 
@@ -9,10 +14,27 @@ fn golden_dir() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("golden")
 }
 
+/// A copy of golden/ in a temporary directory, with `edits` (file name, text to find,
+/// replacement) applied to its scene files.
+fn golden_copy(edits: &[(&str, &str, &str)]) -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    for e in std::fs::read_dir(golden_dir()).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, tmp.path().join(p.file_name().unwrap())).unwrap();
+    }
+    for (file, from, to) in edits {
+        let path = tmp.path().join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "{file} has no {from:?}");
+        std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    }
+    tmp
+}
+
 #[test]
 fn golden_set_matches() {
     let report = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/golden-failures");
-    let outcomes = golden::check(&golden_dir(), &report).expect("golden check runs");
+    let outcomes = golden::check(&golden_dir(), &report, &[]).expect("golden check runs");
     assert!(!outcomes.is_empty());
     let failed: Vec<String> = outcomes
         .iter()
@@ -29,11 +51,7 @@ fn golden_set_matches() {
 
 #[test]
 fn a_perturbed_reference_is_caught() {
-    let tmp = tempfile::tempdir().unwrap();
-    for e in std::fs::read_dir(golden_dir()).unwrap() {
-        let p = e.unwrap().path();
-        std::fs::copy(&p, tmp.path().join(p.file_name().unwrap())).unwrap();
-    }
+    let tmp = golden_copy(&[]);
     let manifest = golden::load_manifest(tmp.path()).unwrap();
     let entry = &manifest.entries[0];
     let exr = tmp.path().join(format!("{}.exr", entry.name));
@@ -51,7 +69,8 @@ fn a_perturbed_reference_is_caught() {
     let text = text.replace(&entry.hash, &golden::content_hash(&img));
     std::fs::write(tmp.path().join("manifest.toml"), text).unwrap();
     let report = tmp.path().join("report");
-    let outcomes = golden::check(tmp.path(), &report).unwrap();
+    let outcomes = golden::check(tmp.path(), &report, std::slice::from_ref(&entry.name)).unwrap();
+    assert_eq!(outcomes.len(), 1);
     assert!(
         !outcomes[0].passed,
         "a 1% change of one pixel passed the check"
@@ -102,6 +121,7 @@ fn a_test_run_never_writes_golden_files() {
     let _ = golden::check(
         &golden_dir(),
         &std::env::temp_dir().join("brdfkit-golden-probe"),
+        &[],
     );
     for (p, t) in before {
         assert_eq!(
@@ -111,4 +131,243 @@ fn a_test_run_never_writes_golden_files() {
             p.display()
         );
     }
+}
+
+#[test]
+fn scene_perturbations_of_shaded_entries_are_caught() {
+    // Faults a port could make, seeded into the scene files of two entries at their
+    // shipped tolerance (kernel-dispatch): the coefficient table filtered bilinearly instead
+    // of GL_NEAREST (a texel-filtering fault, like the half-texel shift of
+    // tests/perturbation.rs), and the probe turned by 2 degrees about +y (a probe
+    // orientation fault).
+    let silk = "fig3-10-blue-silk-nearest";
+    let city = "fig3-8-median-cut-city";
+    let tmp = golden_copy(&[
+        (
+            "fig3-10-blue-silk-nearest.toml",
+            "lookup = \"nearest\"",
+            "lookup = \"bilinear\"",
+        ),
+        (
+            "fig3-8-median-cut-city.toml",
+            "seed = 1",
+            "seed = 1\nrotation = 2.0",
+        ),
+    ]);
+    let report = tmp.path().join("report");
+    let names = [silk.to_string(), city.to_string()];
+    let outcomes = golden::check(tmp.path(), &report, &names).unwrap();
+    assert_eq!(outcomes.len(), 2);
+    for o in &outcomes {
+        assert!(!o.passed, "{}: a seeded fault passed: {}", o.name, o.message);
+        assert!(o.pixels_over_tolerance > 0, "{}: {}", o.name, o.message);
+        assert!(report.join(format!("{}.png", o.name)).exists());
+    }
+}
+
+#[test]
+fn every_entry_is_blessed_and_states_its_fast_vs_reference_bound() {
+    let manifest = golden::load_manifest(&golden_dir()).unwrap();
+    for e in &manifest.entries {
+        assert!(e.hash.starts_with("fnv1a64:"), "{}: not blessed", e.name);
+        assert!(!e.config.is_empty(), "{}: no configuration summary", e.name);
+        assert!(!e.shows.is_empty(), "{}: no description", e.name);
+        match (e.aov, e.fast_vs_reference) {
+            (None, Some(b)) => assert!(
+                b.max_abs.is_finite() && b.rel_rmse.is_finite() && b.flip_mean.is_finite(),
+                "{}: {b:?}",
+                e.name
+            ),
+            (None, None) => panic!("{}: shaded entry without a measured bound", e.name),
+            (Some(_), b) => assert!(b.is_none(), "{}: a debug output has no reference", e.name),
+        }
+        assert!(
+            golden_dir().join(format!("{}.png", e.name)).exists(),
+            "{}: no PNG preview",
+            e.name
+        );
+    }
+}
+
+#[test]
+fn readme_table_matches_the_manifest() {
+    let manifest = golden::load_manifest(&golden_dir()).unwrap();
+    let readme = std::fs::read_to_string(golden_dir().join("README.md")).unwrap();
+    let regenerated = golden::with_readme_table(&readme, &manifest)
+        .expect("golden/README.md has the table markers");
+    assert!(
+        regenerated == readme,
+        "golden/README.md's table differs from manifest.toml: run `brdfkit golden bless`"
+    );
+}
+
+#[test]
+fn the_set_covers_every_configuration() {
+    let dir = golden_dir();
+    let manifest = golden::load_manifest(&dir).unwrap();
+    let mut seen = BTreeSet::new();
+    for e in &manifest.entries {
+        let f = SceneFile::load(&dir.join(&e.scene)).unwrap();
+        if let Some(a) = e.aov {
+            seen.insert(format!("aov {a:?}"));
+            continue;
+        }
+        seen.insert(format!("precision {:?}", f.render.precision));
+        let (kind, lookup) = match &f.material {
+            MaterialSpec::Lambert { .. } => ("lambert", None),
+            MaterialSpec::BlinnPhong { .. } => ("blinn-phong", None),
+            MaterialSpec::Library { name, lookup } => {
+                let sh = brdfkit::materials::find(name).unwrap().representation
+                    != brdfkit::materials::Representation::Dbrdf;
+                if sh {
+                    ("library SH", Some(lookup.unwrap_or(Lookup::Bilinear)))
+                } else {
+                    ("library D-BRDF", None)
+                }
+            }
+            MaterialSpec::ShFile { lookup, .. } => {
+                ("sh-file", Some(lookup.unwrap_or(Lookup::Nearest)))
+            }
+            MaterialSpec::DbrdfFile { .. } => ("dbrdf-file", None),
+        };
+        seen.insert(format!("material {kind}"));
+        if let Some(l) = lookup {
+            seen.insert(format!("lookup {l:?}"));
+        }
+        for l in f.lights.iter().flatten() {
+            seen.insert(match l {
+                LightSpec::Point { .. } => "light point".into(),
+                LightSpec::Directional { .. } => "light directional".into(),
+            });
+        }
+        if let Some(env) = &f.env {
+            seen.insert("light environment".into());
+            seen.insert(format!("sampler {:?}", env.sampler));
+        }
+    }
+    let mut want: Vec<String> = [
+        "material lambert",
+        "material blinn-phong",
+        "material library SH",
+        "material library D-BRDF",
+        "material sh-file",
+        "material dbrdf-file",
+        "light point",
+        "light directional",
+        "light environment",
+        "lookup Nearest",
+        "lookup Bilinear",
+    ]
+    .map(String::from)
+    .to_vec();
+    want.extend([Precision::F32, Precision::F64].map(|p| format!("precision {p:?}")));
+    want.extend(
+        [
+            SamplerKind::Uniform,
+            SamplerKind::Importance,
+            SamplerKind::Stratified,
+            SamplerKind::MedianCut,
+            SamplerKind::Lloyd,
+            SamplerKind::Full,
+        ]
+        .map(|s| format!("sampler {s:?}")),
+    );
+    want.extend(
+        [
+            Aov::Normal,
+            Aov::Depth,
+            Aov::Coverage,
+            Aov::ViewPolar,
+            Aov::ViewAzimuth,
+            Aov::LightPolar,
+            Aov::LightAzimuth,
+        ]
+        .map(|a| format!("aov {a:?}")),
+    );
+    let missing: Vec<&String> = want.iter().filter(|w| !seen.contains(*w)).collect();
+    assert!(missing.is_empty(), "the golden set lacks {missing:?}");
+}
+
+#[test]
+fn kernel_dispatch_tolerance_is_relative_to_a_floor_of_the_peak() {
+    // Peak 1.0: a near-zero pixel (SH cancellation) may move by 1e-3 x 1% of the peak...
+    let a = image_io::Image {
+        width: 2,
+        height: 1,
+        pixels: vec![glam::Vec3::splat(1.0), glam::Vec3::splat(1e-4)],
+    };
+    let mut b = a.clone();
+    b.pixels[1] = glam::Vec3::splat(1e-4 + 9e-6);
+    assert_eq!(golden::compare(&a, &b, KERNEL_DISPATCH).unwrap().1, 0);
+    assert_eq!(
+        golden::compare(&a, &b, CROSS_PLATFORM).unwrap().1,
+        0,
+        "9e-6 is inside cross-platform's absolute 1e-5"
+    );
+    // ...but not by 2e-5, and a bright pixel not by 1%.
+    b.pixels[1] = glam::Vec3::splat(1e-4 + 2e-5);
+    assert_eq!(golden::compare(&a, &b, KERNEL_DISPATCH).unwrap().1, 1);
+    b.pixels[1] = a.pixels[1];
+    b.pixels[0] = glam::Vec3::splat(1.01);
+    assert_eq!(golden::compare(&a, &b, KERNEL_DISPATCH).unwrap().1, 1);
+    b.pixels[0] = glam::Vec3::splat(1.0009);
+    assert_eq!(golden::compare(&a, &b, KERNEL_DISPATCH).unwrap().1, 0);
+}
+
+#[test]
+fn manifest_errors_name_the_file_entry_and_field() {
+    let ok = "[[entry]]\nname = \"a\"\nscene = \"a.toml\"\ntolerance = \"cross-platform\"\n";
+    assert!(golden::parse_manifest(ok).is_ok());
+    for (text, want) in [
+        (ok.replace("cross-platform", "close"), "entry[0] ('a').tolerance: unknown tolerance 'close'"),
+        (ok.replace("\"a\"", "\"../a\""), "entry[0] ('../a').name"),
+        (format!("{ok}\n{ok}"), "entry[1] ('a').name: duplicate"),
+        (ok.replace("scene = \"a.toml\"", "scene = \"\""), "entry[0] ('a').scene"),
+        (
+            format!("{ok}flip = {{ mean = 0.01, percentile = 1.5, at_percentile = 0.1 }}\n"),
+            "entry[0] ('a').flip",
+        ),
+        (format!("{ok}colour = 1\n"), "line 5: unknown field `colour`"),
+        (ok.replace("tolerance = \"cross-platform\"\n", ""), "missing field `tolerance`"),
+    ] {
+        let e = golden::parse_manifest(&text).unwrap_err();
+        assert!(e.contains(want), "{e:?} lacks {want:?}");
+    }
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("manifest.toml"), ok.replace("cross-platform", "close")).unwrap();
+    let e = golden::load_manifest(d.path()).unwrap_err().to_string();
+    assert!(e.contains("manifest.toml") && e.contains(".tolerance"), "{e}");
+}
+
+#[test]
+fn scene_precision_and_lookup_fields() {
+    // precision = "f64" renders through the f64 reference path, bit for bit.
+    let mut f = SceneFile::parse(
+        "[mesh]\nsegments = 4\n[material]\nkind = \"library\"\nname = \"magenta-plastic\"\n\
+         lookup = \"nearest\"\n[render]\nwidth = 24\nheight = 18\nprecision = \"f64\"\n",
+    )
+    .unwrap();
+    let s = Scene::resolve(&f, Path::new(".")).unwrap();
+    assert_eq!(s.material.as_sh().unwrap().coeff_lookup, Lookup::Nearest);
+    let f64_img = brdfkit::render::render(&s, None);
+    assert_eq!(f64_img, brdfkit::render::render_reference(&s));
+    f.render.precision = Precision::F32;
+    let s32 = Scene::resolve(&f, Path::new(".")).unwrap();
+    assert_ne!(brdfkit::render::render(&s32, None), f64_img);
+    // Without a lookup the library's own (bilinear) stays.
+    f.material = MaterialSpec::Library {
+        name: "magenta-plastic".into(),
+        lookup: None,
+    };
+    let s = Scene::resolve(&f, Path::new(".")).unwrap();
+    assert_eq!(s.material.as_sh().unwrap().coeff_lookup, Lookup::Bilinear);
+    // A D-BRDF has no coefficient table: the error names the field.
+    f.material = MaterialSpec::Library {
+        name: "lindt-paper".into(),
+        lookup: Some(Lookup::Nearest),
+    };
+    let e = Scene::resolve(&f, Path::new(".")).err().unwrap().to_string();
+    assert!(e.starts_with("material.lookup:"), "{e}");
+    let e = SceneFile::parse("[render]\nprecision = \"f16\"\n").unwrap_err();
+    assert!(e.contains("line 2") && e.contains("f16"), "{e}");
 }

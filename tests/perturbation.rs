@@ -42,6 +42,7 @@ fn base_scene() -> Scene {
     f.render.height = 120;
     f.material = MaterialSpec::Library {
         name: "blue-silk".into(),
+        lookup: None,
     };
     let mut env =
         EnvSpec::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr"));

@@ -6,12 +6,29 @@ use crate::error::Result;
 use std::path::PathBuf;
 
 pub fn run(a: CompareArgs) -> Result<bool> {
+    // Thresholds: the flags, else the manifest entry's (its `flip`, else its tolerance's),
+    // else the defaults.
+    let base = match (&a.manifest, &a.entry) {
+        (Some(m), Some(name)) => {
+            let manifest = crate::golden::load_manifest_file(m)?;
+            let entry = crate::golden::Entry::find(&manifest, m, name)?;
+            let th = entry.thresholds().expect("tolerance checked by the manifest parser");
+            println!(
+                "thresholds of {} entry '{}': FLIP mean <= {}, p{} <= {}",
+                m.display(),
+                name,
+                th.flip_mean,
+                th.percentile * 100.0,
+                th.flip_at_percentile
+            );
+            th
+        }
+        _ => Thresholds::DEFAULT,
+    };
     let th = Thresholds {
-        flip_mean: a.max_flip_mean.unwrap_or(Thresholds::DEFAULT.flip_mean),
-        percentile: a.percentile.unwrap_or(Thresholds::DEFAULT.percentile),
-        flip_at_percentile: a
-            .max_flip_at_percentile
-            .unwrap_or(Thresholds::DEFAULT.flip_at_percentile),
+        flip_mean: a.max_flip_mean.unwrap_or(base.flip_mean),
+        percentile: a.percentile.unwrap_or(base.percentile),
+        flip_at_percentile: a.max_flip_at_percentile.unwrap_or(base.flip_at_percentile),
     };
     if !(th.percentile > 0.0 && th.percentile < 1.0) {
         return Err(crate::error::Error::field(

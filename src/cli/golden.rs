@@ -6,13 +6,13 @@ use std::path::PathBuf;
 
 pub fn run(action: GoldenAction) -> Result<bool> {
     match action {
-        GoldenAction::Check { dir } => {
+        GoldenAction::Check { names, dir } => {
             let report = PathBuf::from("target/golden-failures");
-            let outcomes = crate::golden::check(&dir, &report)?;
+            let outcomes = crate::golden::check(&dir, &report, &names)?;
             let mut ok = true;
             for o in &outcomes {
                 println!(
-                    "{:<24} {}  max abs error {:.3e}  {}",
+                    "{:<34} {}  max abs error {:.3e}  {}",
                     o.name,
                     if o.passed { "pass" } else { "FAIL" },
                     o.max_abs_error,
@@ -20,6 +20,13 @@ pub fn run(action: GoldenAction) -> Result<bool> {
                 );
                 ok &= o.passed;
             }
+            let failed = outcomes.iter().filter(|o| !o.passed).count();
+            println!(
+                "golden check: {} entries, {} passed, {} failed",
+                outcomes.len(),
+                outcomes.len() - failed,
+                failed
+            );
             if !ok {
                 println!(
                     "expected | difference | actual images and JSON reports: {}",

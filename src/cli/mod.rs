@@ -43,7 +43,7 @@ pub enum Command {
     Lights(LightsArgs),
     /// Compare two images (EXR with EXR, PNG with PNG): error metrics, FLIP, pass or fail.
     #[command(
-        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or channel layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff) and the error histogram printed.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01"
+        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or channel layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff) and the error histogram printed.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01\n  brdfkit compare golden/fig3-13-teal-paint.exr gpu-out.exr --manifest golden/manifest.toml --entry fig3-13-teal-paint"
     )]
     Compare(CompareArgs),
     /// Check or update the golden reference images in golden/.
@@ -191,13 +191,19 @@ pub struct CompareArgs {
     pub expected: PathBuf,
     /// The image under test (e.g. a GPU build's render).
     pub actual: PathBuf,
-    /// Largest passing FLIP mean (default 0.01).
+    /// Golden manifest to take the FLIP thresholds from (with --entry).
+    #[arg(long, requires = "entry")]
+    pub manifest: Option<PathBuf>,
+    /// Manifest entry whose thresholds apply (its `flip`, else its tolerance's); flags below still override.
+    #[arg(long, requires = "manifest")]
+    pub entry: Option<String>,
+    /// Largest passing FLIP mean (default 0.01, or the entry's).
     #[arg(long)]
     pub max_flip_mean: Option<f32>,
-    /// Percentile for the second FLIP bound, in (0, 1) (default 0.99).
+    /// Percentile for the second FLIP bound, in (0, 1) (default 0.99, or the entry's).
     #[arg(long)]
     pub percentile: Option<f32>,
-    /// Largest passing FLIP value at --percentile (default 0.1).
+    /// Largest passing FLIP value at --percentile (default 0.1, or the entry's).
     #[arg(long)]
     pub max_flip_at_percentile: Option<f32>,
     /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png).
@@ -228,14 +234,17 @@ pub enum CullArg {
 
 #[derive(Subcommand, Debug)]
 pub enum GoldenAction {
-    /// Re-render every golden entry and compare (exit 1 if any differs).
+    /// Re-render golden entries (all, or the named ones) and compare each with its stored image at its tolerance (exit 1 if any differs). Never writes golden/.
     Check {
+        /// Entries to check (default: every entry of the manifest).
+        names: Vec<String>,
         /// Golden directory.
         #[arg(long, default_value = "golden")]
         dir: PathBuf,
     },
-    /// Re-render and overwrite golden images (all, or the named entries). The only command that writes golden/.
+    /// Re-render and overwrite golden images (all, or the named entries), their hashes, configuration summaries and measured fast-vs-reference bounds (the reference render with the full probe is slow), and the table in golden/README.md. The only command that writes golden/.
     Bless {
+        /// Entries to bless (default: every entry of the manifest).
         names: Vec<String>,
         #[arg(long, default_value = "golden")]
         dir: PathBuf,

@@ -20,6 +20,10 @@
 //! kind = "blinn-phong"      # "lambert" (albedo), "blinn-phong" (kd, ks, exponent),
 //!                           # "library" (name = "blue-silk", see `brdfkit materials`),
 //!                           # "sh-file" or "dbrdf-file" (path = "x.exr", relative to this file)
+//! # lookup = "nearest"      # SH materials only (library SH or sh-file): filter of the
+//!                           # coefficient table over the view direction, "nearest"
+//!                           # (GL_NEAREST, thesis 3.1.4) or "bilinear" (GL_LINEAR); omit to
+//!                           # keep the data set's own (library: bilinear, file: nearest)
 //! kd = [0.55, 0.22, 0.12]
 //! ks = [0.25, 0.25, 0.25]
 //! exponent = 60.0
@@ -45,6 +49,8 @@
 //! cull = "none"             # "none" (two-sided) or "back"
 //! tile_size = 32
 //! threads = 0               # 0: all cores
+//! precision = "f32"         # "f32": the fast kernel path; "f64": frames, directions, the
+//!                           # BRDF and the light sum in f64 (crate::shade::shade_reference_f64)
 //!
 //! [output]
 //! path = "out.png"          # omit: out.png and out.exr
@@ -61,6 +67,7 @@ use crate::image_io::Tonemap;
 use crate::light::Light;
 use crate::mesh::{self, Mesh};
 use crate::raster::Cull;
+use crate::sh::dataset::Lookup;
 use camera::Camera;
 use glam::Vec3;
 use serde::Deserialize;
@@ -130,9 +137,20 @@ pub enum MaterialSpec {
     },
     /// A library material by name (`brdfkit materials`), built at load time
     /// ([`crate::materials::build`]).
-    Library { name: String },
+    Library {
+        name: String,
+        /// Coefficient-table filter for SH materials; `None` keeps the library's (bilinear).
+        /// A D-BRDF material with a lookup is an error naming `material.lookup`.
+        #[serde(default)]
+        lookup: Option<Lookup>,
+    },
     /// An SH data set file ([`crate::sh::read_sh_dataset`]), path relative to the scene file.
-    ShFile { path: PathBuf },
+    ShFile {
+        path: PathBuf,
+        /// Coefficient-table filter; `None` keeps the file's default (nearest).
+        #[serde(default)]
+        lookup: Option<Lookup>,
+    },
     /// A D-BRDF file ([`crate::acquire::dbrdf_file::read_dbrdf`]), path relative to the
     /// scene file.
     DbrdfFile { path: PathBuf },
@@ -146,6 +164,7 @@ impl MaterialSpec {
         if crate::materials::find(value).is_some() {
             return Ok(MaterialSpec::Library {
                 name: value.to_string(),
+                lookup: None,
             });
         }
         let path = PathBuf::from(value);
@@ -162,7 +181,7 @@ impl MaterialSpec {
             Err(DbrdfFileError::NotDbrdf { found: Some(f), .. })
                 if f == crate::sh::file::FORMAT_NAME =>
             {
-                Ok(MaterialSpec::ShFile { path })
+                Ok(MaterialSpec::ShFile { path, lookup: None })
             }
             Err(DbrdfFileError::Io { .. }) if !path.exists() => Err(Error::field(
                 "--material",
@@ -242,6 +261,21 @@ pub struct RenderSpec {
     pub cull: Cull,
     pub tile_size: u32,
     pub threads: usize,
+    /// Arithmetic of the shaded image (not of AOVs); default [`Precision::F32`].
+    pub precision: Precision,
+}
+
+/// Arithmetic of the shading stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Precision {
+    /// The fast path: the kernels of [`crate::kernel`] in f32 ([`crate::shade::shade`]).
+    #[default]
+    F32,
+    /// Frames, directions, the BRDF ([`crate::brdf::Brdf::eval_f64`]) and the light sum in
+    /// f64, every light, no light culling, rounded to f32 once per pixel
+    /// ([`crate::shade::shade_reference_f64`]). Several times slower.
+    F64,
 }
 
 impl Default for RenderSpec {
@@ -252,6 +286,7 @@ impl Default for RenderSpec {
             cull: Cull::None,
             tile_size: 32,
             threads: 0,
+            precision: Precision::F32,
         }
     }
 }
@@ -423,12 +458,35 @@ impl Scene {
                 ks: rgb("material.ks", *ks)?,
                 exponent: nonneg("material.exponent", *exponent)?,
             }),
-            MaterialSpec::Library { name } => crate::materials::build(name)
-                .map_err(|e| Error::field("material.name", strip_field(e)))?,
-            MaterialSpec::ShFile { path } => Arc::new(
-                crate::sh::read_sh_dataset(&base.join(path))
-                    .map_err(|e| Error::field("material.path", e.to_string()))?,
-            ),
+            MaterialSpec::Library { name, lookup } => {
+                let m = crate::materials::build(name)
+                    .map_err(|e| Error::field("material.name", strip_field(e)))?;
+                match lookup {
+                    None => m,
+                    Some(mode) => {
+                        let mut ds = m.as_sh().cloned().ok_or_else(|| {
+                            Error::field(
+                                "material.lookup",
+                                format!(
+                                    "{name:?} is not an SH data set (it is a {}); only SH \
+                                     materials have a coefficient lookup",
+                                    m.name()
+                                ),
+                            )
+                        })?;
+                        ds.coeff_lookup = *mode;
+                        Arc::new(ds)
+                    }
+                }
+            }
+            MaterialSpec::ShFile { path, lookup } => {
+                let mut ds = crate::sh::read_sh_dataset(&base.join(path))
+                    .map_err(|e| Error::field("material.path", e.to_string()))?;
+                if let Some(mode) = lookup {
+                    ds.coeff_lookup = *mode;
+                }
+                Arc::new(ds)
+            }
             MaterialSpec::DbrdfFile { path } => Arc::new(
                 crate::acquire::dbrdf_file::read_dbrdf(&base.join(path))
                     .map_err(|e| Error::field("material.path", e.to_string()))?

@@ -41,8 +41,9 @@ use glam::Vec3;
 /// fixed stack buffer of this many terms, and file readers reject larger counts as absurd.
 pub const MAX_BANDS: usize = 32;
 
-/// Texture filter used for a table lookup.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Texture filter used for a table lookup. In scene files: `"nearest"` or `"bilinear"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Lookup {
     /// `GL_NEAREST`: the texel containing `(s, t)`.
     Nearest,
