@@ -14,13 +14,21 @@ fn golden_dir() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("golden")
 }
 
-/// A copy of golden/ in a temporary directory, with `edits` (file name, text to find,
-/// replacement) applied to its scene files.
+/// A copy of golden/ in a temporary directory (probe paths `../assets/` made absolute),
+/// with `edits` (file name, text to find, replacement) applied to its scene files.
 fn golden_copy(edits: &[(&str, &str, &str)]) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/");
     for e in std::fs::read_dir(golden_dir()).unwrap() {
         let p = e.unwrap().path();
-        std::fs::copy(&p, tmp.path().join(p.file_name().unwrap())).unwrap();
+        let to = tmp.path().join(p.file_name().unwrap());
+        if p.extension().is_some_and(|x| x == "toml") {
+            let text = std::fs::read_to_string(&p).unwrap();
+            std::fs::write(&to, text.replace("\"../assets/", &format!("\"{}", assets.display())))
+                .unwrap();
+        } else {
+            std::fs::copy(&p, &to).unwrap();
+        }
     }
     for (file, from, to) in edits {
         let path = tmp.path().join(file);
@@ -159,6 +167,7 @@ fn scene_perturbations_of_shaded_entries_are_caught() {
     let outcomes = golden::check(tmp.path(), &report, &names).unwrap();
     assert_eq!(outcomes.len(), 2);
     for o in &outcomes {
+        eprintln!("{}: {}", o.name, o.message);
         assert!(!o.passed, "{}: a seeded fault passed: {}", o.name, o.message);
         assert!(o.pixels_over_tolerance > 0, "{}: {}", o.name, o.message);
         assert!(report.join(format!("{}.png", o.name)).exists());
