@@ -191,20 +191,24 @@ impl Entry {
     /// The entry called `name` in `manifest`; the error names the manifest and lists the
     /// entries.
     pub fn find<'a>(manifest: &'a Manifest, path: &Path, name: &str) -> Result<&'a Entry> {
-        manifest.entries.iter().find(|e| e.name == name).ok_or_else(|| {
-            Error::format(
-                path,
-                format!(
-                    "no entry named '{name}' (entries: {})",
-                    manifest
-                        .entries
-                        .iter()
-                        .map(|e| e.name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            )
-        })
+        manifest
+            .entries
+            .iter()
+            .find(|e| e.name == name)
+            .ok_or_else(|| {
+                Error::format(
+                    path,
+                    format!(
+                        "no entry named '{name}' (entries: {})",
+                        manifest
+                            .entries
+                            .iter()
+                            .map(|e| e.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                )
+            })
     }
 }
 
@@ -692,7 +696,10 @@ pub fn readme_table(manifest: &Manifest) -> String {
     );
     for e in &manifest.entries {
         let bound = match e.fast_vs_reference {
-            Some(b) => format!("{:.2e} / {:.2e} / {:.4}", b.max_abs, b.rel_rmse, b.flip_mean),
+            Some(b) => format!(
+                "{:.2e} / {:.2e} / {:.4}",
+                b.max_abs, b.rel_rmse, b.flip_mean
+            ),
             None => "n/a (debug output)".into(),
         };
         let fig = if e.figure.is_empty() { "-" } else { &e.figure };

@@ -147,9 +147,15 @@ fn thresholds_come_from_the_manifest_entry_and_flags_override_them() {
     };
     let (code, out, err) = cmp(&[m[0], m[1], m[2], "loose"]);
     assert_eq!(code, 0, "entry thresholds not applied: {out}{err}");
-    assert!(out.contains("FLIP mean <= 0.9") && out.contains("(max 0.9)"), "{out}");
+    assert!(
+        out.contains("FLIP mean <= 0.9") && out.contains("(max 0.9)"),
+        "{out}"
+    );
     let (code, out, _) = cmp(&[m[0], m[1], m[2], "strict"]);
-    assert_eq!(code, 1, "the tolerance's default thresholds must fail: {out}");
+    assert_eq!(
+        code, 1,
+        "the tolerance's default thresholds must fail: {out}"
+    );
     let (code, out, _) = cmp(&[m[0], m[1], m[2], "loose", "--max-flip-mean", "0.01"]);
     assert_eq!(code, 1, "--max-flip-mean must override the entry: {out}");
     assert!(out.contains("(max 0.01)"), "{out}");

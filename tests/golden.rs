@@ -4,10 +4,10 @@
 use brdfkit::aov::Aov;
 use brdfkit::env::prepare::SamplerKind;
 use brdfkit::golden::{self, CROSS_PLATFORM, KERNEL_DISPATCH};
+use brdfkit::image_io;
 use brdfkit::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use brdfkit::sh::Lookup;
 use std::collections::BTreeSet;
-use brdfkit::image_io;
 use std::path::Path;
 
 fn golden_dir() -> std::path::PathBuf {
@@ -24,8 +24,11 @@ fn golden_copy(edits: &[(&str, &str, &str)]) -> tempfile::TempDir {
         let to = tmp.path().join(p.file_name().unwrap());
         if p.extension().is_some_and(|x| x == "toml") {
             let text = std::fs::read_to_string(&p).unwrap();
-            std::fs::write(&to, text.replace("\"../assets/", &format!("\"{}", assets.display())))
-                .unwrap();
+            std::fs::write(
+                &to,
+                text.replace("\"../assets/", &format!("\"{}", assets.display())),
+            )
+            .unwrap();
         } else {
             std::fs::copy(&p, &to).unwrap();
         }
@@ -168,7 +171,11 @@ fn scene_perturbations_of_shaded_entries_are_caught() {
     assert_eq!(outcomes.len(), 2);
     for o in &outcomes {
         eprintln!("{}: {}", o.name, o.message);
-        assert!(!o.passed, "{}: a seeded fault passed: {}", o.name, o.message);
+        assert!(
+            !o.passed,
+            "{}: a seeded fault passed: {}",
+            o.name, o.message
+        );
         assert!(o.pixels_over_tolerance > 0, "{}: {}", o.name, o.message);
         assert!(report.join(format!("{}.png", o.name)).exists());
     }
@@ -328,24 +335,43 @@ fn manifest_errors_name_the_file_entry_and_field() {
     let ok = "[[entry]]\nname = \"a\"\nscene = \"a.toml\"\ntolerance = \"cross-platform\"\n";
     assert!(golden::parse_manifest(ok).is_ok());
     for (text, want) in [
-        (ok.replace("cross-platform", "close"), "entry[0] ('a').tolerance: unknown tolerance 'close'"),
+        (
+            ok.replace("cross-platform", "close"),
+            "entry[0] ('a').tolerance: unknown tolerance 'close'",
+        ),
         (ok.replace("\"a\"", "\"../a\""), "entry[0] ('../a').name"),
         (format!("{ok}\n{ok}"), "entry[1] ('a').name: duplicate"),
-        (ok.replace("scene = \"a.toml\"", "scene = \"\""), "entry[0] ('a').scene"),
+        (
+            ok.replace("scene = \"a.toml\"", "scene = \"\""),
+            "entry[0] ('a').scene",
+        ),
         (
             format!("{ok}flip = {{ mean = 0.01, percentile = 1.5, at_percentile = 0.1 }}\n"),
             "entry[0] ('a').flip",
         ),
-        (format!("{ok}colour = 1\n"), "line 5: unknown field `colour`"),
-        (ok.replace("tolerance = \"cross-platform\"\n", ""), "missing field `tolerance`"),
+        (
+            format!("{ok}colour = 1\n"),
+            "line 5: unknown field `colour`",
+        ),
+        (
+            ok.replace("tolerance = \"cross-platform\"\n", ""),
+            "missing field `tolerance`",
+        ),
     ] {
         let e = golden::parse_manifest(&text).unwrap_err();
         assert!(e.contains(want), "{e:?} lacks {want:?}");
     }
     let d = tempfile::tempdir().unwrap();
-    std::fs::write(d.path().join("manifest.toml"), ok.replace("cross-platform", "close")).unwrap();
+    std::fs::write(
+        d.path().join("manifest.toml"),
+        ok.replace("cross-platform", "close"),
+    )
+    .unwrap();
     let e = golden::load_manifest(d.path()).unwrap_err().to_string();
-    assert!(e.contains("manifest.toml") && e.contains(".tolerance"), "{e}");
+    assert!(
+        e.contains("manifest.toml") && e.contains(".tolerance"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -375,8 +401,50 @@ fn scene_precision_and_lookup_fields() {
         name: "lindt-paper".into(),
         lookup: Some(Lookup::Nearest),
     };
-    let e = Scene::resolve(&f, Path::new(".")).err().unwrap().to_string();
+    let e = Scene::resolve(&f, Path::new("."))
+        .err()
+        .unwrap()
+        .to_string();
     assert!(e.starts_with("material.lookup:"), "{e}");
     let e = SceneFile::parse("[render]\nprecision = \"f16\"\n").unwrap_err();
     assert!(e.contains("line 2") && e.contains("f16"), "{e}");
+}
+
+#[test]
+fn a_stale_manifest_is_caught() {
+    // The stored image edited outside bless (hash), and a manifest whose configuration
+    // summary no longer describes the scene.
+    let tmp = golden_copy(&[]);
+    let manifest = golden::load_manifest(tmp.path()).unwrap();
+    let e = manifest
+        .entries
+        .iter()
+        .find(|e| e.name == "debug-depth")
+        .unwrap();
+    let text = std::fs::read_to_string(tmp.path().join("manifest.toml")).unwrap();
+    let stale = text.replacen(&e.config, "teapot/8 80x60, lambert", 1);
+    std::fs::write(tmp.path().join("manifest.toml"), &stale).unwrap();
+    let names = [e.name.clone()];
+    let o = &golden::check(tmp.path(), &tmp.path().join("r"), &names).unwrap()[0];
+    assert!(
+        !o.passed && o.message.contains("config is stale"),
+        "{}",
+        o.message
+    );
+    let rehashed = text.replacen(&e.hash, "fnv1a64:0000000000000000", 1);
+    std::fs::write(tmp.path().join("manifest.toml"), &rehashed).unwrap();
+    let o = &golden::check(tmp.path(), &tmp.path().join("r"), &names).unwrap()[0];
+    assert!(
+        !o.passed && o.message.contains("manifest hash"),
+        "{}",
+        o.message
+    );
+    // An unknown name is an error naming the manifest.
+    let err = golden::check(tmp.path(), &tmp.path().join("r"), &["nope".into()])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("manifest.toml") && err.contains("'nope'"),
+        "{err}"
+    );
 }

@@ -71,10 +71,13 @@ fn sh_kernel_matches_scalar_oracle_for_library_materials() {
         "gold-dust-paint",
         "red-velvet",
     ] {
-        let s = scene(MaterialSpec::Library {
-            name: name.into(),
-            lookup: None,
-        }, 64);
+        let s = scene(
+            MaterialSpec::Library {
+                name: name.into(),
+                lookup: None,
+            },
+            64,
+        );
         assert!(
             s.material.as_sh().is_some(),
             "{name} should be an SH data set"
@@ -111,10 +114,13 @@ fn generic_kernel_matches_scalar_oracle_for_analytic_materials() {
 #[test]
 fn normal_cone_culling_changes_no_bit_and_skips_work() {
     for name in ["blue-silk", "magenta-plastic"] {
-        let s = scene(MaterialSpec::Library {
-            name: name.into(),
-            lookup: None,
-        }, 256);
+        let s = scene(
+            MaterialSpec::Library {
+                name: name.into(),
+                lookup: None,
+            },
+            256,
+        );
         let vis = render::rasterize(&s, false);
         let culled = shade::shade(&s, &vis);
         let mut prep = FramePrep::new(&s);

@@ -12,7 +12,9 @@ pub fn run(a: CompareArgs) -> Result<bool> {
         (Some(m), Some(name)) => {
             let manifest = crate::golden::load_manifest_file(m)?;
             let entry = crate::golden::Entry::find(&manifest, m, name)?;
-            let th = entry.thresholds().expect("tolerance checked by the manifest parser");
+            let th = entry
+                .thresholds()
+                .expect("tolerance checked by the manifest parser");
             println!(
                 "thresholds of {} entry '{}': FLIP mean <= {}, p{} <= {}",
                 m.display(),
