@@ -448,3 +448,53 @@ fn a_stale_manifest_is_caught() {
         "{err}"
     );
 }
+
+#[test]
+fn the_scalar_oracle_passes_every_shaded_f32_entry() {
+    // Another dispatch path must pass the check: the scalar oracle (`shade_reference`, the
+    // per-light `Brdf::eval` loop, no SIMD, no culling, another summation order) is held
+    // against each stored fast render at the entry's own tolerance.
+    let dir = golden_dir();
+    let manifest = golden::load_manifest(&dir).unwrap();
+    let mut checked = 0;
+    for e in manifest.entries.iter().filter(|e| e.aov.is_none()) {
+        let f = SceneFile::load(&dir.join(&e.scene)).unwrap();
+        if f.render.precision != Precision::F32 {
+            continue;
+        }
+        let scene = Scene::resolve(&f, &dir).unwrap();
+        let vis = brdfkit::render::rasterize(&scene, false);
+        let oracle = brdfkit::shade::shade_reference(&scene, &vis);
+        let stored = image_io::read_exr(&dir.join(format!("{}.exr", e.name))).unwrap();
+        let tol = golden::tolerance_named(&e.tolerance).unwrap();
+        let (max_abs, over) = golden::compare(&stored, &oracle, tol).unwrap();
+        // The largest share of the tolerance used by any channel.
+        let peak = stored
+            .pixels
+            .iter()
+            .map(|p| p.max_element())
+            .fold(0.0f32, f32::max);
+        let used = stored
+            .pixels
+            .iter()
+            .zip(&oracle.pixels)
+            .flat_map(|(s, o)| {
+                let lim = glam::Vec3::splat(tol.abs)
+                    + s.abs().max(glam::Vec3::splat(tol.peak_floor * peak)) * tol.rel;
+                ((*o - *s).abs() / lim).to_array()
+            })
+            .fold(0.0f32, f32::max);
+        eprintln!(
+            "{}: scalar oracle max abs {max_abs:.3e}, {:.1}% of the tolerance",
+            e.name,
+            100.0 * used
+        );
+        assert_eq!(
+            over, 0,
+            "{}: the scalar oracle fails '{}'",
+            e.name, e.tolerance
+        );
+        checked += 1;
+    }
+    assert!(checked >= 15, "only {checked} shaded f32 entries");
+}
