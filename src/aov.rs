@@ -45,22 +45,33 @@ impl Aov {
 
 /// Computes an AOV image from a visibility buffer.
 pub fn compute(scene: &Scene, vis: &VisBuffer, aov: Aov) -> Image {
+    compute_counted(scene, vis, aov).0
+}
+
+/// [`compute`], also returning the number of pixels whose value was computed (every pixel
+/// for `coverage`, the pixels with a visible surface otherwise; counted per row, summed
+/// after).
+pub fn compute_counted(scene: &Scene, vis: &VisBuffer, aov: Aov) -> (Image, u64) {
     let mut img = Image::new(vis.width, vis.height);
     if aov == Aov::Coverage {
         for (p, c) in img.pixels.iter_mut().zip(vis.coverage_row_major()) {
             *p = Vec3::splat(c as f32);
         }
-        return img;
+        let n = img.pixels.len() as u64;
+        return (img, n);
     }
     let eye = scene.camera.position;
-    img.pixels
+    let counted: u64 = img
+        .pixels
         .par_chunks_mut(vis.width as usize)
         .enumerate()
-        .for_each(|(y, row)| {
+        .map(|(y, row)| {
+            let mut n = 0u64;
             for (x, out) in row.iter_mut().enumerate() {
                 let Some(s) = surface_at(&scene.mesh, vis, x as u32, y as u32) else {
                     continue;
                 };
+                n += 1;
                 let frame = ShadingFrame::from_normal(s.normal);
                 *out = match aov {
                     Aov::Normal => s.normal,
@@ -82,8 +93,10 @@ pub fn compute(scene: &Scene, vis: &VisBuffer, aov: Aov) -> Image {
                     },
                 };
             }
-        });
-    img
+            n
+        })
+        .sum();
+    (img, counted)
 }
 
 /// Maps AOV values to [0, 1] for an 8-bit PNG (see the module doc).

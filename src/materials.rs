@@ -137,6 +137,11 @@ impl Brdf for Velvet {
     fn name(&self) -> &str {
         "velvet"
     }
+
+    /// `rd / pi` plus the D-BRDF part's bound ([`DBrdf`]'s `max_cosine_weighted`).
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        Some(self.rd * std::f32::consts::FRAC_1_PI + self.sheen.max_cosine_weighted()?)
+    }
 }
 
 /// Lambert base plus a D-BRDF lobe with the anisotropic Phong distribution
@@ -180,6 +185,11 @@ impl Brdf for LambertDbrdf {
 
     fn name(&self) -> &str {
         "lambert-dbrdf"
+    }
+
+    /// `rd / pi` plus the D-BRDF part's bound ([`DBrdf`]'s `max_cosine_weighted`).
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        Some(self.rd * std::f32::consts::FRAC_1_PI + self.lobe.max_cosine_weighted()?)
     }
 }
 

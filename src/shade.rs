@@ -3,6 +3,9 @@
 //! Design rule: shading reads only the visibility buffer, the mesh and the scene; it
 //! computes every pixel independently (parallel over tiles), so the image does not depend
 //! on the thread count or the tile size. Tiles that received no triangle are skipped.
+//! Negligible lights and SH bands a material does not need are dropped once per frame in
+//! [`FramePrep::new`], within the bounds of [`crate::kernel::skip`]; [`ShadeCounts`]
+//! records the work done, so tests can see each skip.
 //! Directional lights go through the kernels of [`crate::kernel`] (structure of arrays,
 //! per-tile normal-cone culling that provably changes no bit); [`shade_point`], the plain
 //! per-light loop over [`Brdf::eval`], is the scalar oracle the kernels are tested against.
@@ -17,7 +20,7 @@
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
 use crate::image_io::Image;
-use crate::kernel::{self, lanes::LANES, sh::ShRecurrence, Cone, DirLights};
+use crate::kernel::{self, lanes::LANES, sh::ShRecurrence, skip, Cone, DirLights};
 use crate::light::Light;
 use crate::mesh::Mesh;
 use crate::raster::{VisBuffer, NO_TRIANGLE};
@@ -25,6 +28,7 @@ use crate::scene::Scene;
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Smallest cosine between the view direction and the normal used for shading.
 pub const MIN_VIEW_COS: f32 = 1e-3;
@@ -126,28 +130,79 @@ pub struct FramePrep<'a> {
     pub brdf: &'a dyn Brdf,
     pub dir: DirLights,
     pub points: Vec<Light>,
-    pub sh: Option<(&'a ShDataset, ShRecurrence)>,
+    /// The SH data set shaded (truncated to its effective bands when the band skip is on)
+    /// and its recurrence constants.
+    pub sh: Option<(Cow<'a, ShDataset>, ShRecurrence)>,
     pub eye: Vec3,
     /// Per-tile normal-cone culling of light chunks (on by default; it changes no bit, and
     /// a test proves it by turning it off).
     pub cull_lights: bool,
+    /// Live (non-padding, non-black) lights per chunk of `dir`, for the work counters.
+    pub chunk_live: Vec<u32>,
+    /// Directional lights in the scene, before dropping.
+    pub lights_total: usize,
+    /// What dropping negligible lights removed ([`skip::drop_weak_lights`]); nothing when
+    /// the scene's `render.drop_lights` is 0 or the material has no `|f cos|` bound.
+    pub dropped: skip::LightDrop,
+    /// Bands stored in the SH data set and bands shaded (0, 0 for other materials).
+    pub sh_bands: (usize, usize),
 }
 
 impl<'a> FramePrep<'a> {
+    /// Prepares a frame of `scene`, applying the scene's skips (`render.drop_lights`,
+    /// `render.band_skip`; see [`crate::kernel::skip`]). Never fails.
     pub fn new(scene: &'a Scene) -> FramePrep<'a> {
         let brdf = scene.material.as_ref();
+        let fraction = match brdf.max_cosine_weighted() {
+            Some(_) => scene.render.drop_lights,
+            None => 0.0,
+        };
+        let dropped = skip::drop_weak_lights(&scene.lights, fraction);
+        let dir = DirLights::from_lights(&dropped.kept);
+        let chunk_live = (0..dir.chunks())
+            .map(|c| {
+                (c * LANES..(c + 1) * LANES)
+                    .filter(|&i| dir.er[i] != 0.0 || dir.eg[i] != 0.0 || dir.eb[i] != 0.0)
+                    .count() as u32
+            })
+            .collect();
+        let sh = brdf.as_sh().map(|ds| {
+            let keep = if scene.render.band_skip {
+                ds.effective_bands()
+            } else {
+                ds.bands()
+            };
+            let ds = if keep < ds.bands() {
+                Cow::Owned(ds.truncated(keep).expect("1 <= effective bands <= bands"))
+            } else {
+                Cow::Borrowed(ds)
+            };
+            let rec = ShRecurrence::new(ds.bands());
+            (ds, rec)
+        });
         FramePrep {
             brdf,
-            dir: DirLights::from_lights(&scene.lights),
+            sh_bands: match (brdf.as_sh(), &sh) {
+                (Some(full), Some((used, _))) => (full.bands(), used.bands()),
+                _ => (0, 0),
+            },
+            dir,
             points: scene
                 .lights
                 .iter()
                 .copied()
                 .filter(|l| matches!(l, Light::Point { .. }))
                 .collect(),
-            sh: brdf.as_sh().map(|ds| (ds, ShRecurrence::new(ds.bands()))),
+            sh,
             eye: scene.camera.position,
             cull_lights: true,
+            chunk_live,
+            lights_total: scene
+                .lights
+                .iter()
+                .filter(|l| matches!(l, Light::Directional { .. }))
+                .count(),
+            dropped,
         }
     }
 
@@ -207,6 +262,33 @@ impl<'a> FramePrep<'a> {
     }
 }
 
+/// Work done by one [`shade_with_counts`] call, gathered per tile and summed after
+/// (integers: the totals do not depend on the thread count or the order of the sum).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShadeCounts {
+    /// Tiles with at least one triangle, shaded.
+    pub tiles_shaded: u64,
+    /// Tiles no triangle touched, skipped without looking at a pixel.
+    pub tiles_skipped: u64,
+    /// Pixels shaded (visible surface).
+    pub pixels_shaded: u64,
+    /// (pixel x light) pairs handed to the kernel: per tile, its pixels times the live
+    /// lights of the chunks its normal cone keeps plus the point lights.
+    pub light_pairs: u64,
+}
+
+impl std::ops::Add for ShadeCounts {
+    type Output = ShadeCounts;
+    fn add(self, o: ShadeCounts) -> ShadeCounts {
+        ShadeCounts {
+            tiles_shaded: self.tiles_shaded + o.tiles_shaded,
+            tiles_skipped: self.tiles_skipped + o.tiles_skipped,
+            pixels_shaded: self.pixels_shaded + o.pixels_shaded,
+            light_pairs: self.light_pairs + o.light_pairs,
+        }
+    }
+}
+
 /// Shades every visible pixel of `vis` into a linear radiance image (background black).
 pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
     shade_with(&FramePrep::new(scene), scene, vis)
@@ -214,14 +296,22 @@ pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
 
 /// [`shade`] with explicit frame preparation (to switch optimisations off in tests).
 pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
+    shade_with_counts(prep, scene, vis).0
+}
+
+/// [`shade_with`], also returning the work done ([`ShadeCounts`]).
+pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (Image, ShadeCounts) {
     let per_tile = (vis.tile_size * vis.tile_size) as usize;
     let mut tiles = vec![Vec3::ZERO; vis.visible.len()];
-    tiles
+    let counts: Vec<ShadeCounts> = tiles
         .par_chunks_mut(per_tile)
         .enumerate()
-        .for_each(|(t, out)| {
+        .map(|(t, out)| {
             if !vis.tile_occupied[t] {
-                return;
+                return ShadeCounts {
+                    tiles_skipped: 1,
+                    ..ShadeCounts::default()
+                };
             }
             let surfaces: Vec<(usize, Surface)> = (0..per_tile)
                 .filter_map(|i| {
@@ -240,14 +330,29 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
             for (i, s) in &surfaces {
                 out[*i] = prep.shade_surface(s, &chunks, &mut buf, &mut scratch);
             }
-        });
+            let lights = chunks
+                .iter()
+                .map(|&c| prep.chunk_live[c as usize] as u64)
+                .sum::<u64>()
+                + prep.points.len() as u64;
+            ShadeCounts {
+                tiles_shaded: 1,
+                tiles_skipped: 0,
+                pixels_shaded: surfaces.len() as u64,
+                light_pairs: surfaces.len() as u64 * lights,
+            }
+        })
+        .collect();
     let mut img = Image::new(vis.width, vis.height);
     for t in 0..vis.tile_occupied.len() {
         for (i, x, y) in tile_pixels(vis, t) {
             img.pixels[(y * vis.width + x) as usize] = tiles[t * per_tile + i];
         }
     }
-    img
+    let total = counts
+        .into_iter()
+        .fold(ShadeCounts::default(), |a, b| a + b);
+    (img, total)
 }
 
 /// The reference render: every light, no culling, the BRDF through [`Brdf::eval_f64`],

@@ -164,6 +164,29 @@ fn bad_field_values() {
         &["render", "s.toml", "-o", "a.png"],
         &["s.toml", "camera.fov_y_deg"],
     );
+    let d = dir_with(&[("s.toml", "[render]\ndrop_lights = 1.0\n")]);
+    assert_error(
+        d.path(),
+        &["render", "s.toml", "-o", "a.png"],
+        &["s.toml", "render.drop_lights", "out of range"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--drop-lights", "-0.5", "-o", "a.png"],
+        &["--drop-lights", "out of range"],
+    );
+    assert_error(
+        d.path(),
+        &[
+            "acquire",
+            "lambert:albedo=0.5",
+            "--band-threshold",
+            "1",
+            "-o",
+            "a.exr",
+        ],
+        &["--band-threshold", "out of range"],
+    );
 }
 
 #[test]

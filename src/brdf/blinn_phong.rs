@@ -34,4 +34,10 @@ impl Brdf for BlinnPhong {
     fn name(&self) -> &str {
         "blinn-phong"
     }
+
+    /// `k_d / pi + k_s (alpha + 8) / (8 pi)`: `(n.h)^alpha <= 1` and `cos(polar_i) <= 1`
+    /// (reached at `wi = wo = n`).
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        Some(self.kd / PI + self.ks * ((self.exponent + 8.0) / (8.0 * PI)))
+    }
 }

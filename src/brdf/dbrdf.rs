@@ -159,4 +159,12 @@ impl Brdf for DBrdf {
     fn name(&self) -> &str {
         "d-brdf"
     }
+
+    /// `c max(p) max(1, R_s)`: the bilinear `p(h)` is a convex blend of table values, so at
+    /// most the table's largest; Schlick's `F` lies between `R_s` and 1; and
+    /// `cos(polar_i) / D <= 1` because `D = a + b - a b = a + b (1 - a) >= a = cos(polar_i)`.
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        let pmax = self.p.iter().copied().fold(0.0f32, f32::max);
+        Some(self.c * pmax * self.rs.max(Vec3::ONE))
+    }
 }

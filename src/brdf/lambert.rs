@@ -22,4 +22,9 @@ impl Brdf for Lambert {
     fn name(&self) -> &str {
         "lambert"
     }
+
+    /// `albedo / pi`: `f_r` is constant and `cos(polar_i) <= 1`.
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        Some(self.albedo * FRAC_1_PI)
+    }
 }

@@ -56,6 +56,16 @@ pub trait Brdf: Send + Sync {
     fn as_sh(&self) -> Option<&crate::sh::dataset::ShDataset> {
         None
     }
+
+    /// An upper bound `M` (RGB, 1/sr) on `|f_r(wi, wo) cos(polar_i)|` over all pairs of
+    /// directions above the horizon, i.e. on the absolute value of
+    /// [`eval_cosine_weighted`]. One directional light of irradiance `E` then changes any
+    /// pixel by at most `E M` (thesis Def. 10: the pixel is `sum_k f cos E_k`), which is the
+    /// bound of dropping negligible lights ([`crate::kernel::skip`]). `None` when the model
+    /// has no derived bound; the renderer then drops no light for it.
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        None
+    }
 }
 
 /// `f * cos(polar_i)` whatever the model's cosine convention: the integrand of the

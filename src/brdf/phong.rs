@@ -37,4 +37,9 @@ impl Brdf for Phong {
     fn name(&self) -> &str {
         "phong"
     }
+
+    /// `k_d / pi + k_s (alpha + 2) / (2 pi)`: `max(0, r.wo)^alpha <= 1`, `cos(polar_i) <= 1`.
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        Some(self.kd / PI + self.ks * ((self.exponent + 2.0) / (2.0 * PI)))
+    }
 }

@@ -63,6 +63,14 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
             format!("{} is out of range (1 to 10)", a.bands),
         ));
     }
+    if let Some(t) = a.band_threshold {
+        if !(0.0..1.0).contains(&t) {
+            return Err(Error::field(
+                "--band-threshold",
+                format!("{t} is out of range (0 <= fraction < 1)"),
+            ));
+        }
+    }
     let method = Method::parse(&a.method).ok_or_else(|| {
         Error::field(
             "--method",
@@ -116,7 +124,7 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
         }
     }
     pb.finish_and_clear();
-    let ds = acquire_with_progress(
+    let mut ds = acquire_with_progress(
         src.as_ref(),
         &AcquireOptions::new(a.bands, nu, nv, method),
         &|| {},
@@ -138,6 +146,15 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
             a.bands,
             method.name(),
             a.source
+        );
+    }
+    if let Some(t) = a.band_threshold {
+        ds.set_band_threshold(t)
+            .map_err(|e| Error::field("--band-threshold", e.to_string()))?;
+        eprintln!(
+            "band threshold {t}: a renderer shades {} of {} bands",
+            ds.effective_bands(),
+            ds.bands()
         );
     }
     write_sh_dataset(&a.output, &ds).map_err(|e| Error::format(&a.output, e.to_string()))?;

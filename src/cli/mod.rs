@@ -87,6 +87,9 @@ pub struct AcquireArgs {
     /// Skip the bands x method table (only the chosen order and method are measured).
     #[arg(long)]
     pub no_table: bool,
+    /// Declare the band energy threshold in the file (brdfkit.band_threshold, 0 <= F < 1): renderers may shade only the first bands while the dropped bands hold at most this fraction of the coefficient energy. Default: none (every band is shaded).
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub band_threshold: Option<f32>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -150,6 +153,15 @@ pub struct RenderArgs {
     /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's [material].
     #[arg(long)]
     pub material: Option<String>,
+    /// Drop the weakest directional lights while their summed irradiance stays at most this fraction of the total (0 <= F < 1; 0: off). Each pixel changes by at most the dropped irradiance times the material's largest f*cos. Default 0.001.
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub drop_lights: Option<f32>,
+    /// Shade SH data sets with every stored band, ignoring the band energy threshold the data set declares (brdfkit.band_threshold).
+    #[arg(long)]
+    pub no_band_skip: bool,
+    /// Print the work counters (tiles shaded/skipped, pixels, pixel x light pairs, lights dropped, SH bands used) to stderr.
+    #[arg(long)]
+    pub stats: bool,
 }
 
 #[derive(clap::Args, Debug)]

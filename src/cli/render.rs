@@ -46,6 +46,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
             CullArg::Back => Cull::Back,
         };
     }
+    if let Some(f) = a.drop_lights {
+        if !(0.0..1.0).contains(&f) {
+            return Err(Error::field(
+                "--drop-lights",
+                format!("{f} is out of range (0 <= fraction < 1)"),
+            ));
+        }
+        file.render.drop_lights = f;
+    }
+    if a.no_band_skip {
+        file.render.band_skip = false;
+    }
     if let Some(e) = a.exposure {
         file.output.exposure = e;
     }
@@ -119,16 +131,23 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     let start = std::time::Instant::now();
-    let img = if a.reference && a.aov.is_none() {
+    let (img, stats) = if a.reference && a.aov.is_none() {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(scene.render.threads)
             .build()
             .expect("thread pool");
-        pool.install(|| render::render_reference(&scene))
+        (pool.install(|| render::render_reference(&scene)), None)
     } else {
-        render::render_with_threads(&scene, a.aov, scene.render.threads)
+        let (img, stats) = render::render_with_threads_stats(&scene, a.aov, scene.render.threads);
+        (img, Some(stats))
     };
     let elapsed = start.elapsed();
+    if a.stats {
+        match &stats {
+            Some(s) => eprintln!("{s}"),
+            None => eprintln!("stats: none for --reference (every light, every band, no skips)"),
+        }
+    }
     for (path, fmt) in outputs.iter().zip(formats) {
         match (fmt, a.aov) {
             (Format::Exr, _) => image_io::write_exr(path, &img)?,

@@ -15,9 +15,13 @@
 //!   bit-identical with and without culling, for any tile size;
 //! - a chunk whose lanes are all below a pixel's horizon is skipped for that pixel (the
 //!   same argument).
+//!
+//! Work skipped with a bounded change to the image (negligible lights, SH bands a material
+//! does not need) is decided per frame in [`skip`].
 
 pub mod lanes;
 pub mod sh;
+pub mod skip;
 
 use crate::light::Light;
 use glam::Vec3;

@@ -51,6 +51,10 @@
 //! threads = 0               # 0: all cores
 //! precision = "f32"         # "f32": the fast kernel path; "f64": frames, directions, the
 //!                           # BRDF and the light sum in f64 (crate::shade::shade_reference_f64)
+//! drop_lights = 0.001       # drop the weakest lights up to this fraction of the total
+//!                           # irradiance (0: off; bound in kernel::skip)
+//! band_skip = true          # shade an SH data set with the bands its declared
+//!                           # band_threshold needs (false: every stored band)
 //!
 //! [output]
 //! path = "out.png"          # omit: out.png and out.exr
@@ -263,6 +267,12 @@ pub struct RenderSpec {
     pub threads: usize,
     /// Arithmetic of the shaded image (not of AOVs); default [`Precision::F32`].
     pub precision: Precision,
+    /// Fraction of the total directional irradiance that may be dropped, weakest lights
+    /// first (0 <= x < 1; 0 turns it off). See [`crate::kernel::skip`]. Not used by the
+    /// f64 path, which shades every light.
+    pub drop_lights: f32,
+    /// Whether SH data sets are shaded with only the bands their declared threshold needs.
+    pub band_skip: bool,
 }
 
 /// Arithmetic of the shading stage.
@@ -287,6 +297,8 @@ impl Default for RenderSpec {
             tile_size: 32,
             threads: 0,
             precision: Precision::F32,
+            drop_lights: crate::kernel::skip::DEFAULT_DROP_LIGHTS,
+            band_skip: true,
         }
     }
 }
@@ -433,6 +445,12 @@ impl Scene {
             return Err(Error::field(
                 "render.threads",
                 format!("{} is out of range (0 to 1024)", r.threads),
+            ));
+        }
+        if !(0.0..1.0).contains(&r.drop_lights) {
+            return Err(Error::field(
+                "render.drop_lights",
+                format!("{} is out of range (0 <= fraction < 1)", r.drop_lights),
             ));
         }
         if !file.output.exposure.is_finite() || file.output.exposure.abs() > 64.0 {

@@ -41,6 +41,11 @@ use glam::Vec3;
 /// fixed stack buffer of this many terms, and file readers reject larger counts as absurd.
 pub const MAX_BANDS: usize = 32;
 
+/// Band energy threshold of a data set that declares none (in memory or in a file without
+/// `brdfkit.band_threshold`): 0, every stored band is shaded, so files written before the
+/// attribute existed render exactly as before.
+pub const DEFAULT_BAND_THRESHOLD: f32 = 0.0;
+
 /// Texture filter used for a table lookup. In scene files: `"nearest"` or `"bilinear"`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -62,6 +67,8 @@ pub enum ShDataError {
     Size { got: usize, expected: usize },
     #[error("non-finite value at flat index {0}")]
     NonFinite(usize),
+    #[error("band energy threshold {0} out of range (0 <= threshold < 1)")]
+    BandThreshold(f32),
 }
 
 fn check_grid(nu: usize, nv: usize, bands: usize) -> Result<(), ShDataError> {
@@ -191,6 +198,8 @@ pub struct ShDataset {
     provenance: String,
     coeffs: Vec<f32>,
     basis: Option<ShBasisTable>,
+    /// Declared band energy threshold (see [`ShDataset::effective_bands`]).
+    band_threshold: f32,
     /// Filter for the coefficient table (view direction). Default `Nearest` (thesis 3.1.4:
     /// float textures required `GL_NEAREST` on the thesis's hardware).
     pub coeff_lookup: Lookup,
@@ -228,6 +237,7 @@ impl ShDataset {
             provenance: provenance.into(),
             coeffs,
             basis: None,
+            band_threshold: DEFAULT_BAND_THRESHOLD,
             coeff_lookup: Lookup::Nearest,
             basis_lookup: Lookup::Nearest,
         })
@@ -269,7 +279,75 @@ impl ShDataset {
         )?;
         out.coeff_lookup = self.coeff_lookup;
         out.basis_lookup = self.basis_lookup;
+        out.band_threshold = self.band_threshold;
         Ok(out)
+    }
+
+    /// The declared band energy threshold: the largest fraction of the coefficient energy
+    /// the renderer may drop by shading with fewer bands ([`ShDataset::effective_bands`]).
+    /// 0 (the default, [`DEFAULT_BAND_THRESHOLD`]) keeps every band.
+    pub fn band_threshold(&self) -> f32 {
+        self.band_threshold
+    }
+
+    /// Declares the band energy threshold. Err (`BandThreshold`) unless
+    /// `0 <= threshold < 1` (NaN is rejected).
+    pub fn set_band_threshold(&mut self, threshold: f32) -> Result<(), ShDataError> {
+        if !(0.0..1.0).contains(&threshold) {
+            return Err(ShDataError::BandThreshold(threshold));
+        }
+        self.band_threshold = threshold;
+        Ok(())
+    }
+
+    /// Coefficient energy per band, `E_l = sum over texels, colours and m of c_lm^2`
+    /// (f64 sums in texel order), `bands()` values.
+    pub fn band_energies(&self) -> Vec<f64> {
+        let nt = num_terms(self.bands);
+        let mut e = vec![0.0f64; self.bands];
+        for block in self.coeffs.chunks_exact(nt) {
+            for (l, el) in e.iter_mut().enumerate() {
+                *el += block[l * l..(l + 1) * (l + 1)]
+                    .iter()
+                    .map(|&c| c as f64 * c as f64)
+                    .sum::<f64>();
+            }
+        }
+        e
+    }
+
+    /// The bands shading needs: the smallest `L >= 1` such that the energy of the dropped
+    /// bands `l >= L` is at most `band_threshold() x` the total ([`ShDataset::band_energies`]).
+    /// Equals `bands()` when the threshold is 0 or nothing can be dropped; an all-zero data
+    /// set needs 1 band. The change this makes to a pixel is bounded in
+    /// [`crate::kernel::skip`].
+    pub fn effective_bands(&self) -> usize {
+        if self.band_threshold <= 0.0 {
+            return self.bands;
+        }
+        let e = self.band_energies();
+        let total: f64 = e.iter().sum();
+        let limit = self.band_threshold as f64 * total;
+        let mut dropped = 0.0f64;
+        let mut keep = self.bands;
+        while keep > 1 && dropped + e[keep - 1] <= limit {
+            dropped += e[keep - 1];
+            keep -= 1;
+        }
+        keep
+    }
+
+    /// Largest Euclidean norm of one colour's coefficient vector over the view texels,
+    /// per colour (RGB), restricted to the terms of bands `from..bands()`.
+    pub fn max_texel_norm(&self, from: usize) -> Vec3 {
+        let nt = num_terms(self.bands);
+        let k0 = (from * from).min(nt);
+        let mut m = [0.0f64; 3];
+        for (b, block) in self.coeffs.chunks_exact(nt).enumerate() {
+            let n2: f64 = block[k0..].iter().map(|&c| c as f64 * c as f64).sum();
+            m[b % 3] = m[b % 3].max(n2.sqrt());
+        }
+        Vec3::new(m[0] as f32, m[1] as f32, m[2] as f32)
     }
 
     /// Uses `table` for the basis (as a GPU build does) instead of analytic evaluation.
@@ -419,6 +497,16 @@ impl Brdf for ShDataset {
 
     fn as_sh(&self) -> Option<&ShDataset> {
         Some(self)
+    }
+
+    /// Cauchy-Schwarz and the SH addition theorem (`sum_m Y_lm(w)^2 = (2l+1)/(4 pi)` for
+    /// every direction, so `sum_{l<L} sum_m Y_lm^2 = L^2/(4 pi)`):
+    /// `|sum_k c_k Y_k(wi)| <= |c| L / sqrt(4 pi)`, with `|c|` at most the largest texel
+    /// norm ([`ShDataset::max_texel_norm`]; a bilinear lookup blends texels convexly, which
+    /// cannot raise the norm). Times `cos(polar_i) <= 1` when the table excludes the cosine.
+    fn max_cosine_weighted(&self) -> Option<Vec3> {
+        let k = self.bands as f64 / (4.0 * std::f64::consts::PI).sqrt();
+        Some(self.max_texel_norm(0) * k as f32)
     }
 
     /// `sum_k c_k(wo) Y_k(wi)` with the basis evaluated and the sum accumulated in f64 (the

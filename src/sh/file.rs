@@ -26,14 +26,19 @@
 //!   - `brdfkit.sh: string` = [`SH_CONVENTION`],
 //!   - `brdfkit.cosine: int` (1 if the values include `cos(polar_i)`, else 0; coefficient
 //!     part only),
-//!   - `brdfkit.provenance: string` (UTF-8 bytes, free text; coefficient part only).
+//!   - `brdfkit.provenance: string` (UTF-8 bytes, free text; coefficient part only),
+//!   - `brdfkit.band_threshold: float` (optional, coefficient part only; default
+//!     [`DEFAULT_BAND_THRESHOLD`] = 0 when absent): the largest fraction of the
+//!     coefficient energy `sum c_lm^2` (over texels, colours, l, m) that a renderer may drop
+//!     by shading only the first bands ([`ShDataset::effective_bands`]); must satisfy
+//!     `0 <= value < 1`. Written only when non-zero, so files without it stay byte-identical.
 //!
 //! Reading fails with [`ShFileError`] naming the file and the problem; no partial data set
 //! is ever returned. Writing goes to a temporary file in the same directory, then renames
 //! it over the target, so a reader never sees a half-written file.
 
 use super::basis::{num_terms, sh_lm};
-use super::dataset::{ShBasisTable, ShDataError, ShDataset, MAX_BANDS};
+use super::dataset::{ShBasisTable, ShDataError, ShDataset, DEFAULT_BAND_THRESHOLD, MAX_BANDS};
 use exr::prelude::read;
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, ImageAttributes,
@@ -210,6 +215,12 @@ pub fn write_sh_dataset(path: &Path, ds: &ShDataset) -> Result<(), ShFileError> 
         text("brdfkit.provenance"),
         AttributeValue::Text(text(ds.provenance())),
     );
+    if ds.band_threshold() != DEFAULT_BAND_THRESHOLD {
+        attrs.other.insert(
+            text("brdfkit.band_threshold"),
+            AttributeValue::F32(ds.band_threshold()),
+        );
+    }
     let mut layers = vec![Layer::new(
         (nu, nv),
         attrs,
@@ -460,6 +471,18 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
         }
     };
     let provenance = part.string("brdfkit.provenance")?;
+    let band_threshold = match part.attrs.get(&text("brdfkit.band_threshold")) {
+        None => DEFAULT_BAND_THRESHOLD,
+        Some(AttributeValue::F32(v)) if (0.0..1.0).contains(v) => *v,
+        Some(other) => {
+            return Err(ShFileError::BadAttribute {
+                path: path.to_owned(),
+                layer: COEFF_LAYER,
+                name: "brdfkit.band_threshold",
+                value: format!("{other:?} (need a float in [0, 1))"),
+            })
+        }
+    };
     let nt = num_terms(bands);
     part.check_count(3 * nt)?;
     let mut coeffs = vec![0.0f32; nu * nv * 3 * nt];
@@ -476,6 +499,7 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
         source,
     };
     let mut ds = ShDataset::new(nu, nv, bands, cosine, provenance, coeffs).map_err(data_err)?;
+    ds.set_band_threshold(band_threshold).map_err(data_err)?;
     if let Some(bl) = find(BASIS_LAYER) {
         let part = Part::new(path, BASIS_LAYER, bl);
         let (bb, bu, bv) = part.header("basis")?;
@@ -551,6 +575,43 @@ mod tests {
             }
         }
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn band_threshold_round_trips_defaults_when_absent_and_rejects_bad_values() {
+        let dir = tmpdir("thr");
+        let mut ds = sample(3, false);
+        let p = dir.join("none.exr");
+        write_sh_dataset(&p, &ds).unwrap();
+        assert_eq!(
+            read_sh_dataset(&p).unwrap().band_threshold(),
+            DEFAULT_BAND_THRESHOLD
+        );
+        ds.set_band_threshold(0.02).unwrap();
+        let p = dir.join("set.exr");
+        write_sh_dataset(&p, &ds).unwrap();
+        let back = read_sh_dataset(&p).unwrap();
+        assert_eq!(back.band_threshold(), 0.02);
+        assert_eq!(back, ds);
+        std::fs::remove_dir_all(dir).unwrap();
+        for bad in [
+            AttributeValue::F32(1.0),
+            AttributeValue::F32(-0.1),
+            AttributeValue::I32(0),
+        ] {
+            let p = corrupted("thr-bad", |l| set_attr(l, "brdfkit.band_threshold", bad));
+            let e = read_sh_dataset(&p).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    ShFileError::BadAttribute {
+                        name: "brdfkit.band_threshold",
+                        ..
+                    }
+                ),
+                "{e}"
+            );
+        }
     }
 
     /// Writes a valid file, lets `edit` corrupt the decoded image, writes it back raw.
