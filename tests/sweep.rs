@@ -52,7 +52,7 @@ fn setup() -> tempfile::TempDir {
 
 const GRID: [&str; 12] = [
     "--samplers",
-    "median-cut,importance",
+    "lloyd,importance",
     "--counts",
     "1,4,16",
     "--orders",
@@ -89,11 +89,11 @@ fn shards_merge_into_the_single_run() {
     assert!(dir.join("all.png").is_file());
     let all = deterministic(&dir.join("all.csv"));
     assert_eq!(all.len(), 12);
-    // Exactly one default row: the scene's median-cut (default sampler), 4 lights, 8 bands,
+    // Exactly one default row: the scene's lloyd (default sampler), 4 lights, 8 bands,
     // bilinear (the library's lookup), f32.
     let defaults: Vec<&String> = all.iter().filter(|l| l.ends_with(",1")).collect();
     assert_eq!(defaults.len(), 1, "{all:?}");
-    assert!(defaults[0].contains(",median-cut,4,8,bilinear,f32,"), "{defaults:?}");
+    assert!(defaults[0].contains(",lloyd,4,8,bilinear,f32,"), "{defaults:?}");
 
     for n in [2usize, 3] {
         let mut parts = Vec::new();
@@ -122,10 +122,10 @@ fn shards_merge_into_the_single_run() {
         std::fs::read_to_string(dir.join("all.csv")).unwrap(),
         std::fs::read_to_string(dir.join("again.csv")).unwrap()
     );
-    // Errors fall as the light count grows on the largest order (median cut is a
-    // deterministic sampler; 16 lights beat 1 light by far under this probe).
+    // Errors fall as the light count grows on the largest order (Lloyd is a deterministic
+    // sampler; 16 lights beat 1 light by far under this probe).
     let rmse = |l: &str| l.split(',').nth(6).unwrap().parse::<f64>().unwrap();
-    let mc: Vec<&String> = all.iter().filter(|l| l.contains(",median-cut,") && l.contains(",8,bilinear,")).collect();
+    let mc: Vec<&String> = all.iter().filter(|l| l.contains(",lloyd,") && l.contains(",8,bilinear,")).collect();
     assert!(rmse(mc[2]) < rmse(mc[0]), "{mc:?}");
 }
 

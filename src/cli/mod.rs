@@ -211,7 +211,7 @@ pub struct RenderArgs {
     /// Light the scene with an equirectangular probe (.exr or .hdr), collapsed into directional lights.
     #[arg(long, value_name = "PROBE")]
     pub env: Option<PathBuf>,
-    /// How the probe becomes lights (with --env or a scene's [env]). Default median-cut.
+    /// How the probe becomes lights (with --env or a scene's [env]). Default lloyd (on the sweep's Pareto front; see `brdfkit sweep`).
     #[arg(long, value_enum)]
     pub sampler: Option<crate::env::prepare::SamplerKind>,
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
