@@ -14,7 +14,10 @@
 //! # The reference
 //! The scene with every texel of its probe as a light (sampler `full`), f64 shading, no
 //! culling and no skips ([`crate::render::render_reference`]), the same reference as
-//! `brdfkit render --reference`. It takes minutes for the default scene, so it is cached as
+//! `brdfkit render --reference`. It renders the material as the scene stores it (every
+//! band, its own lookup), so a row with fewer orders or the other lookup measures that
+//! difference too: for SH materials the truncation, not the light count, dominates the error
+//! at low orders. It takes minutes for the default scene, so it is cached as
 //! a linear EXR named by [`reference_key`] (a hash of the scene's configuration and input
 //! files; not of the renderer's code: after changing the f64 path, delete the cache).
 //!
@@ -475,12 +478,14 @@ pub fn default_scene_file() -> Result<SceneFile> {
             "the default sweep scene's probe is missing: run from the repository or give --scene",
         ));
     }
-    let mut f = SceneFile::default();
-    f.material = MaterialSpec::Library {
-        name: "blue-silk".into(),
-        lookup: None,
+    let mut f = SceneFile {
+        material: MaterialSpec::Library {
+            name: "blue-silk".into(),
+            lookup: None,
+        },
+        env: Some(EnvSpec::new(probe)),
+        ..SceneFile::default()
     };
-    f.env = Some(EnvSpec::new(probe));
     f.render.width = 160;
     f.render.height = 120;
     Ok(f)

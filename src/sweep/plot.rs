@@ -30,11 +30,11 @@ fn register_font() {
 
 fn sampler_color(s: SamplerKind) -> RGBColor {
     match s {
-        SamplerKind::Uniform => RGBColor(230, 159, 0),
-        SamplerKind::Importance => RGBColor(86, 180, 233),
+        SamplerKind::Uniform => RGBColor(220, 170, 0),
+        SamplerKind::Importance => RGBColor(204, 121, 167),
         SamplerKind::Stratified => RGBColor(0, 158, 115),
         SamplerKind::MedianCut => RGBColor(213, 94, 0),
-        SamplerKind::Lloyd => RGBColor(0, 114, 178),
+        SamplerKind::Lloyd => RGBColor(0, 90, 200),
         SamplerKind::Full => RGBColor(120, 120, 120),
     }
 }
@@ -171,7 +171,7 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at(p)
-                        + Text::new(label, (dx, -28), ("sans-serif", 17).into_font()),
+                        + Text::new(label, (dx, -34), ("sans-serif", 17).into_font()),
                 ))
                 .map_err(plot_err(path))?;
         }
