@@ -48,7 +48,9 @@ impl Shard {
                 format!("{s:?} {why} (expected I/N, 0-based: 0 <= I < N, e.g. 0/4 ... 3/4)"),
             )
         };
-        let (i, n) = s.split_once('/').ok_or_else(|| bad("is not of the form I/N"))?;
+        let (i, n) = s
+            .split_once('/')
+            .ok_or_else(|| bad("is not of the form I/N"))?;
         let i: usize = i
             .trim()
             .parse()
@@ -98,19 +100,30 @@ mod tests {
     fn parses_zero_based() {
         assert_eq!(Shard::parse("0/1").unwrap(), Shard::ALL);
         assert_eq!(Shard::parse("2/3").unwrap(), Shard { index: 2, count: 3 });
-        assert_eq!(Shard::parse(" 1 / 4 ").unwrap(), Shard { index: 1, count: 4 });
+        assert_eq!(
+            Shard::parse(" 1 / 4 ").unwrap(),
+            Shard { index: 1, count: 4 }
+        );
         assert_eq!(Shard::parse("3/4").unwrap().to_string(), "3/4");
     }
 
     #[test]
     fn rejects_bad_specs() {
-        for s in ["3/2", "2/2", "0/0", "x", "1", "/", "1/", "/2", "-1/2", "1/-2", "a/b", "1.5/2", ""] {
+        for s in [
+            "3/2", "2/2", "0/0", "x", "1", "/", "1/", "/2", "-1/2", "1/-2", "a/b", "1.5/2", "",
+        ] {
             let e = Shard::parse(s).unwrap_err().to_string();
             assert!(e.starts_with("--shard: "), "{s:?}: {e}");
             assert!(!e.contains('\n'), "{s:?}: {e}");
         }
-        assert!(Shard::parse("3/2").unwrap_err().to_string().contains("I >= N"));
-        assert!(Shard::parse("0/0").unwrap_err().to_string().contains("N = 0"));
+        assert!(Shard::parse("3/2")
+            .unwrap_err()
+            .to_string()
+            .contains("I >= N"));
+        assert!(Shard::parse("0/0")
+            .unwrap_err()
+            .to_string()
+            .contains("N = 0"));
     }
 
     #[test]

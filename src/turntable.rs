@@ -123,7 +123,13 @@ pub fn assemble_gif(out: &Path, n: usize, fps: u32) -> Result<PathBuf> {
         if *size.get_or_insert(dims) != dims {
             return Err(Error::format(
                 &p,
-                format!("frame is {}x{}, frame 0 is {}x{}", dims.0, dims.1, size.unwrap().0, size.unwrap().1),
+                format!(
+                    "frame is {}x{}, frame 0 is {}x{}",
+                    dims.0,
+                    dims.1,
+                    size.unwrap().0,
+                    size.unwrap().1
+                ),
             ));
         }
         let delay = Delay::from_numer_denom_ms(1000, fps);
@@ -131,7 +137,8 @@ pub fn assemble_gif(out: &Path, n: usize, fps: u32) -> Result<PathBuf> {
     }
     crate::image_io::write_atomically(&gif, |tmp| {
         let err = |e: image::ImageError| Error::format(&gif, format!("cannot write GIF: {e}"));
-        let file = std::fs::File::create(tmp).map_err(|e| Error::io(&gif, "cannot write GIF", e))?;
+        let file =
+            std::fs::File::create(tmp).map_err(|e| Error::io(&gif, "cannot write GIF", e))?;
         let mut enc = GifEncoder::new_with_speed(std::io::BufWriter::new(file), 10);
         enc.set_repeat(Repeat::Infinite).map_err(err)?;
         enc.encode_frames(frames).map_err(err)?;
@@ -157,7 +164,10 @@ mod tests {
         let base = Scene::default_scene();
         for k in 0..8 {
             let s = frame_scene(&base, 0, Motion::Camera, k, 8);
-            let (a, b) = (base.camera.position - base.camera.target, s.camera.position - s.camera.target);
+            let (a, b) = (
+                base.camera.position - base.camera.target,
+                s.camera.position - s.camera.target,
+            );
             assert!((a.length() - b.length()).abs() < 1e-4);
             assert!((a.y - b.y).abs() < 1e-5);
             assert_eq!(s.camera.target, base.camera.target);

@@ -93,7 +93,10 @@ fn shards_merge_into_the_single_run() {
     // bilinear (the library's lookup), f32.
     let defaults: Vec<&String> = all.iter().filter(|l| l.ends_with(",1")).collect();
     assert_eq!(defaults.len(), 1, "{all:?}");
-    assert!(defaults[0].contains(",lloyd,4,8,bilinear,f32,"), "{defaults:?}");
+    assert!(
+        defaults[0].contains(",lloyd,4,8,bilinear,f32,"),
+        "{defaults:?}"
+    );
 
     for n in [2usize, 3] {
         let mut parts = Vec::new();
@@ -125,7 +128,10 @@ fn shards_merge_into_the_single_run() {
     // Errors fall as the light count grows on the largest order (Lloyd is a deterministic
     // sampler; 16 lights beat 1 light by far under this probe).
     let rmse = |l: &str| l.split(',').nth(6).unwrap().parse::<f64>().unwrap();
-    let mc: Vec<&String> = all.iter().filter(|l| l.contains(",lloyd,") && l.contains(",8,bilinear,")).collect();
+    let mc: Vec<&String> = all
+        .iter()
+        .filter(|l| l.contains(",lloyd,") && l.contains(",8,bilinear,"))
+        .collect();
     assert!(rmse(mc[2]) < rmse(mc[0]), "{mc:?}");
 }
 
@@ -152,7 +158,9 @@ fn turntable(dir: &Path, out: &str, extra: &[&str]) -> String {
 }
 
 fn frames(dir: &Path, stem: &str) -> Vec<PathBuf> {
-    (0..5).map(|k| dir.join(format!("{stem}_{k:04}.png"))).collect()
+    (0..5)
+        .map(|k| dir.join(format!("{stem}_{k:04}.png")))
+        .collect()
 }
 
 fn gif_frames(path: &Path) -> usize {
@@ -181,10 +189,18 @@ fn turntable_shards_are_bit_identical_and_the_gif_has_every_frame() {
     }
     assert!(!sh.join("spin.gif").exists());
     for (a, b) in single.iter().zip(frames(&sh, "spin")) {
-        assert_eq!(std::fs::read(a).unwrap(), std::fs::read(&b).unwrap(), "{}", b.display());
+        assert_eq!(
+            std::fs::read(a).unwrap(),
+            std::fs::read(&b).unwrap(),
+            "{}",
+            b.display()
+        );
     }
     // Frames differ from one another (the camera moves).
-    assert_ne!(std::fs::read(&single[0]).unwrap(), std::fs::read(&single[1]).unwrap());
+    assert_ne!(
+        std::fs::read(&single[0]).unwrap(),
+        std::fs::read(&single[1]).unwrap()
+    );
     turntable(&sh, "spin.png", &["--assemble"]);
     assert_eq!(
         std::fs::read(dir.join("spin.gif")).unwrap(),
@@ -194,7 +210,13 @@ fn turntable_shards_are_bit_identical_and_the_gif_has_every_frame() {
     // Turning the probe: frame 0 is the unturned scene, later frames differ.
     turntable(dir, "env.png", &["--turntable-env"]);
     let env = frames(dir, "env");
-    assert_eq!(std::fs::read(&env[0]).unwrap(), std::fs::read(&single[0]).unwrap());
-    assert_ne!(std::fs::read(&env[0]).unwrap(), std::fs::read(&env[2]).unwrap());
+    assert_eq!(
+        std::fs::read(&env[0]).unwrap(),
+        std::fs::read(&single[0]).unwrap()
+    );
+    assert_ne!(
+        std::fs::read(&env[0]).unwrap(),
+        std::fs::read(&env[2]).unwrap()
+    );
     assert_eq!(gif_frames(&dir.join("env.gif")), 5);
 }

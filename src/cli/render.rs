@@ -241,7 +241,9 @@ fn run_turntable(a: &RenderArgs, scene: &Scene, n: usize, out: Option<PathBuf>) 
         let path = turntable::frame_path(&out, k, n);
         match a.aov {
             None => image_io::write_png(&path, &img, s.output.exposure, s.output.tonemap)?,
-            Some(aov) => image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(&img, aov))?,
+            Some(aov) => {
+                image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(&img, aov))?
+            }
         }
     }
     pb.finish_and_clear();

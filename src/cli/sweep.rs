@@ -3,8 +3,8 @@
 use super::SweepArgs;
 use crate::error::{Error, Result};
 use crate::scene::{Precision, SceneFile};
-use crate::shard::Shard;
 use crate::sh::dataset::Lookup;
+use crate::shard::Shard;
 use crate::sweep::{self, Grid};
 use std::path::{Path, PathBuf};
 
@@ -50,15 +50,26 @@ fn progress_bar(n: u64) -> indicatif::ProgressBar {
 }
 
 fn plot_title(rows: &[sweep::Row]) -> String {
-    format!("brdfkit sweep: frame time against error ({} configurations)", rows.len())
+    format!(
+        "brdfkit sweep: frame time against error ({} configurations)",
+        rows.len()
+    )
 }
 
 pub fn run(a: SweepArgs) -> Result<()> {
-    let output = a.output.clone().unwrap_or_else(|| PathBuf::from("sweep.csv"));
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("sweep.csv"));
     if !a.merge.is_empty() {
         let rows = sweep::merge(&a.merge)?;
         sweep::write_csv(&output, &rows)?;
-        eprintln!("wrote {} ({} rows from {} files)", output.display(), rows.len(), a.merge.len());
+        eprintln!(
+            "wrote {} ({} rows from {} files)",
+            output.display(),
+            rows.len(),
+            a.merge.len()
+        );
         if let Some(p) = &a.plot {
             sweep::plot::write_plot(p, &rows, &plot_title(&rows))?;
             eprintln!("wrote {}", p.display());
@@ -155,7 +166,11 @@ pub fn run(a: SweepArgs) -> Result<()> {
         eprintln!(
             "default configuration: {} ({})",
             r.csv_line(),
-            if r.pareto { "on the Pareto front" } else { "dominated" }
+            if r.pareto {
+                "on the Pareto front"
+            } else {
+                "dominated"
+            }
         );
     }
     if let Some(p) = &a.plot {

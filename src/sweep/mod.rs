@@ -553,7 +553,10 @@ impl Sweep {
             if n == 0 || n > crate::env::prepare::MAX_LIGHTS {
                 return Err(Error::field(
                     "--counts",
-                    format!("{n} is out of range (1 to {})", crate::env::prepare::MAX_LIGHTS),
+                    format!(
+                        "{n} is out of range (1 to {})",
+                        crate::env::prepare::MAX_LIGHTS
+                    ),
                 ));
             }
         }
@@ -580,7 +583,8 @@ impl Sweep {
             .flat_map(|y| (0..full.render.width).map(move |x| (x, y)))
             .map(|(x, y)| vis.visible[vis.index(x, y)] != crate::raster::NO_TRIANGLE)
             .collect();
-        let (probe, _) = crate::env::prepare::load_probe(&base.join(&env.file), &env.load_options())?;
+        let (probe, _) =
+            crate::env::prepare::load_probe(&base.join(&env.file), &env.load_options())?;
         let default = DefaultConfig {
             sampler: env.sampler,
             lights: env.count,
@@ -638,7 +642,8 @@ impl Sweep {
     pub fn scene(&self, c: &Config, lights: &LightSet) -> Result<Scene> {
         let mut s = self.template.clone();
         s.lights = self.explicit.clone();
-        s.lights.extend(crate::env::prepare::to_scene_lights(lights));
+        s.lights
+            .extend(crate::env::prepare::to_scene_lights(lights));
         s.render.precision = c.precision;
         if let Some(ds) = &self.sh {
             let mut d = if c.order < ds.bands() {
@@ -764,7 +769,9 @@ mod tests {
             .collect();
         let front = pareto_front(&pts);
         for (i, &(t, e)) in pts.iter().enumerate() {
-            let dominated = pts.iter().any(|&(t2, e2)| t2 <= t && e2 <= e && (t2 < t || e2 < e));
+            let dominated = pts
+                .iter()
+                .any(|&(t2, e2)| t2 <= t && e2 <= e && (t2 < t || e2 < e));
             assert_eq!(front[i], !dominated);
         }
         assert!(front.iter().any(|&f| f));
@@ -811,7 +818,10 @@ mod tests {
         );
         let back = Row::parse(line).unwrap();
         assert_eq!(back.csv_line(), line);
-        assert_eq!(back.deterministic_part(), "7,median-cut,64,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1");
+        assert_eq!(
+            back.deterministic_part(),
+            "7,median-cut,64,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1"
+        );
     }
 
     #[test]

@@ -43,7 +43,9 @@ fn sampler_color(s: SamplerKind) -> RGBColor {
 fn bounds(vals: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = vals
         .filter(|v| v.is_finite() && *v > 0.0)
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
     if lo > hi {
         (0.1, 10.0)
     } else {
@@ -112,9 +114,11 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             let c = sampler_color(s);
             let pts = rows.iter().filter(ok).filter(|r| r.config.sampler == s);
             chart
-                .draw_series(pts.clone().filter(|r| r.config.precision == Precision::F32).map(
-                    |r| Circle::new((r.frame_ms, r.rel_rmse), 3, c.mix(0.75).filled()),
-                ))
+                .draw_series(
+                    pts.clone()
+                        .filter(|r| r.config.precision == Precision::F32)
+                        .map(|r| Circle::new((r.frame_ms, r.rel_rmse), 3, c.mix(0.75).filled())),
+                )
                 .map_err(plot_err(path))?
                 .label(sampler_name(s))
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
@@ -163,11 +167,19 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
                 precision_name(c.precision),
                 r.frame_ms,
                 r.rel_rmse,
-                if r.pareto { " (on the front)" } else { " (dominated)" }
+                if r.pareto {
+                    " (on the front)"
+                } else {
+                    " (dominated)"
+                }
             );
             // Left of the ring when the point is in the right half of the (log) x range.
             let right_half = (r.frame_ms / x0).ln() > 0.5 * (x1 / x0).ln();
-            let dx = if right_half { -14 - (label.len() as i32 * 29) / 4 } else { 14 };
+            let dx = if right_half {
+                -14 - (label.len() as i32 * 29) / 4
+            } else {
+                14
+            };
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at(p)
