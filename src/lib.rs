@@ -68,3 +68,6 @@ pub mod render;
 pub mod scene;
 pub mod sh;
 pub mod shade;
+pub mod shard;
+pub mod sweep;
+pub mod turntable;

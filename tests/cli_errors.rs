@@ -299,3 +299,77 @@ fn environment_flags_and_lights_command_errors() {
         &["-n", "out of range"],
     );
 }
+
+#[test]
+fn bad_shard_specs() {
+    let d = dir_with(&[]);
+    for spec in ["3/2", "0/0", "x"] {
+        assert_error(
+            d.path(),
+            &["sweep", "--shard", spec, "-o", "s.csv"],
+            &["--shard", spec],
+        );
+        assert_error(
+            d.path(),
+            &["render", "--turntable", "4", "--shard", spec, "-o", "t.png"],
+            &["--shard", spec],
+        );
+    }
+    assert_error(
+        d.path(),
+        &["render", "--turntable", "0", "-o", "t.png"],
+        &["--turntable", "out of range"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--turntable", "3", "-o", "t.exr"],
+        &["t.exr", "PNG"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--turntable", "3", "--assemble", "-o", "t.png"],
+        &["t_0000.png", "missing"],
+    );
+    assert_error(
+        d.path(),
+        &["sweep", "--frames", "0", "-o", "s.csv"],
+        &["--frames"],
+    );
+    assert_error(
+        d.path(),
+        &["sweep", "--lookups", "trilinear", "-o", "s.csv"],
+        &["--lookups", "trilinear"],
+    );
+}
+
+#[test]
+fn unreadable_sweep_csv_in_merge() {
+    let header = "index,sampler,lights,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
+    let good = format!("{header}\n0,median-cut,1,8,bilinear,f32,0.5,1,0.1,0,1.000,2.000,1\n");
+    let bad = format!("{header}\n1,median-cut,2,8,bilinear,f32,0.4,1,0.1,0,1.000,2.000,1\n2,median-cut,4,8,bilinear,f32,zero,1,0.1,0,1.000,2.000,1\n");
+    let d = dir_with(&[
+        ("a.csv", &good),
+        ("b.csv", &bad),
+        ("c.csv", "name,value\n1,2\n"),
+    ]);
+    assert_error(
+        d.path(),
+        &["sweep", "--merge", "a.csv", "b.csv", "-o", "all.csv"],
+        &["b.csv", "line 3", "rel_rmse"],
+    );
+    assert_error(
+        d.path(),
+        &["sweep", "--merge", "a.csv", "c.csv", "-o", "all.csv"],
+        &["c.csv", "line 1", "not a sweep CSV"],
+    );
+    assert_error(
+        d.path(),
+        &["sweep", "--merge", "a.csv", "missing.csv", "-o", "all.csv"],
+        &["missing.csv", "cannot read"],
+    );
+    assert_error(
+        d.path(),
+        &["sweep", "--merge", "a.csv", "a.csv", "-o", "all.csv"],
+        &["a.csv", "row index 0"],
+    );
+}

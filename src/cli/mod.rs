@@ -7,6 +7,7 @@ mod compare;
 mod golden;
 mod lights;
 mod render;
+mod sweep;
 
 use crate::aov::Aov;
 use crate::error::Result;
@@ -33,7 +34,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (the built-in default scene when no file is given).
     #[command(
-        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file."
+        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n  brdfkit render --env city.exr --material blue-silk --turntable 60 -o spin.png   # spin_0000.png ... spin.gif\n  brdfkit render --env city.exr --turntable 60 --turntable-env -o env.png         # the probe turns instead\n  brdfkit render --turntable 60 --shard 0/2 -o spin.png; ... --shard 1/2 ...; brdfkit render --turntable 60 --assemble -o spin.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file."
     )]
     Render(RenderArgs),
     /// Collapse a light probe into directional lights; write them and draw them over the probe.
@@ -63,6 +64,75 @@ pub enum Command {
     FitDbrdf(FitDbrdfArgs),
     /// List the material library (name, representation, description).
     Materials,
+    /// Run time against error: render a scene over a grid of configurations, write CSV and a plot.
+    #[command(
+        long_about = "Renders a scene over a grid of configurations (sampler x light count x SH order x \
+lookup x precision) and measures for each the error against the converged reference (every probe \
+texel a light, f64, no culling: `render --reference`) and the time taken. Writes one CSV row per \
+configuration and, with --plot, a PNG of frame time against relative RMSE (log axes, one colour per \
+sampler, the Pareto front drawn, the default configuration marked).\n\n\
+Default scene: the teapot in blue-silk (library SH material, 8 bands) under assets/probes/city.exr, \
+160x120. Default grid: samplers uniform, importance, stratified, median-cut, lloyd x counts 1, 2, 4, \
+..., 1024 x orders 1..8 x lookups nearest, bilinear x precision f32: 880 rows.\n\n\
+CSV columns: index, sampler, lights, order, lookup, precision, rel_rmse (relative RMSE over covered \
+pixels), max_err (largest absolute channel error, linear radiance), flip_mean (FLIP of the tone-mapped \
+images), default (1 for the scene's own configuration): deterministic, the same on every machine; \
+then prep_ms (light-set preparation), frame_ms (median frame time), pareto (1 if no other row is \
+both faster and more accurate, over frame_ms and rel_rmse): measured, they vary run to run.\n\n\
+The reference is rendered once (minutes for the default scene) and cached as EXR in --cache, keyed \
+by a hash of the scene and its input files.",
+        after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (880 rows)\n  brdfkit sweep --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
+    )]
+    Sweep(SweepArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct SweepArgs {
+    /// Output CSV. Default sweep.csv.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Also draw the plot (PNG): frame time against relative RMSE.
+    #[arg(long, value_name = "PNG")]
+    pub plot: Option<PathBuf>,
+    /// Scene file (TOML) with an [env] to sweep. Default: blue-silk teapot, city probe, 160x120.
+    #[arg(long, value_name = "FILE")]
+    pub scene: Option<PathBuf>,
+    /// Samplers, comma-separated. Default: uniform,importance,stratified,median-cut,lloyd.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub samplers: Vec<crate::env::prepare::SamplerKind>,
+    /// Light counts, comma-separated. Default: 1,2,4,...,1024.
+    #[arg(long, value_delimiter = ',')]
+    pub counts: Vec<usize>,
+    /// SH orders (bands), comma-separated; orders above the data set's are dropped. Default 1..8.
+    #[arg(long, value_delimiter = ',')]
+    pub orders: Vec<usize>,
+    /// Coefficient lookups, comma-separated: nearest, bilinear. Default both.
+    #[arg(long, value_delimiter = ',')]
+    pub lookups: Vec<String>,
+    /// Precisions, comma-separated: f32 (default), f64 (several times slower).
+    #[arg(long, value_delimiter = ',')]
+    pub precisions: Vec<String>,
+    /// Renders per row; frame_ms is their median.
+    #[arg(long, default_value_t = 3)]
+    pub frames: usize,
+    /// Image width (overrides the scene).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height (overrides the scene).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Worker threads (0: every core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Only rows with index % N == I (0-based I/N), for array jobs; merge with --merge.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Directory of the cached reference renders. Default target/brdfkit-cache.
+    #[arg(long, value_name = "DIR")]
+    pub cache: Option<PathBuf>,
+    /// Merge these shard CSVs into -o (and --plot) instead of rendering.
+    #[arg(long, num_args = 1.., value_name = "CSV")]
+    pub merge: Vec<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -141,7 +211,7 @@ pub struct RenderArgs {
     /// Light the scene with an equirectangular probe (.exr or .hdr), collapsed into directional lights.
     #[arg(long, value_name = "PROBE")]
     pub env: Option<PathBuf>,
-    /// How the probe becomes lights (with --env or a scene's [env]). Default median-cut.
+    /// How the probe becomes lights (with --env or a scene's [env]). Default lloyd (on the sweep's Pareto front; see `brdfkit sweep`).
     #[arg(long, value_enum)]
     pub sampler: Option<crate::env::prepare::SamplerKind>,
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
@@ -162,6 +232,21 @@ pub struct RenderArgs {
     /// Print the work counters (tiles shaded/skipped, pixels, pixel x light pairs, lights dropped, SH bands used) to stderr.
     #[arg(long)]
     pub stats: bool,
+    /// Render N frames with the camera orbiting the look-at point about world up (+y), one full turn: OUT_0000.png ... and OUT.gif (OUT from -o, default out).
+    #[arg(long, value_name = "N")]
+    pub turntable: Option<usize>,
+    /// With --turntable: keep the camera still and turn the environment (light probe) about +y instead.
+    #[arg(long, requires = "turntable")]
+    pub turntable_env: bool,
+    /// With --turntable: write only frames k with k % N == I (0-based I/N) and no GIF; --assemble makes the GIF after.
+    #[arg(long, value_name = "I/N", requires = "turntable")]
+    pub shard: Option<String>,
+    /// With --turntable: render nothing; build OUT.gif from the existing OUT_0000.png ... frames.
+    #[arg(long, requires = "turntable")]
+    pub assemble: bool,
+    /// With --turntable: GIF frame rate (frames per second; GIF stores delays in 1/100 s).
+    #[arg(long, default_value_t = 25, requires = "turntable")]
+    pub fps: u32,
 }
 
 #[derive(clap::Args, Debug)]
@@ -273,5 +358,6 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Acquire(args) => acquire::run_acquire(args).map(|_| true),
         Command::FitDbrdf(args) => acquire::run_fit(args).map(|_| true),
         Command::Materials => acquire::run_materials().map(|_| true),
+        Command::Sweep(args) => sweep::run(args).map(|_| true),
     }
 }

@@ -8,6 +8,8 @@ use crate::image_io::{self, Format};
 use crate::raster::Cull;
 use crate::render;
 use crate::scene::{Scene, SceneFile, MAX_SIDE};
+use crate::shard::Shard;
+use crate::turntable::{self, Motion};
 use std::path::{Path, PathBuf};
 
 fn check_side(name: &str, v: u32) -> Result<u32> {
@@ -21,6 +23,18 @@ fn check_side(name: &str, v: u32) -> Result<u32> {
 }
 
 pub fn run(a: RenderArgs) -> Result<()> {
+    if let Some(n) = a.turntable {
+        crate::turntable::check_frames(n)?;
+        if let Some(s) = &a.shard {
+            Shard::parse(s)?;
+        }
+        if a.assemble {
+            let out = turntable_output(a.output.clone())?;
+            let gif = crate::turntable::assemble_gif(&out, n, a.fps)?;
+            eprintln!("wrote {} ({n} frames)", gif.display());
+            return Ok(());
+        }
+    }
     let (mut file, base) = match &a.scene {
         Some(p) => (
             SceneFile::load(p)?,
@@ -130,6 +144,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
             if e.cache_hit { " (cached)" } else { "" }
         );
     }
+    if let Some(n) = a.turntable {
+        return run_turntable(&a, &scene, n, a.output.clone().or(file.output.path.clone()));
+    }
     let start = std::time::Instant::now();
     let (img, stats) = if a.reference && a.aov.is_none() {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -165,6 +182,85 @@ pub fn run(a: RenderArgs) -> Result<()> {
             img.height,
             elapsed.as_secs_f64() * 1e3
         );
+    }
+    Ok(())
+}
+
+/// The turntable's output path: `-o` (or the scene's output path), default `out.png`; PNG only.
+fn turntable_output(out: Option<PathBuf>) -> Result<PathBuf> {
+    let out = out.unwrap_or_else(|| PathBuf::from("out.png"));
+    match image_io::format_of(&out)? {
+        Format::Png => Ok(out),
+        Format::Exr => Err(Error::field(
+            "--output",
+            format!(
+                "{}: --turntable writes PNG frames and a GIF; give a .png path",
+                out.display()
+            ),
+        )),
+    }
+}
+
+/// `render --turntable N`: the frames of this shard (all without `--shard`), then the GIF
+/// when every frame was rendered here.
+fn run_turntable(a: &RenderArgs, scene: &Scene, n: usize, out: Option<PathBuf>) -> Result<()> {
+    let out = turntable_output(out)?;
+    let shard = match &a.shard {
+        Some(s) => Shard::parse(s)?,
+        None => Shard::ALL,
+    };
+    let motion = if a.turntable_env {
+        if scene.env.is_none() {
+            return Err(Error::field(
+                "--turntable-env",
+                "needs an environment: give --env PROBE or an [env] table",
+            ));
+        }
+        Motion::Environment
+    } else {
+        Motion::Camera
+    };
+    let env_lights = scene.env.as_ref().map_or(0, |e| e.lights);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(scene.render.threads)
+        .build()
+        .expect("thread pool");
+    let frames: Vec<usize> = (0..n).filter(|&k| shard.contains(k)).collect();
+    let pb = super::spinner("turntable");
+    let start = std::time::Instant::now();
+    for (done, &k) in frames.iter().enumerate() {
+        pb.set_message(format!("turntable frame {} of {} ({done} done)", k, n));
+        let s = turntable::frame_scene(scene, env_lights, motion, k, n);
+        let img = pool.install(|| {
+            if a.reference && a.aov.is_none() {
+                render::render_reference(&s)
+            } else {
+                render::render(&s, a.aov)
+            }
+        });
+        let path = turntable::frame_path(&out, k, n);
+        match a.aov {
+            None => image_io::write_png(&path, &img, s.output.exposure, s.output.tonemap)?,
+            Some(aov) => {
+                image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(&img, aov))?
+            }
+        }
+    }
+    pb.finish_and_clear();
+    eprintln!(
+        "wrote {} frames ({} ... ) in {:.1} s",
+        frames.len(),
+        frames
+            .first()
+            .map(|&k| turntable::frame_path(&out, k, n).display().to_string())
+            .unwrap_or_default(),
+        start.elapsed().as_secs_f64()
+    );
+    if shard.is_all() {
+        let gif = turntable::assemble_gif(&out, n, a.fps)?;
+        eprintln!("wrote {} ({n} frames)", gif.display());
+    } else {
+        eprintln!("shard {shard}: no GIF; after every shard, run the same command with --assemble");
     }
     Ok(())
 }

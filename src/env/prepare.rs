@@ -31,10 +31,15 @@ pub enum SamplerKind {
     Importance,
     /// Algorithm 1 fed stratified (Latin hypercube) numbers.
     Stratified,
-    /// Thesis Algorithm 2 / Debevec 2005, cuts measured in solid angle.
-    #[default]
+    /// Thesis Algorithm 2 / Debevec 2005, cuts measured in solid angle; the `lights` command's default.
     MedianCut,
-    /// Median cut relaxed by weighted spherical k-means (lower error at equal N).
+    /// Median cut relaxed by weighted spherical k-means (lower error at equal N); the default for rendering.
+    //
+    // Why the default (`[env]`, `render --env`): with 128 lights it lies on the
+    // run-time-against-error Pareto front of `brdfkit sweep`, where median cut with 128
+    // lights is dominated (README, "Run time against error"). Its preparation is slower
+    // (hundreds of milliseconds to seconds, once: light sets are cached on disk).
+    #[default]
     Lloyd,
     /// Every texel a light: the converged reference.
     Full,

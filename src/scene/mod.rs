@@ -37,7 +37,7 @@
 //!
 //! [env]                     # optional environment light (thesis 3.2)
 //! file = "probe.exr"        # equirectangular .exr or .hdr, relative to this file
-//! sampler = "median-cut"    # uniform, importance, stratified, median-cut, lloyd, full
+//! sampler = "lloyd"         # uniform, importance, stratified, median-cut, lloyd (default), full
 //! count = 128               # number of lights (not for full)
 //! seed = 1                  # random samplers
 //! rotation = 0.0            # degrees about +y

@@ -1,0 +1,185 @@
+//! `brdfkit sweep`: run time against error over a grid of configurations ([`crate::sweep`]).
+
+use super::SweepArgs;
+use crate::error::{Error, Result};
+use crate::scene::{Precision, SceneFile};
+use crate::sh::dataset::Lookup;
+use crate::shard::Shard;
+use crate::sweep::{self, Grid};
+use std::path::{Path, PathBuf};
+
+fn parse_lookups(v: &[String]) -> Result<Vec<Option<Lookup>>> {
+    v.iter()
+        .map(|s| match sweep::parse_lookup(s.trim()) {
+            Some(Some(l)) => Ok(Some(l)),
+            _ => Err(Error::field(
+                "--lookups",
+                format!("{s:?} is not a lookup (nearest, bilinear)"),
+            )),
+        })
+        .collect()
+}
+
+fn parse_precisions(v: &[String]) -> Result<Vec<Precision>> {
+    v.iter()
+        .map(|s| match s.trim() {
+            "f32" => Ok(Precision::F32),
+            "f64" => Ok(Precision::F64),
+            other => Err(Error::field(
+                "--precisions",
+                format!("{other:?} is not a precision (f32, f64)"),
+            )),
+        })
+        .collect()
+}
+
+/// A progress bar over `n` rows on stderr; hidden when stderr is not a terminal.
+fn progress_bar(n: u64) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let pb = indicatif::ProgressBar::new(n);
+    pb.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} rows  {elapsed_precise} (eta {eta})  {msg}",
+        )
+        .expect("valid template"),
+    );
+    pb
+}
+
+fn plot_title(rows: &[sweep::Row]) -> String {
+    format!(
+        "brdfkit sweep: frame time against error ({} configurations)",
+        rows.len()
+    )
+}
+
+pub fn run(a: SweepArgs) -> Result<()> {
+    let output = a
+        .output
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("sweep.csv"));
+    if !a.merge.is_empty() {
+        let rows = sweep::merge(&a.merge)?;
+        sweep::write_csv(&output, &rows)?;
+        eprintln!(
+            "wrote {} ({} rows from {} files)",
+            output.display(),
+            rows.len(),
+            a.merge.len()
+        );
+        if let Some(p) = &a.plot {
+            sweep::plot::write_plot(p, &rows, &plot_title(&rows))?;
+            eprintln!("wrote {}", p.display());
+        }
+        return Ok(());
+    }
+    let shard = match &a.shard {
+        Some(s) => Shard::parse(s)?,
+        None => Shard::ALL,
+    };
+    let mut grid = Grid::default();
+    if !a.samplers.is_empty() {
+        grid.samplers = a.samplers.clone();
+    }
+    if !a.counts.is_empty() {
+        grid.counts = a.counts.clone();
+    }
+    if !a.orders.is_empty() {
+        grid.orders = a.orders.clone();
+    }
+    if !a.lookups.is_empty() {
+        grid.lookups = parse_lookups(&a.lookups)?;
+    }
+    if !a.precisions.is_empty() {
+        grid.precisions = parse_precisions(&a.precisions)?;
+    }
+    if a.frames == 0 || a.frames > 100 {
+        return Err(Error::field(
+            "--frames",
+            format!("{} is out of range (1 to 100)", a.frames),
+        ));
+    }
+    let (mut file, base) = match &a.scene {
+        Some(p) => (
+            SceneFile::load(p)?,
+            p.parent().map(Path::to_path_buf).unwrap_or_default(),
+        ),
+        None => (sweep::default_scene_file()?, PathBuf::from(".")),
+    };
+    if let Some(w) = a.width {
+        file.render.width = w;
+    }
+    if let Some(h) = a.height {
+        file.render.height = h;
+    }
+    if let Some(t) = a.threads {
+        file.render.threads = t;
+    }
+    let cache = a
+        .cache
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("target").join("brdfkit-cache"));
+    let start = std::time::Instant::now();
+    let spin = std::cell::RefCell::new(None);
+    let sw = sweep::Sweep::prepare(file, &base, grid, &cache, a.frames, |f| {
+        eprintln!(
+            "rendering the reference (full probe, f64; minutes for large probes) into {}",
+            f.display()
+        );
+        *spin.borrow_mut() = Some(super::spinner("reference"));
+    })?;
+    if let Some(s) = spin.borrow_mut().take() {
+        s.finish_and_clear();
+    }
+    if !sw.reference_rendered {
+        eprintln!("reference: {} (cached)", sw.reference_file.display());
+    }
+    let configs = sw.configs(shard);
+    eprintln!(
+        "sweep: {} of {} configurations (shard {shard})",
+        configs.len(),
+        sw.grid.len()
+    );
+    let pb = progress_bar(configs.len() as u64);
+    let mut rows = sw.run(&configs, |r| {
+        pb.set_message(format!(
+            "{} {} o{}",
+            sweep::sampler_name(r.config.sampler),
+            r.config.lights,
+            r.config.order
+        ));
+        pb.inc(1);
+    })?;
+    pb.finish_and_clear();
+    sweep::finish_rows(&mut rows);
+    sweep::write_csv(&output, &rows)?;
+    eprintln!(
+        "wrote {} ({} rows, {:.1} s)",
+        output.display(),
+        rows.len(),
+        start.elapsed().as_secs_f64()
+    );
+    if let Some(r) = rows.iter().find(|r| r.default) {
+        eprintln!(
+            "default configuration: {} ({})",
+            r.csv_line(),
+            if r.pareto {
+                "on the Pareto front"
+            } else {
+                "dominated"
+            }
+        );
+    }
+    if let Some(p) = &a.plot {
+        if shard.is_all() {
+            sweep::plot::write_plot(p, &rows, &plot_title(&rows))?;
+            eprintln!("wrote {}", p.display());
+        } else {
+            eprintln!("--plot: skipped for a shard (plot the merged CSV: --merge ... --plot)");
+        }
+    }
+    Ok(())
+}

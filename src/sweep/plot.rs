@@ -1,0 +1,220 @@
+//! The sweep's plot: frame time against relative RMSE, both log axes, one colour per
+//! sampler (filled dots f32, open circles f64), the Pareto front as a black staircase (the
+//! boundary of the region its points dominate), and the default configuration ringed and
+//! labelled. Drawn with `plotters` into a pixel buffer and written as PNG through
+//! [`crate::image_io::write_png_bytes`] (temporary file, then rename). Text uses the
+//! embedded `assets/fonts/DejaVuSans-ASCII.ttf` (DejaVu Sans subset to ASCII; licence beside
+//! it), so no system font is needed.
+
+use super::{precision_name, sampler_name, Row};
+use crate::env::prepare::SamplerKind;
+use crate::error::{Error, Result};
+use crate::scene::Precision;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// The embedded font (printable ASCII only).
+static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-ASCII.ttf");
+
+/// Plot size in pixels.
+pub const SIZE: (u32, u32) = (1200, 800);
+
+fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT)
+            .map_err(|_| ())
+            .expect("the embedded font parses");
+    });
+}
+
+fn sampler_color(s: SamplerKind) -> RGBColor {
+    match s {
+        SamplerKind::Uniform => RGBColor(220, 170, 0),
+        SamplerKind::Importance => RGBColor(204, 121, 167),
+        SamplerKind::Stratified => RGBColor(0, 158, 115),
+        SamplerKind::MedianCut => RGBColor(213, 94, 0),
+        SamplerKind::Lloyd => RGBColor(0, 90, 200),
+        SamplerKind::Full => RGBColor(120, 120, 120),
+    }
+}
+
+/// Log-axis bounds with a margin: [lo / 1.3, hi * 1.3] of the positive values.
+fn bounds(vals: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = vals
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        (0.1, 10.0)
+    } else {
+        (lo / 1.3, hi * 1.3)
+    }
+}
+
+/// A log-axis tick: at most 3 significant digits, no trailing zeros.
+fn tick(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{v:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+fn plot_err<E: std::fmt::Debug>(path: &Path) -> impl Fn(E) -> Error + '_ {
+    move |e| Error::format(path, format!("cannot draw the plot: {e:?}"))
+}
+
+/// Draws the rows (with their `pareto` and `default` flags set) to a PNG at `path`.
+/// `title` heads the plot. Rows with a non-positive time or error are left out (log axes).
+pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
+    register_font();
+    let (w, h) = SIZE;
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    let ok = |r: &&Row| r.frame_ms > 0.0 && r.rel_rmse > 0.0 && r.rel_rmse.is_finite();
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err(path))?;
+        let (x0, x1) = bounds(rows.iter().filter(ok).map(|r| r.frame_ms));
+        let (y0, y1) = bounds(rows.iter().filter(ok).map(|r| r.rel_rmse));
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 26))
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(80)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(plot_err(path))?;
+        chart
+            .configure_mesh()
+            .x_desc("frame time (ms, median of the row's renders)")
+            .y_desc("relative RMSE against the reference (covered pixels)")
+            .axis_desc_style(("sans-serif", 20))
+            .label_style(("sans-serif", 16))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .light_line_style(RGBColor(235, 235, 235))
+            .bold_line_style(RGBColor(200, 200, 200))
+            .draw()
+            .map_err(plot_err(path))?;
+
+        // One series per sampler present, in the grid's order.
+        let mut samplers: Vec<SamplerKind> = Vec::new();
+        for r in rows {
+            if !samplers.contains(&r.config.sampler) {
+                samplers.push(r.config.sampler);
+            }
+        }
+        for s in samplers {
+            let c = sampler_color(s);
+            let pts = rows.iter().filter(ok).filter(|r| r.config.sampler == s);
+            chart
+                .draw_series(
+                    pts.clone()
+                        .filter(|r| r.config.precision == Precision::F32)
+                        .map(|r| Circle::new((r.frame_ms, r.rel_rmse), 3, c.mix(0.75).filled())),
+                )
+                .map_err(plot_err(path))?
+                .label(sampler_name(s))
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
+            chart
+                .draw_series(
+                    pts.filter(|r| r.config.precision == Precision::F64)
+                        .map(|r| Circle::new((r.frame_ms, r.rel_rmse), 4, c.stroke_width(1))),
+                )
+                .map_err(plot_err(path))?;
+        }
+
+        // The Pareto front as a staircase through its points, fastest first.
+        let mut front: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(ok)
+            .filter(|r| r.pareto)
+            .map(|r| (r.frame_ms, r.rel_rmse))
+            .collect();
+        front.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+        let mut stairs = Vec::new();
+        for (k, &(t, e)) in front.iter().enumerate() {
+            if k > 0 {
+                stairs.push((t, front[k - 1].1));
+            }
+            stairs.push((t, e));
+        }
+        chart
+            .draw_series(LineSeries::new(stairs, BLACK.stroke_width(2)))
+            .map_err(plot_err(path))?
+            .label("Pareto front (time, rel. RMSE)")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
+
+        // The default configuration, ringed and labelled.
+        for r in rows.iter().filter(ok).filter(|r| r.default) {
+            let p = (r.frame_ms, r.rel_rmse);
+            chart
+                .draw_series(std::iter::once(Circle::new(p, 9, BLACK.stroke_width(3))))
+                .map_err(plot_err(path))?;
+            let c = &r.config;
+            let label = format!(
+                "default: {} {} lights, order {}, {}, {}: {:.1} ms, rel. RMSE {:.4}{}",
+                sampler_name(c.sampler),
+                c.lights,
+                c.order,
+                super::lookup_name(c.lookup),
+                precision_name(c.precision),
+                r.frame_ms,
+                r.rel_rmse,
+                if r.pareto {
+                    " (on the front)"
+                } else {
+                    " (dominated)"
+                }
+            );
+            // Left of the ring when the point is in the right half of the (log) x range.
+            let right_half = (r.frame_ms / x0).ln() > 0.5 * (x1 / x0).ln();
+            let dx = if right_half {
+                -14 - (label.len() as i32 * 29) / 4
+            } else {
+                14
+            };
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at(p)
+                        + Text::new(label, (dx, -34), ("sans-serif", 17).into_font()),
+                ))
+                .map_err(plot_err(path))?;
+        }
+
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font(("sans-serif", 17))
+            .background_style(WHITE.mix(0.9))
+            .border_style(RGBColor(150, 150, 150))
+            .draw()
+            .map_err(plot_err(path))?;
+        root.draw(&Text::new(
+            "filled: f32, open: f64; each dot one sampler x count x order x lookup",
+            (90, (h - 22) as i32),
+            ("sans-serif", 14).into_font().color(&RGBColor(90, 90, 90)),
+        ))
+        .map_err(plot_err(path))?;
+        root.present().map_err(plot_err(path))?;
+    }
+    crate::image_io::write_png_bytes(path, w, h, buf)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ticks() {
+        assert_eq!(super::tick(100.0), "100");
+        assert_eq!(super::tick(0.01), "0.01");
+        assert_eq!(super::tick(0.0123456), "0.0123");
+        assert_eq!(super::tick(2000.0), "2000");
+        assert_eq!(super::tick(1.5), "1.5");
+    }
+}

@@ -1,0 +1,222 @@
+//! `brdfkit sweep` and `brdfkit render --turntable` on many machines: shards merge into
+//! exactly what one run writes.
+//!
+//! The sweep's CSV has deterministic columns (index .. default: the configuration, its errors
+//! against the reference, the default flag) and measured ones (prep_ms, frame_ms and the
+//! pareto flag computed from frame_ms). Only the deterministic columns can agree between
+//! two runs, so only they are compared; the measured ones differ run to run by nature.
+//! The scene is tiny (32x24, a 16x8 probe, so the full-probe reference has 128 lights) to
+//! keep the test fast.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn brdfkit(dir: &Path, args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+        .args(args)
+        .current_dir(dir)
+        .env("BRDFKIT_CACHE_DIR", dir.join("env-cache"))
+        .output()
+        .expect("run brdfkit");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{args:?} failed: {stderr}");
+    stderr
+}
+
+/// A small probe: dim sky, a bright warm sun and a blue patch, 16x8 texels.
+fn write_probe(path: &Path) {
+    exr::prelude::write_rgb_file(path, 16, 8, |x, y| {
+        if (x, y) == (5, 2) {
+            (40.0f32, 30.0, 20.0)
+        } else if (x, y) == (12, 3) {
+            (1.0, 2.0, 8.0)
+        } else if y < 4 {
+            (0.4, 0.5, 0.7)
+        } else {
+            (0.1, 0.1, 0.1)
+        }
+    })
+    .unwrap();
+}
+
+fn setup() -> tempfile::TempDir {
+    let d = tempfile::tempdir().unwrap();
+    write_probe(&d.path().join("probe.exr"));
+    std::fs::write(
+        d.path().join("scene.toml"),
+        "[material]\nkind = \"library\"\nname = \"blue-silk\"\n\n[env]\nfile = \"probe.exr\"\ncount = 4\n\n[render]\nwidth = 32\nheight = 24\n",
+    )
+    .unwrap();
+    d
+}
+
+const GRID: [&str; 12] = [
+    "--samplers",
+    "lloyd,importance",
+    "--counts",
+    "1,4,16",
+    "--orders",
+    "2,8",
+    "--lookups",
+    "bilinear",
+    "--frames",
+    "1",
+    "--cache",
+    "ref-cache",
+];
+
+fn deterministic(csv: &Path) -> Vec<String> {
+    std::fs::read_to_string(csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').take(10).collect::<Vec<_>>().join(","))
+        .collect()
+}
+
+#[test]
+fn shards_merge_into_the_single_run() {
+    let d = setup();
+    let dir = d.path();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["sweep", "--scene", "scene.toml"];
+        args.extend_from_slice(&GRID);
+        args.extend_from_slice(extra);
+        brdfkit(dir, &args)
+    };
+    let first = run(&["-o", "all.csv", "--plot", "all.png"]);
+    assert!(first.contains("rendering the reference"), "{first}");
+    assert!(dir.join("all.png").is_file());
+    let all = deterministic(&dir.join("all.csv"));
+    assert_eq!(all.len(), 12);
+    // Exactly one default row: the scene's lloyd (default sampler), 4 lights, 8 bands,
+    // bilinear (the library's lookup), f32.
+    let defaults: Vec<&String> = all.iter().filter(|l| l.ends_with(",1")).collect();
+    assert_eq!(defaults.len(), 1, "{all:?}");
+    assert!(
+        defaults[0].contains(",lloyd,4,8,bilinear,f32,"),
+        "{defaults:?}"
+    );
+
+    for n in [2usize, 3] {
+        let mut parts = Vec::new();
+        for i in 0..n {
+            let name = format!("s{i}of{n}.csv");
+            let shard = format!("{i}/{n}");
+            let err = run(&["--shard", &shard, "-o", &name]);
+            assert!(err.contains("(cached)"), "the reference is reused: {err}");
+            let rows = deterministic(&dir.join(&name));
+            assert!(rows.iter().all(|r| {
+                let k: usize = r.split(',').next().unwrap().parse().unwrap();
+                k % n == i
+            }));
+            parts.push(name);
+        }
+        let mut args = vec!["sweep", "--merge"];
+        args.extend(parts.iter().map(String::as_str));
+        args.extend(["-o", "merged.csv"]);
+        brdfkit(dir, &args);
+        assert_eq!(deterministic(&dir.join("merged.csv")), all, "{n} shards");
+    }
+
+    // Merging is exact on every column: one run's CSV merged alone is itself.
+    brdfkit(dir, &["sweep", "--merge", "all.csv", "-o", "again.csv"]);
+    assert_eq!(
+        std::fs::read_to_string(dir.join("all.csv")).unwrap(),
+        std::fs::read_to_string(dir.join("again.csv")).unwrap()
+    );
+    // Errors fall as the light count grows on the largest order (Lloyd is a deterministic
+    // sampler; 16 lights beat 1 light by far under this probe).
+    let rmse = |l: &str| l.split(',').nth(6).unwrap().parse::<f64>().unwrap();
+    let mc: Vec<&String> = all
+        .iter()
+        .filter(|l| l.contains(",lloyd,") && l.contains(",8,bilinear,"))
+        .collect();
+    assert!(rmse(mc[2]) < rmse(mc[0]), "{mc:?}");
+}
+
+fn turntable(dir: &Path, out: &str, extra: &[&str]) -> String {
+    let mut args = vec![
+        "render",
+        "--env",
+        "probe.exr",
+        "--material",
+        "blue-silk",
+        "--lights",
+        "8",
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--turntable",
+        "5",
+        "-o",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    brdfkit(dir, &args)
+}
+
+fn frames(dir: &Path, stem: &str) -> Vec<PathBuf> {
+    (0..5)
+        .map(|k| dir.join(format!("{stem}_{k:04}.png")))
+        .collect()
+}
+
+fn gif_frames(path: &Path) -> usize {
+    use image::AnimationDecoder;
+    let f = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    image::codecs::gif::GifDecoder::new(f)
+        .unwrap()
+        .into_frames()
+        .count()
+}
+
+#[test]
+fn turntable_shards_are_bit_identical_and_the_gif_has_every_frame() {
+    let d = setup();
+    let dir = d.path();
+    turntable(dir, "spin.png", &[]);
+    let single = frames(dir, "spin");
+    assert_eq!(gif_frames(&dir.join("spin.gif")), 5);
+
+    std::fs::create_dir(dir.join("sh")).unwrap();
+    write_probe(&dir.join("sh/probe.exr"));
+    let sh = dir.join("sh");
+    for s in ["0/2", "1/2"] {
+        let err = turntable(&sh, "spin.png", &["--shard", s]);
+        assert!(err.contains("no GIF"), "{err}");
+    }
+    assert!(!sh.join("spin.gif").exists());
+    for (a, b) in single.iter().zip(frames(&sh, "spin")) {
+        assert_eq!(
+            std::fs::read(a).unwrap(),
+            std::fs::read(&b).unwrap(),
+            "{}",
+            b.display()
+        );
+    }
+    // Frames differ from one another (the camera moves).
+    assert_ne!(
+        std::fs::read(&single[0]).unwrap(),
+        std::fs::read(&single[1]).unwrap()
+    );
+    turntable(&sh, "spin.png", &["--assemble"]);
+    assert_eq!(
+        std::fs::read(dir.join("spin.gif")).unwrap(),
+        std::fs::read(sh.join("spin.gif")).unwrap()
+    );
+
+    // Turning the probe: frame 0 is the unturned scene, later frames differ.
+    turntable(dir, "env.png", &["--turntable-env"]);
+    let env = frames(dir, "env");
+    assert_eq!(
+        std::fs::read(&env[0]).unwrap(),
+        std::fs::read(&single[0]).unwrap()
+    );
+    assert_ne!(
+        std::fs::read(&env[0]).unwrap(),
+        std::fs::read(&env[2]).unwrap()
+    );
+    assert_eq!(gif_frames(&dir.join("env.gif")), 5);
+}
