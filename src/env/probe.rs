@@ -450,6 +450,24 @@ mod tests {
         assert!(top > bottom, "{top} {bottom}");
     }
 
+    #[test]
+    fn sky_loads_with_its_sun_and_high_dynamic_range() {
+        // README: 0.01% negative texels, max / median luminance 1.05e5.
+        let (p, rep) = Probe::load(&assets().join("sky.exr"), &LoadOptions::default()).unwrap();
+        assert_eq!((p.width(), p.height()), (512, 256));
+        assert!(rep.negative_texels > 0);
+        let mut lum: Vec<f64> = p
+            .texels()
+            .iter()
+            .map(|t| crate::env::luminance(*t))
+            .collect();
+        lum.sort_by(f64::total_cmp);
+        let ratio = lum[lum.len() - 1] / lum[lum.len() / 2];
+        assert!(ratio > 5e4, "max / median luminance {ratio}");
+        let (top, bottom) = (p.total_power_rows(0..128), p.total_power_rows(128..256));
+        assert!(top > bottom, "{top} {bottom}");
+    }
+
     impl Probe {
         fn total_power_rows(&self, rows: std::ops::Range<usize>) -> f64 {
             rows.map(|r| {
