@@ -1406,3 +1406,49 @@ fn golden_manifest_names_that_would_escape_the_directory_are_refused() {
     }
     brdfkit::golden::parse_manifest(MANIFEST).unwrap();
 }
+
+#[test]
+fn cli_hostile_merl_files() {
+    // MERL tables reach the binary as `acquire` and `fit-dbrdf` sources.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let good = merl_bytes();
+    let mut files: Vec<(String, Vec<u8>)> = vec![
+        ("empty.binary".into(), vec![]),
+        ("cut.binary".into(), good[..good.len() / 2].to_vec()),
+        ("header.binary".into(), good[..8].to_vec()),
+    ];
+    let mut b = good.to_vec();
+    b[..12].copy_from_slice(b"MERLBRDFDATA");
+    files.push(("magic.binary".into(), b));
+    let mut b = good.to_vec();
+    b[4..8].copy_from_slice(&45i32.to_le_bytes());
+    files.push(("dims.binary".into(), b));
+    let mut h = Vec::new();
+    for v in [i32::MAX; 3] {
+        h.extend_from_slice(&v.to_le_bytes());
+    }
+    files.push(("absurd.binary".into(), h));
+    for (name, v) in [("nan.binary", f64::NAN), ("huge.binary", 1e38)] {
+        let mut b = good.to_vec();
+        b[12 + 8 * 1000..12 + 8 * 1001].copy_from_slice(&v.to_le_bytes());
+        files.push((name.into(), b));
+    }
+    for (name, bytes) in &files {
+        std::fs::write(d.join(name), bytes).unwrap();
+    }
+    let mut names: Vec<String> = files.into_iter().map(|(n, _)| n).collect();
+    for p in special_files(d, &["binary"]) {
+        names.push(p.file_name().unwrap().to_string_lossy().into_owned());
+    }
+    for name in &names {
+        assert_cli_error(
+            d,
+            &[
+                "acquire", name, "--bands", "2", "--grid", "4x2", "-o", "a.exr",
+            ],
+            name,
+        );
+        assert_cli_error(d, &["fit-dbrdf", name, "-o", "f.exr"], name);
+    }
+}
