@@ -1452,3 +1452,28 @@ fn cli_hostile_merl_files() {
         assert_cli_error(d, &["fit-dbrdf", name, "-o", "f.exr"], name);
     }
 }
+
+/// Inputs the fuzz targets found (fuzz/README.md), each named
+/// `<target>-<kind>-<hash prefix>.<ext>` under `tests/fuzz-regressions/`.
+fn fuzz_regression(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fuzz-regressions")
+        .join(name)
+}
+
+#[test]
+fn fuzz_dbrdf_file_oom_tiled_header_with_huge_tiles() {
+    // dbrdf_file, 5-minute run: a 1109-byte tiled EXR whose data window is small but whose
+    // tile description declares 4194304 x 64 pixel tiles; the decoder allocated for a whole
+    // tile (RSS 702 MB). The declared-size check now counts a tile block's pixels too.
+    let g = serial();
+    let p = fuzz_regression("dbrdf_file-oom-0486acdd.exr");
+    expect_err(&g, "fuzz dbrdf_file oom", &p, || read_dbrdf(&p));
+    expect_err(&g, "fuzz dbrdf_file oom as SH", &p, || read_sh_dataset(&p));
+    expect_err(&g, "fuzz dbrdf_file oom as probe", &p, || {
+        Probe::load(&p, &LoadOptions::default())
+    });
+    expect_err(&g, "fuzz dbrdf_file oom as image", &p, || {
+        brdfkit::compare::load(&p)
+    });
+}
