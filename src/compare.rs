@@ -65,7 +65,7 @@ pub const PNG_MAX_EXPANSION: u64 = 1100;
 pub const PNG_ALLOC_SLACK: u64 = 16 << 20;
 
 /// Loads an EXR (R, G, B, optional A) or PNG (any 8/16-bit colour type). Errors name the
-/// file: unreadable, unknown extension, undecodable or truncated, over [`MAX_SIDE`] per
+/// file: not a regular file or over [`crate::image_io::MAX_EXR_FILE_BYTES`], unreadable, unknown extension, undecodable or truncated, over [`MAX_SIDE`] per
 /// side, missing R/G/B (EXR), or a PNG whose declared size needs more memory than
 /// [`PNG_MAX_EXPANSION`] x its length + [`PNG_ALLOC_SLACK`].
 pub fn load(path: &Path) -> Result<Loaded> {
@@ -73,6 +73,9 @@ pub fn load(path: &Path) -> Result<Loaded> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    if matches!(ext.as_deref(), Some("exr" | "png")) {
+        crate::image_io::check_regular_file(path, crate::image_io::MAX_EXR_FILE_BYTES, "image")?;
+    }
     match ext.as_deref() {
         Some("exr") => {
             let meta = exr::meta::MetaData::read_from_file(path, false)

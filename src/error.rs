@@ -48,3 +48,37 @@ impl Error {
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// Why an input file was refused before (or while) reading it
+/// ([`crate::image_io::read_regular_file`], [`crate::image_io::check_regular_file`]).
+/// Shared by every reader, whatever its own error type: each wraps it unchanged, so the
+/// message is the same one line naming the file wherever it comes from.
+#[derive(Debug, thiserror::Error)]
+pub enum FileError {
+    /// The file could not be examined or read.
+    #[error("{path}: cannot read {what}: {source}")]
+    Io {
+        path: PathBuf,
+        what: &'static str,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A directory, device (`/dev/zero`), FIFO or socket: it has no length to check and
+    /// reading it may never end, so it is refused without being opened.
+    #[error("{path}: {what} is not a regular file (a directory, device or FIFO)")]
+    NotRegular { path: PathBuf, what: &'static str },
+    /// Longer than the reader's stated limit.
+    #[error("{path}: {what} is {len} bytes, over the {limit} byte limit")]
+    TooLarge {
+        path: PathBuf,
+        what: &'static str,
+        len: u64,
+        limit: u64,
+    },
+}
+
+impl From<FileError> for Error {
+    fn from(e: FileError) -> Self {
+        Error::Message(e.to_string())
+    }
+}

@@ -252,21 +252,10 @@ pub fn load_manifest(dir: &Path) -> Result<Manifest> {
 }
 
 /// Reads and checks a manifest file. Errors name the file and, for content errors, the
-/// line or the entry and field.
+/// line or the entry and field. Not a regular file, or over [`MAX_MANIFEST_BYTES`]: refused
+/// unread ([`crate::image_io::read_regular_file`]).
 pub fn load_manifest_file(path: &Path) -> Result<Manifest> {
-    let meta =
-        std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read golden manifest", e))?;
-    if meta.len() > MAX_MANIFEST_BYTES {
-        return Err(Error::format(
-            path,
-            format!(
-                "golden manifest is {} bytes, over the {MAX_MANIFEST_BYTES} byte limit",
-                meta.len()
-            ),
-        ));
-    }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::io(path, "cannot read golden manifest", e))?;
+    let text = crate::image_io::read_regular_text(path, MAX_MANIFEST_BYTES, "golden manifest")?;
     parse_manifest(&text).map_err(|m| Error::format(path, m))
 }
 

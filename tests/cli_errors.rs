@@ -10,11 +10,19 @@ struct Run {
 }
 
 fn brdfkit(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+    // Killed after 60 s, so a hang fails the test instead of stalling the run
+    // (`timeout` then exits 137).
+    let out = Command::new("timeout")
+        .args(["-s", "KILL", "60", env!("CARGO_BIN_EXE_brdfkit")])
         .args(args)
         .current_dir(dir)
         .output()
-        .expect("run brdfkit");
+        .expect("run brdfkit under timeout (coreutils)");
+    assert_ne!(
+        out.status.code(),
+        Some(137),
+        "{args:?}: killed after 60 s (hung)"
+    );
     Run {
         code: out.status.code().unwrap_or(-1),
         stderr: String::from_utf8_lossy(&out.stderr).into_owned(),

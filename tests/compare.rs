@@ -4,11 +4,19 @@ use std::path::Path;
 use std::process::Command;
 
 fn run(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+    // Killed after 60 s, so a hang fails the test instead of stalling the run
+    // (`timeout` then exits 137).
+    let out = Command::new("timeout")
+        .args(["-s", "KILL", "60", env!("CARGO_BIN_EXE_brdfkit")])
         .args(args)
         .current_dir(dir)
         .output()
         .unwrap();
+    assert_ne!(
+        out.status.code(),
+        Some(137),
+        "{args:?}: killed after 60 s (hung)"
+    );
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stdout).into_owned(),

@@ -10,7 +10,10 @@
 //! - through the `brdfkit` binary, run under `prlimit --as` ([`CLI_AS_LIMIT`]): an
 //!   allocation beyond it aborts the child, which the exit-code check catches.
 //!
-//! D-BRDF files are not covered here: their file format is being added on another branch.
+//! Special files (directories, `/dev/zero`, FIFOs) are refused by every reader before it
+//! opens them ([`special_files_are_refused_by_every_reader`]); a hang is a failure, never a
+//! stuck run: library calls run on a thread with a deadline ([`no_hang`]) and the binary
+//! under `timeout -s KILL` ([`CLI_TIMEOUT_S`]).
 
 use brdfkit::brdf::merl::{MerlBrdf, MERL_FILE_SIZE};
 use brdfkit::brdf::Lambert;
@@ -785,8 +788,14 @@ struct Run {
     stderr: String,
 }
 
+/// Seconds a `brdfkit` child may run before it is killed (a hang on a FIFO or a device is
+/// then a failing test, not a stuck CI job). Every case here takes well under a second.
+const CLI_TIMEOUT_S: u32 = 60;
+
 fn brdfkit_limited(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new("prlimit")
+    let out = Command::new("timeout")
+        .args(["-s", "KILL", &CLI_TIMEOUT_S.to_string()])
+        .arg("prlimit")
         .arg(format!("--as={}", as_bytes()))
         .arg("--")
         .arg(env!("CARGO_BIN_EXE_brdfkit"))
@@ -795,7 +804,13 @@ fn brdfkit_limited(dir: &Path, args: &[&str]) -> Run {
         .env("BRDFKIT_CACHE_DIR", dir.join(".cache-dir-unused"))
         .env("RAYON_NUM_THREADS", "2")
         .output()
-        .expect("run prlimit (util-linux)");
+        .expect("run timeout (coreutils) and prlimit (util-linux)");
+    // `timeout` exits 128 + 9 when it had to kill the child.
+    assert_ne!(
+        out.status.code(),
+        Some(137),
+        "{args:?}: killed after {CLI_TIMEOUT_S} s (hung)"
+    );
     Run {
         code: out.status.code(),
         stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
@@ -984,4 +999,481 @@ fn probe_exr_scanlines() -> Vec<u8> {
     );
     Image::from_layer(layer).write().to_file(&p).unwrap();
     std::fs::read(p).unwrap()
+}
+
+// ---------------------------------------------------------------------------------------
+// D-BRDF tables, huge finite values, special files
+
+use brdfkit::acquire::dbrdf_file::{read_dbrdf, write_dbrdf};
+
+/// The bytes of a small valid D-BRDF file (8 x 4 table).
+fn dbrdf_bytes() -> Vec<u8> {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("d.exr");
+    let mut d =
+        brdfkit::brdf::DBrdf::from_fn(8, 4, Vec3::new(0.1, 0.5, 0.9), |h| h.z.powi(8) + 0.1);
+    d.c = 0.3;
+    write_dbrdf(&p, &d, "hostile test").unwrap();
+    std::fs::read(p).unwrap()
+}
+
+/// Rewrites the EXR `bytes` (all parts, all attributes) after `edit` on its first part.
+fn edit_exr(
+    bytes: &[u8],
+    edit: impl FnOnce(&mut exr::prelude::Layer<exr::prelude::AnyChannels<exr::prelude::FlatSamples>>),
+) -> Vec<u8> {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let src = write(dir.path(), "src.exr", bytes);
+    let mut img = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(&src)
+        .unwrap();
+    edit(&mut img.layer_data[0]);
+    let p = dir.path().join("out.exr");
+    img.write().to_file(&p).unwrap();
+    std::fs::read(p).unwrap()
+}
+
+fn set_sample(bytes: &[u8], channel: usize, at: usize, v: f32) -> Vec<u8> {
+    edit_exr(bytes, |l| {
+        if let exr::prelude::FlatSamples::F32(s) = &mut l.channel_data.list[channel].sample_data {
+            s[at] = v;
+        }
+    })
+}
+
+#[test]
+fn dbrdf_hostile_files() {
+    let g = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let good = dbrdf_bytes();
+    let p = write(d, "good.exr", &good);
+    read_dbrdf(&p).unwrap();
+    let p = write(d, "empty.exr", b"");
+    expect_err(&g, "D-BRDF empty", &p, || read_dbrdf(&p));
+    for cut in cuts(good.len()) {
+        let p = write(d, "cut.exr", &good[..cut]);
+        expect_err(&g, &format!("D-BRDF cut at {cut}"), &p, || read_dbrdf(&p));
+    }
+    let mut magic = good.clone();
+    magic[..4].copy_from_slice(b"PNG\0");
+    let p = write(d, "magic.exr", &magic);
+    expect_err(&g, "D-BRDF magic", &p, || read_dbrdf(&p));
+    // the right magic, another brdfkit format: an SH data set
+    let p = write(d, "sh.exr", &sh_file_bytes());
+    let m = expect_err(&g, "D-BRDF given an SH file", &p, || read_dbrdf(&p));
+    assert!(m.contains("not a brdfkit D-BRDF file"), "{m}");
+    // wrong dimensions: the data window disagrees with the chunks present
+    let mut dims = good.clone();
+    patch_exr_size(&mut dims, 8, 64);
+    let p = write(d, "dims.exr", &dims);
+    expect_err(&g, "D-BRDF dims", &p, || read_dbrdf(&p));
+    // Absurd declared sizes. Regression: the reader decoded (and so allocated) every
+    // declared pixel before comparing it with the file length: 64 MiB for 4096 x 4096 from
+    // a ~1 KB file. The width-only patches keep the chunk count consistent, so only the
+    // declared-size check stands between them and the allocation.
+    for (w, h) in [(4096, 4096), (1_000_000, 1_000_000), (i32::MAX, 4)] {
+        let mut b = good.clone();
+        patch_exr_size(&mut b, w, h);
+        let p = write(d, "absurd.exr", &b);
+        expect_err(&g, &format!("D-BRDF claims {w}x{h}"), &p, || read_dbrdf(&p));
+    }
+    for w in [1 << 22, 1 << 26] {
+        let mut b = good.clone();
+        let at = find(&b, b"dataWindow\0box2i\0") + 21;
+        b[at + 8..at + 12].copy_from_slice(&(w - 1i32).to_le_bytes());
+        let p = write(d, "wide.exr", &b);
+        expect_err(&g, &format!("D-BRDF claims {w}x4"), &p, || read_dbrdf(&p));
+    }
+    // NaN, negative, infinite and huge finite table values
+    for (bad, expect) in [
+        (f32::NAN, "non-finite"),
+        (-1.0, "negative"),
+        (f32::INFINITY, "non-finite"),
+        (1e38, "exceeds the limit"),
+        (5e10, "exceeds the limit"),
+    ] {
+        let p = write(d, "bad.exr", &set_sample(&good, 0, 5, bad));
+        let m = expect_err(&g, &format!("D-BRDF p = {bad}"), &p, || read_dbrdf(&p));
+        assert!(m.contains(expect) && m.contains("(5, 0)"), "{m}");
+    }
+    // c = 1e38 with ordinary table values: c p overflows just the same
+    let huge_c = edit_exr(&good, |l| {
+        let key = exr::prelude::Text::from("brdfkit.c");
+        l.attributes
+            .other
+            .insert(key, exr::meta::attribute::AttributeValue::F32(1e38));
+    });
+    let p = write(d, "huge-c.exr", &huge_c);
+    let m = expect_err(&g, "D-BRDF c = 1e38", &p, || read_dbrdf(&p));
+    assert!(m.contains("c * p") && m.contains("1e38"), "{m}");
+    // the largest accepted value shades to a finite image (no Inf in shading)
+    let near = set_sample(&good, 0, 5, 3e10);
+    let p = write(d, "near.exr", &near);
+    read_dbrdf(&p).unwrap();
+    let s = format!(
+        "{}",
+        SCENE.replace(
+            "kind = \"lambert\"\nalbedo = [0.5, 0.5, 0.5]",
+            "kind = \"dbrdf-file\"\npath = \"near.exr\""
+        )
+    );
+    let f = SceneFile::parse(&s).unwrap();
+    let scene = Scene::resolve(&f, d).unwrap();
+    let img = brdfkit::render::render(&scene, None);
+    assert!(img.pixels.iter().all(|p| p.is_finite()));
+}
+
+#[test]
+fn sh_dataset_huge_finite_coefficients_are_refused() {
+    let g = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let good = sh_file_bytes();
+    for bad in [1e38f32, -1e38, 2e10] {
+        let p = write(dir.path(), "huge.exr", &set_sample(&good, 3, 7, bad));
+        let m = expect_err(&g, &format!("SH coefficient {bad}"), &p, || {
+            read_sh_dataset(&p)
+        });
+        assert!(
+            m.contains("exceeds the limit") && m.contains("channel"),
+            "{m}"
+        );
+    }
+}
+
+#[test]
+fn merl_huge_finite_samples_are_refused() {
+    let g = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let mut b = merl_bytes().to_vec();
+    b[12 + 8 * 77..12 + 8 * 78].copy_from_slice(&1e38f64.to_le_bytes());
+    let p = write(dir.path(), "huge.binary", &b);
+    let m = expect_err(&g, "MERL 1e38", &p, || MerlBrdf::read(&p));
+    assert!(m.contains("sample 77"), "{m}");
+}
+
+/// Runs `f` on its own thread and fails the test if it has not returned within 60 s: a
+/// reader blocked on a FIFO is then a failure, not a stuck run.
+fn no_hang<T: Send + 'static>(what: &str, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(60))
+        .unwrap_or_else(|_| panic!("{what}: still reading after 60 s"))
+}
+
+/// In `dir`, for each extension: `zero.EXT` (a symlink to `/dev/zero`), `fifo.EXT` (a
+/// FIFO nobody writes to) and `dir.EXT` (a directory).
+fn special_files(dir: &Path, exts: &[&str]) -> Vec<PathBuf> {
+    let mut v = Vec::new();
+    for ext in exts {
+        let zero = dir.join(format!("zero.{ext}"));
+        std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+        let fifo = dir.join(format!("fifo.{ext}"));
+        let ok = Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(ok.success(), "mkfifo {}", fifo.display());
+        let d = dir.join(format!("dir.{ext}"));
+        std::fs::create_dir(&d).unwrap();
+        v.extend([zero, fifo, d]);
+    }
+    v
+}
+
+type Reader = fn(&Path) -> Result<(), String>;
+
+fn ok<T, E: std::fmt::Display>(r: Result<T, E>) -> Result<(), String> {
+    r.map(|_| ()).map_err(|e| e.to_string())
+}
+
+#[test]
+fn special_files_are_refused_by_every_reader() {
+    // Regression: a scene path naming /dev/zero read until it had allocated ~8 GiB, and a
+    // FIFO blocked forever; the same held for the light-set, manifest, SH, D-BRDF and MERL
+    // readers. Each now refuses anything but a regular file, unopened.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let readers: Vec<(&str, &str, Reader)> = vec![
+        ("scene", "toml", |p| ok(SceneFile::load(p))),
+        ("OBJ", "obj", |p| ok(brdfkit::mesh::obj::load_obj(p))),
+        ("probe", "exr", |p| {
+            ok(Probe::load(p, &LoadOptions::default()))
+        }),
+        ("probe", "hdr", |p| {
+            ok(Probe::load(p, &LoadOptions::default()))
+        }),
+        ("SH data set", "exr", |p| ok(read_sh_dataset(p))),
+        ("D-BRDF", "exr", |p| ok(read_dbrdf(p))),
+        ("MERL", "binary", |p| ok(MerlBrdf::read(p))),
+        ("light set", "json", |p| ok(read_json(p))),
+        ("light set", "csv", |p| ok(read_csv(p))),
+        ("manifest", "toml", |p| {
+            ok(brdfkit::golden::load_manifest_file(p))
+        }),
+        ("image", "exr", |p| ok(brdfkit::compare::load(p))),
+        ("image", "png", |p| ok(brdfkit::compare::load(p))),
+        ("image", "exr", |p| ok(brdfkit::image_io::read_exr(p))),
+    ];
+    special_files(
+        d,
+        &["toml", "obj", "exr", "hdr", "binary", "json", "csv", "png"],
+    );
+    for (what, ext, read) in readers {
+        for kind in ["zero", "fifo", "dir"] {
+            let p = d.join(format!("{kind}.{ext}"));
+            let case = format!("{what} from {}", p.display());
+            let q = p.clone();
+            let r = no_hang(&case, move || read(&q));
+            let msg = r.err().unwrap_or_else(|| panic!("{case}: accepted"));
+            check_message(&case, &p, &msg);
+            assert!(msg.contains("not a regular file"), "{case}: {msg}");
+        }
+    }
+}
+
+#[test]
+fn oversized_text_inputs_are_refused_by_length() {
+    // Sparse files: the length alone must refuse them, so nothing is read.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let big = |name: &str, len: u64| {
+        let p = d.join(name);
+        std::fs::File::create(&p).unwrap().set_len(len).unwrap();
+        p
+    };
+    let p = big("big.toml", brdfkit::scene::MAX_SCENE_BYTES + 1);
+    let m = SceneFile::load(&p).unwrap_err().to_string();
+    assert!(m.contains("big.toml") && m.contains("limit"), "{m}");
+    let p = big("manifest.toml", brdfkit::golden::MAX_MANIFEST_BYTES + 1);
+    let m = brdfkit::golden::load_manifest(d).unwrap_err().to_string();
+    assert!(m.contains("manifest.toml") && m.contains("limit"), "{m}");
+    drop(p);
+    let lim = brdfkit::env::lightset_io::MAX_LIGHTSET_BYTES + 1;
+    for name in ["big.json", "big.csv"] {
+        let p = big(name, lim);
+        let m = if name.ends_with("json") {
+            ok(read_json(&p))
+        } else {
+            ok(read_csv(&p))
+        }
+        .unwrap_err();
+        assert!(m.contains(name) && m.contains("limit"), "{m}");
+    }
+}
+
+#[test]
+fn cli_special_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (exr, _) = images();
+    std::fs::write(d.join("ok.exr"), &exr).unwrap();
+    std::fs::write(d.join("s.toml"), SCENE).unwrap();
+    special_files(d, &["toml", "obj", "exr", "hdr"]);
+    for kind in ["zero", "fifo", "dir"] {
+        let toml = format!("{kind}.toml");
+        let exr_name = format!("{kind}.exr");
+        assert_cli_error(d, &["render", &toml, "-o", "o.png"], &toml);
+        let obj = format!("{kind}.obj");
+        assert_cli_error(d, &["render", "--mesh", &obj, "-o", "o.png"], &obj);
+        assert_cli_error(d, &["render", "--env", &exr_name, "-o", "o.png"], &exr_name);
+        let hdr = format!("{kind}.hdr");
+        assert_cli_error(d, &["lights", &hdr, "-n", "4", "-o", "l.json"], &hdr);
+        assert_cli_error(
+            d,
+            &["render", "--material", &exr_name, "-o", "o.png"],
+            &exr_name,
+        );
+        assert_cli_error(d, &["compare", &exr_name, "ok.exr"], &exr_name);
+        // material files named by a scene
+        for (mkind, extra) in [("sh-file", ""), ("dbrdf-file", "")] {
+            let scene = SCENE.replace(
+                "kind = \"lambert\"\nalbedo = [0.5, 0.5, 0.5]",
+                &format!("kind = \"{mkind}\"\npath = \"{exr_name}\"{extra}"),
+            );
+            std::fs::write(d.join("m.toml"), scene).unwrap();
+            assert_cli_error(d, &["render", "m.toml", "-o", "o.png"], &exr_name);
+            std::fs::remove_file(d.join("m.toml")).unwrap();
+        }
+    }
+    // golden check with its manifest a FIFO, /dev/zero or a directory
+    for kind in ["zero", "fifo", "dir"] {
+        let g = d.join(format!("golden-{kind}"));
+        std::fs::create_dir(&g).unwrap();
+        let m = g.join("manifest.toml");
+        match kind {
+            "zero" => std::os::unix::fs::symlink("/dev/zero", &m).unwrap(),
+            "fifo" => assert!(Command::new("mkfifo").arg(&m).status().unwrap().success()),
+            _ => std::fs::create_dir(&m).unwrap(),
+        }
+        let gd = format!("golden-{kind}");
+        assert_cli_error(d, &["golden", "check", "--dir", &gd], "manifest.toml");
+    }
+}
+
+#[test]
+fn cli_dbrdf_and_sh_hostile_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let good = dbrdf_bytes();
+    let sh = sh_file_bytes();
+    let mut files: Vec<(String, Vec<u8>)> = vec![
+        ("d-empty.exr".into(), vec![]),
+        ("d-cut.exr".into(), good[..good.len() / 2].to_vec()),
+        ("d-nan.exr".into(), set_sample(&good, 0, 5, f32::NAN)),
+        ("d-huge.exr".into(), set_sample(&good, 0, 5, 1e38)),
+        ("s-huge.exr".into(), set_sample(&sh, 3, 7, 1e38)),
+        ("s-nan.exr".into(), set_sample(&sh, 3, 7, f32::NAN)),
+    ];
+    let mut b = good.clone();
+    patch_exr_size(&mut b, 4096, 4096);
+    files.push(("d-absurd.exr".into(), b));
+    let mut b = good.clone();
+    let at = find(&b, b"dataWindow\0box2i\0") + 21;
+    b[at + 8..at + 12].copy_from_slice(&((1i32 << 26) - 1).to_le_bytes());
+    files.push(("d-wide.exr".into(), b));
+    for (name, bytes) in &files {
+        std::fs::write(d.join(name), bytes).unwrap();
+        let mkind = if name.starts_with("d-") {
+            "dbrdf-file"
+        } else {
+            "sh-file"
+        };
+        let scene = SCENE.replace(
+            "kind = \"lambert\"\nalbedo = [0.5, 0.5, 0.5]",
+            &format!("kind = \"{mkind}\"\npath = \"{name}\""),
+        );
+        std::fs::write(d.join("m.toml"), scene).unwrap();
+        assert_cli_error(d, &["render", "m.toml", "-o", "o.png"], name);
+        std::fs::remove_file(d.join("m.toml")).unwrap();
+        assert_cli_error(d, &["render", "--material", name, "-o", "o.exr"], name);
+    }
+}
+
+#[test]
+fn cli_light_set_cache_entry_that_is_a_fifo_is_ignored() {
+    // Light-set files reach the binary only as cache entries: one replaced by a FIFO must
+    // be passed over (and rewritten), not block the render.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("p.exr"), probe_exr(0.5)).unwrap();
+    let scene = format!("{SCENE}[env]\nfile = \"p.exr\"\ncount = 4\n").replace(
+        "[[light]]\nkind = \"point\"\nposition = [1.0, 2.0, 3.0]\nintensity = 2.0\n",
+        "",
+    );
+    std::fs::write(d.join("e.toml"), scene).unwrap();
+    let cache = d.join(".cache-dir-unused");
+    let r = brdfkit_limited(d, &["render", "e.toml", "-o", "a.png"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    let entries = list(&cache);
+    assert_eq!(entries.len(), 1, "{entries:?}");
+    std::fs::remove_file(&entries[0]).unwrap();
+    assert!(Command::new("mkfifo")
+        .arg(&entries[0])
+        .status()
+        .unwrap()
+        .success());
+    let r = brdfkit_limited(d, &["render", "e.toml", "-o", "b.png"]);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
+    assert_eq!(
+        std::fs::read(d.join("a.png")).unwrap(),
+        std::fs::read(d.join("b.png")).unwrap()
+    );
+}
+
+#[test]
+fn golden_manifest_names_that_would_escape_the_directory_are_refused() {
+    // `name` becomes file names (NAME.exr, reports under target/): anything but a plain
+    // stem is refused with the field named, before any file is touched.
+    for bad in [
+        "../x",
+        "..",
+        "a/b",
+        "",
+        "/etc/passwd",
+        "a\\\\b",
+        ".hidden",
+        "A",
+    ] {
+        let text = MANIFEST.replace("name = \"a\"", &format!("name = \"{bad}\""));
+        let e = brdfkit::golden::parse_manifest(&text).unwrap_err();
+        assert!(e.contains(".name") && !e.contains('\n'), "{bad:?}: {e}");
+    }
+    brdfkit::golden::parse_manifest(MANIFEST).unwrap();
+}
+
+#[test]
+fn cli_hostile_merl_files() {
+    // MERL tables reach the binary as `acquire` and `fit-dbrdf` sources.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let good = merl_bytes();
+    let mut files: Vec<(String, Vec<u8>)> = vec![
+        ("empty.binary".into(), vec![]),
+        ("cut.binary".into(), good[..good.len() / 2].to_vec()),
+        ("header.binary".into(), good[..8].to_vec()),
+    ];
+    let mut b = good.to_vec();
+    b[..12].copy_from_slice(b"MERLBRDFDATA");
+    files.push(("magic.binary".into(), b));
+    let mut b = good.to_vec();
+    b[4..8].copy_from_slice(&45i32.to_le_bytes());
+    files.push(("dims.binary".into(), b));
+    let mut h = Vec::new();
+    for v in [i32::MAX; 3] {
+        h.extend_from_slice(&v.to_le_bytes());
+    }
+    files.push(("absurd.binary".into(), h));
+    for (name, v) in [("nan.binary", f64::NAN), ("huge.binary", 1e38)] {
+        let mut b = good.to_vec();
+        b[12 + 8 * 1000..12 + 8 * 1001].copy_from_slice(&v.to_le_bytes());
+        files.push((name.into(), b));
+    }
+    for (name, bytes) in &files {
+        std::fs::write(d.join(name), bytes).unwrap();
+    }
+    let mut names: Vec<String> = files.into_iter().map(|(n, _)| n).collect();
+    for p in special_files(d, &["binary"]) {
+        names.push(p.file_name().unwrap().to_string_lossy().into_owned());
+    }
+    for name in &names {
+        assert_cli_error(
+            d,
+            &[
+                "acquire", name, "--bands", "2", "--grid", "4x2", "-o", "a.exr",
+            ],
+            name,
+        );
+        assert_cli_error(d, &["fit-dbrdf", name, "-o", "f.exr"], name);
+    }
+}
+
+/// Inputs the fuzz targets found (fuzz/README.md), each named
+/// `<target>-<kind>-<hash prefix>.<ext>` under `tests/fuzz-regressions/`.
+fn fuzz_regression(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fuzz-regressions")
+        .join(name)
+}
+
+#[test]
+fn fuzz_dbrdf_file_oom_tiled_header_with_huge_tiles() {
+    // dbrdf_file, 5-minute run: a 1109-byte tiled EXR whose data window is small but whose
+    // tile description declares 4194304 x 64 pixel tiles; the decoder allocated for a whole
+    // tile (RSS 702 MB). The declared-size check now counts a tile block's pixels too.
+    let g = serial();
+    let p = fuzz_regression("dbrdf_file-oom-0486acdd.exr");
+    expect_err(&g, "fuzz dbrdf_file oom", &p, || read_dbrdf(&p));
+    expect_err(&g, "fuzz dbrdf_file oom as SH", &p, || read_sh_dataset(&p));
+    expect_err(&g, "fuzz dbrdf_file oom as probe", &p, || {
+        Probe::load(&p, &LoadOptions::default())
+    });
+    expect_err(&g, "fuzz dbrdf_file oom as image", &p, || {
+        brdfkit::compare::load(&p)
+    });
 }

@@ -67,6 +67,22 @@ pub enum DbrdfFileError {
     Channel { path: PathBuf },
     #[error("{path}: channel `p` is negative or non-finite at texel ({i}, {j})")]
     Value { path: PathBuf, i: usize, j: usize },
+    /// `c p` over [`crate::brdf::MAX_BRDF_VALUE`] at a texel (a finite value that would
+    /// overflow in shading).
+    #[error(
+        "{path}: channel `p` at texel ({i}, {j}): c * p = {c:e} * {p:e} exceeds the limit {max:e} 1/sr",
+        max = crate::brdf::MAX_BRDF_VALUE
+    )]
+    TooLarge {
+        path: PathBuf,
+        i: usize,
+        j: usize,
+        c: f32,
+        p: f32,
+    },
+    /// Not a regular file, or over [`crate::image_io::MAX_EXR_FILE_BYTES`].
+    #[error(transparent)]
+    File(#[from] crate::error::FileError),
 }
 
 fn text(s: &str) -> Text {
@@ -135,7 +151,25 @@ pub fn write_dbrdf(path: &Path, d: &DBrdf, provenance: &str) -> Result<(), Dbrdf
 
 /// Reads a file written by [`write_dbrdf`]; returns the D-BRDF and its provenance. Fails
 /// with a [`DbrdfFileError`] naming the file and the problem; never returns partial data.
+///
+/// Limits: a regular file of at most [`crate::image_io::MAX_EXR_FILE_BYTES`]; declared
+/// pixels within [`crate::image_io::check_exr_declared_size`] of the file's length (checked
+/// before any pixel is allocated); every `c p` at most [`crate::brdf::MAX_BRDF_VALUE`].
 pub fn read_dbrdf(path: &Path) -> Result<(DBrdf, String), DbrdfFileError> {
+    // A device or FIFO is refused unopened; then the headers alone are read and the pixels
+    // they declare checked against the file's length, before the decoder allocates them.
+    let file_len = crate::image_io::check_regular_file(
+        path,
+        crate::image_io::MAX_EXR_FILE_BYTES,
+        "D-BRDF file",
+    )?;
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| exr_err(path, e))?;
+    crate::image_io::check_exr_declared_size(&meta.headers, file_len).map_err(|message| {
+        DbrdfFileError::Exr {
+            path: path.to_owned(),
+            message,
+        }
+    })?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
@@ -207,6 +241,18 @@ pub fn read_dbrdf(path: &Path) -> Result<(DBrdf, String), DbrdfFileError> {
             path: p(),
             i: k % nu,
             j: k / nu,
+        });
+    }
+    if let Some(k) = values
+        .iter()
+        .position(|v| c * v > crate::brdf::MAX_BRDF_VALUE)
+    {
+        return Err(DbrdfFileError::TooLarge {
+            path: p(),
+            i: k % nu,
+            j: k / nu,
+            c,
+            p: values[k],
         });
     }
     let mut d = DBrdf::new(nu, nv, values, rs);

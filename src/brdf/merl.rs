@@ -44,6 +44,9 @@ pub const MERL_SCALE: [f64; 3] = [1.0 / 1500.0, 1.15 / 1500.0, 1.66 / 1500.0];
 /// Errors reading or writing MERL files; each names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum MerlError {
+    /// Not a regular file ([`crate::image_io::check_regular_file`]).
+    #[error(transparent)]
+    File(#[from] crate::error::FileError),
     #[error("{path}: I/O error: {source}")]
     Io {
         path: PathBuf,
@@ -62,7 +65,7 @@ pub enum MerlError {
         got: usize,
         expected: usize,
     },
-    #[error("{path}: channel {channel} sample {index} is {value}: samples must be finite")]
+    #[error("{path}: channel {channel} sample {index} is {value}: samples must be finite and scale to at most {max} 1/sr", max = crate::brdf::MAX_BRDF_VALUE)]
     NonFinite {
         path: PathBuf,
         channel: char,
@@ -174,7 +177,13 @@ impl MerlBrdf {
             .chunks_exact(8)
             .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
             .collect();
-        if let Some(k) = data.iter().position(|v| !v.is_finite()) {
+        // Scaled samples over MAX_BRDF_VALUE are refused as if infinite (see that constant).
+        let max = crate::brdf::MAX_BRDF_VALUE as f64;
+        let too_big = |k: usize, v: f64| {
+            let s = (v * MERL_SCALE[k / MERL_SAMPLES]).abs();
+            s.is_nan() || s > max
+        };
+        if let Some(k) = (0..data.len()).find(|&k| too_big(k, data[k])) {
             return Err(MerlError::NonFinite {
                 path: path.to_owned(),
                 channel: ['R', 'G', 'B'][k / MERL_SAMPLES],
@@ -190,7 +199,8 @@ impl MerlBrdf {
 
     /// Reads a `.binary` file (errors name the file and say what size was expected).
     ///
-    /// Fails as [`MerlBrdf::from_bytes`], or with [`MerlError::Io`]. A file whose length
+    /// Fails as [`MerlBrdf::from_bytes`], with [`MerlError::File`] for a directory, device or
+    /// FIFO, or with [`MerlError::Io`]. A file whose length
     /// is not [`MERL_FILE_SIZE`] is not read beyond its 12-byte header.
     pub fn read(path: &Path) -> Result<Self, MerlError> {
         use std::io::Read;
@@ -198,6 +208,8 @@ impl MerlBrdf {
             path: path.to_owned(),
             source,
         };
+        // A device or FIFO is refused before it is opened (opening a FIFO blocks).
+        crate::image_io::check_regular_file(path, u64::MAX, "MERL file")?;
         let mut file = std::fs::File::open(path).map_err(io)?;
         let len = file.metadata().map_err(io)?.len();
         let mut bytes = Vec::new();
@@ -438,6 +450,12 @@ mod tests {
         assert!(matches!(e, MerlError::Size { .. }), "{e}");
         std::fs::remove_file(&p).unwrap();
         let e = MerlBrdf::read(&tmp("absent.binary")).unwrap_err();
-        assert!(matches!(e, MerlError::Io { .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                MerlError::Io { .. } | MerlError::File(crate::error::FileError::Io { .. })
+            ),
+            "{e}"
+        );
     }
 }

@@ -17,6 +17,18 @@ pub mod phong;
 #[cfg(test)]
 mod tests_analytic;
 
+/// Largest magnitude (1/sr) a value read from a tabulated BRDF file may have: a D-BRDF's
+/// `c p(h)`, an SH coefficient, a MERL sample. Files with larger finite values (`1e38`
+/// fits in an f32) are refused at load, naming the field: such a value is no measurement
+/// (the sharpest measured specular peaks are ~1e4 1/sr), and in shading it overflows to
+/// Inf once multiplied by a light's power.
+///
+/// Why 1e10: the shaded sum is at most `MAX_BRDF_VALUE` x (SH: `L^2 max|Y| <= 100 x 1.23`
+/// for 10 bands; D-BRDF: Schlick `F <= 1`, `cos/D <= 1`) x the number of lights
+/// (<= 65536) x the largest light power, so light powers up to ~1e21 stay finite in f32
+/// (max 3.4e38), six orders of magnitude of headroom on either side.
+pub const MAX_BRDF_VALUE: f32 = 1e10;
+
 pub use ashikhmin_shirley::AshikhminShirley;
 pub use blinn_phong::BlinnPhong;
 pub use dbrdf::DBrdf;

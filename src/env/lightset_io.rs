@@ -50,9 +50,19 @@ impl LightSetHeader {
     }
 }
 
+/// Largest light-set file read (JSON or CSV), in bytes: 64 MiB. The largest sets brdfkit
+/// writes are full-probe cache entries: a 512x256 probe's 131072 lights are 15 MB of
+/// pretty-printed JSON (~115 bytes per light), so this admits a 1024x512 probe's (60 MB)
+/// while bounding what a hostile file can make the reader allocate. A cache entry over it
+/// is ignored and the set recomputed.
+pub const MAX_LIGHTSET_BYTES: u64 = 64 << 20;
+
 /// Why reading or writing a light set failed; every message names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum LightSetIoError {
+    /// Not a regular file, too large, or unreadable ([`crate::image_io::read_regular_file`]).
+    #[error(transparent)]
+    File(#[from] crate::error::FileError),
     #[error("{path}: {source}")]
     Io {
         path: PathBuf,
@@ -126,10 +136,11 @@ pub fn write_json(
     write_atomic(path, &bytes).map_err(io_err(path))
 }
 
-/// Reads a JSON light set. Fails on I/O, malformed JSON (message has line and column),
+/// Reads a JSON light set. Fails on I/O, a file that is not regular or is over
+/// [`MAX_LIGHTSET_BYTES`], malformed JSON (message has line and column),
 /// a wrong format tag or version, or invalid lights ([`validate`]).
 pub fn read_json(path: &Path) -> Result<(LightSetHeader, LightSet), LightSetIoError> {
-    let bytes = std::fs::read(path).map_err(io_err(path))?;
+    let bytes = crate::image_io::read_regular_file(path, MAX_LIGHTSET_BYTES, "light set")?;
     let file: JsonFile = serde_json::from_slice(&bytes).map_err(|e| LightSetIoError::Json {
         path: path.to_path_buf(),
         message: e.to_string(),
@@ -176,11 +187,12 @@ pub fn write_csv(path: &Path, lights: &LightSet) -> Result<(), LightSetIoError> 
     write_atomic(path, s.as_bytes()).map_err(io_err(path))
 }
 
-/// Reads a CSV light set. Fails on I/O, a wrong header line, a line without exactly six
+/// Reads a CSV light set. Fails on I/O, a file that is not regular or is over
+/// [`MAX_LIGHTSET_BYTES`], a wrong header line, a line without exactly six
 /// fields, an unparsable number (naming line and field), or invalid lights ([`validate`]).
 /// Blank lines are skipped.
 pub fn read_csv(path: &Path) -> Result<LightSet, LightSetIoError> {
-    let text = std::fs::read_to_string(path).map_err(io_err(path))?;
+    let text = crate::image_io::read_regular_text(path, MAX_LIGHTSET_BYTES, "light set")?;
     let names: Vec<&str> = CSV_HEADER.split(',').collect();
     let mut lines = text.lines().enumerate();
     let csv_err = |line: usize, field: &str, message: String| LightSetIoError::Csv {

@@ -200,36 +200,9 @@ pub fn file_cache_key(bytes: &[u8], opts: &LoadOptions, config: &SamplerConfig) 
 pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<Prepared> {
     spec.check()?;
     let path = base.join(&spec.file);
-    let meta =
-        std::fs::metadata(&path).map_err(|e| Error::io(&path, "cannot read light probe", e))?;
-    if !meta.is_file() {
-        // A device or FIFO (e.g. `/dev/zero`) has no length to check and may never end.
-        return Err(Error::format(&path, "light probe is not a regular file"));
-    }
-    if meta.len() > MAX_PROBE_FILE_BYTES {
-        return Err(Error::format(
-            &path,
-            format!(
-                "light probe file is {} bytes, over the {MAX_PROBE_FILE_BYTES} byte limit",
-                meta.len()
-            ),
-        ));
-    }
-    // Read at most one byte past the limit: a device file (metadata length 0, e.g.
-    // `/dev/zero`) must not be read without end.
-    let mut bytes = Vec::new();
-    {
-        use std::io::Read;
-        std::fs::File::open(&path)
-            .and_then(|f| f.take(MAX_PROBE_FILE_BYTES + 1).read_to_end(&mut bytes))
-            .map_err(|e| Error::io(&path, "cannot read light probe", e))?;
-    }
-    if bytes.len() as u64 > MAX_PROBE_FILE_BYTES {
-        return Err(Error::format(
-            &path,
-            format!("light probe file is over the {MAX_PROBE_FILE_BYTES} byte limit"),
-        ));
-    }
+    // Not a regular file (a device such as /dev/zero, a FIFO) or over the limit: refused
+    // before it is read.
+    let bytes = crate::image_io::read_regular_file(&path, MAX_PROBE_FILE_BYTES, "light probe")?;
     let opts = spec.load_options();
     let config = spec.sampler_config();
     let key = file_cache_key(&bytes, &opts, &config);

@@ -35,6 +35,9 @@ pub enum ProbeError {
         #[source]
         source: std::io::Error,
     },
+    /// Not a regular file, or over [`super::prepare::MAX_PROBE_FILE_BYTES`].
+    #[error(transparent)]
+    File(#[from] crate::error::FileError),
     /// The extension is neither `.exr` nor `.hdr`.
     #[error("{path}: unsupported light probe format (expected .exr or .hdr)")]
     UnsupportedFormat { path: PathBuf },
@@ -120,7 +123,8 @@ impl Probe {
     /// Loads an OpenEXR (`.exr`, first layer with R, G and B channels, any sample type,
     /// alpha ignored) or Radiance (`.hdr`) file. The extension picks the decoder.
     ///
-    /// Fails with [`ProbeError`]: unreadable file, unknown extension, decoder error (also a
+    /// Fails with [`ProbeError`]: unreadable file, not a regular file (a device or FIFO
+    /// is refused unopened) or over [`super::prepare::MAX_PROBE_FILE_BYTES`], unknown extension, decoder error (also a
     /// header declaring more texels than the file's length can hold, see
     /// [`HDR_TEXELS_PER_BYTE`] and [`crate::image_io::check_exr_declared_size`]), empty or oversized image, non-finite texels (unless zeroed
     /// by option).
@@ -129,6 +133,13 @@ impl Probe {
             .extension()
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase());
+        if matches!(ext.as_deref(), Some("exr" | "hdr")) {
+            crate::image_io::check_regular_file(
+                path,
+                super::prepare::MAX_PROBE_FILE_BYTES,
+                "light probe",
+            )?;
+        }
         let (w, h, texels) = match ext.as_deref() {
             Some("exr") => read_exr(path, opts)?,
             Some("hdr") => read_hdr(path, opts)?,
@@ -446,6 +457,24 @@ mod tests {
             .iter()
             .all(|t| t.iter().all(|c| c.is_finite() && *c >= 0.0)));
         // Sky above is brighter than ground below.
+        let (top, bottom) = (p.total_power_rows(0..128), p.total_power_rows(128..256));
+        assert!(top > bottom, "{top} {bottom}");
+    }
+
+    #[test]
+    fn sky_loads_with_its_sun_and_high_dynamic_range() {
+        // README: 0.01% negative texels, max / median luminance 1.05e5.
+        let (p, rep) = Probe::load(&assets().join("sky.exr"), &LoadOptions::default()).unwrap();
+        assert_eq!((p.width(), p.height()), (512, 256));
+        assert!(rep.negative_texels > 0);
+        let mut lum: Vec<f64> = p
+            .texels()
+            .iter()
+            .map(|t| crate::env::luminance(*t))
+            .collect();
+        lum.sort_by(f64::total_cmp);
+        let ratio = lum[lum.len() - 1] / lum[lum.len() / 2];
+        assert!(ratio > 5e4, "max / median luminance {ratio}");
         let (top, bottom) = (p.total_power_rows(0..128), p.total_power_rows(128..256));
         assert!(top > bottom, "{top} {bottom}");
     }

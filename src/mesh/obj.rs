@@ -18,21 +18,8 @@ pub const MAX_OBJ_BYTES: u64 = 1 << 30;
 /// empty files, files that are not regular files (devices), files over [`MAX_OBJ_BYTES`], face indices out of range and non-finite
 /// coordinates. `mtllib` statements are ignored (no other file is opened).
 pub fn load_obj(path: &Path) -> Result<Mesh> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read OBJ file", e))?;
-    if !meta.is_file() {
-        // A device or FIFO (e.g. `/dev/zero`) has no length to check and may never end.
-        return Err(Error::format(path, "OBJ file is not a regular file"));
-    }
-    if meta.len() > MAX_OBJ_BYTES {
-        return Err(Error::format(
-            path,
-            format!(
-                "OBJ file is {} bytes, more than the {} byte limit",
-                meta.len(),
-                MAX_OBJ_BYTES
-            ),
-        ));
-    }
+    // A device or FIFO (e.g. `/dev/zero`) has no length to check and may never end.
+    crate::image_io::check_regular_file(path, MAX_OBJ_BYTES, "OBJ file")?;
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,

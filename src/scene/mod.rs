@@ -187,12 +187,14 @@ impl MaterialSpec {
             {
                 Ok(MaterialSpec::ShFile { path, lookup: None })
             }
-            Err(DbrdfFileError::Io { .. }) if !path.exists() => Err(Error::field(
+            Err(DbrdfFileError::Io { .. } | DbrdfFileError::File(_)) if !path.exists() => {
+                Err(Error::field(
                 "--material",
                 format!(
                     "{value:?} is neither a library material (see `brdfkit materials`) nor an existing file"
                 ),
-            )),
+            ))
+            }
             Err(e) => Err(Error::field("--material", e.to_string())),
         }
     }
@@ -345,22 +347,10 @@ pub struct EnvSummary {
 
 impl SceneFile {
     /// Reads and parses a scene file. Errors name the file, and for content errors the
-    /// field, line and column.
+    /// field, line and column. Files that are not regular files (directories, devices,
+    /// FIFOs) or over [`MAX_SCENE_BYTES`] are refused before they are read.
     pub fn load(path: &Path) -> Result<SceneFile> {
-        let meta =
-            std::fs::metadata(path).map_err(|e| Error::io(path, "cannot read scene file", e))?;
-        if meta.len() > MAX_SCENE_BYTES {
-            return Err(Error::format(
-                path,
-                format!(
-                    "scene file is {} bytes, over the {} byte limit",
-                    meta.len(),
-                    MAX_SCENE_BYTES
-                ),
-            ));
-        }
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::io(path, "cannot read scene file", e))?;
+        let text = crate::image_io::read_regular_text(path, MAX_SCENE_BYTES, "scene file")?;
         SceneFile::parse(&text).map_err(|m| Error::format(path, m))
     }
 

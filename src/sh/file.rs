@@ -69,6 +69,10 @@ const COLOURS: [&str; 3] = ["R", "G", "B"];
 /// What went wrong with an SH data-set file.
 #[derive(Debug, thiserror::Error)]
 pub enum ShFileError {
+    /// Not a regular file (a device or FIFO is refused unopened), or over
+    /// [`crate::image_io::MAX_EXR_FILE_BYTES`].
+    #[error(transparent)]
+    File(#[from] crate::error::FileError),
     #[error("{path}: I/O error: {source}")]
     Io {
         path: PathBuf,
@@ -137,6 +141,20 @@ pub enum ShFileError {
         channel: String,
         i: usize,
         j: usize,
+    },
+    /// A finite value over [`crate::brdf::MAX_BRDF_VALUE`] in magnitude (it would overflow
+    /// to Inf in shading).
+    #[error(
+        "{path}: part `{layer}`: channel `{channel}` value {value:e} at texel ({i}, {j}) exceeds the limit +-{max:e}",
+        max = crate::brdf::MAX_BRDF_VALUE
+    )]
+    TooLarge {
+        path: PathBuf,
+        layer: &'static str,
+        channel: String,
+        i: usize,
+        j: usize,
+        value: f32,
     },
     #[error("{path}: inconsistent data: {source}")]
     Data {
@@ -406,6 +424,16 @@ impl<'a> Part<'a> {
                         j: p / self.width,
                     });
                 }
+                if let Some(p) = v.iter().position(|x| x.abs() > crate::brdf::MAX_BRDF_VALUE) {
+                    return Err(ShFileError::TooLarge {
+                        path: self.path.to_owned(),
+                        layer: self.layer,
+                        channel: name,
+                        i: p % self.width,
+                        j: p / self.width,
+                        value: v[p],
+                    });
+                }
                 Ok(v)
             }
             Some(_) => Err(ShFileError::ChannelType {
@@ -419,19 +447,19 @@ impl<'a> Part<'a> {
 
 /// Reads a data set written by [`write_sh_dataset`] (with its basis table if the file has
 /// one). Fails with a [`ShFileError`] naming the file and the problem (see the module doc),
+/// among them [`ShFileError::File`] for a directory, device, FIFO or oversized file,
 /// among them [`ShFileError::Exr`] for a header declaring more pixels than the file's
 /// length can hold ([`crate::image_io::check_exr_declared_size`]); never returns partial
 /// data.
 pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
     // Headers first: the declared pixels are checked against the file length before the
     // decoder allocates them.
+    let file_len = crate::image_io::check_regular_file(
+        path,
+        crate::image_io::MAX_EXR_FILE_BYTES,
+        "SH data set",
+    )?;
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| exr_err(path, e))?;
-    let file_len = std::fs::metadata(path)
-        .map_err(|source| ShFileError::Io {
-            path: path.to_owned(),
-            source,
-        })?
-        .len();
     crate::image_io::check_exr_declared_size(&meta.headers, file_len).map_err(|message| {
         ShFileError::Exr {
             path: path.to_owned(),
@@ -765,7 +793,10 @@ mod tests {
         }
         let e = read_sh_dataset(&dir.join("absent.exr")).unwrap_err();
         assert!(
-            matches!(e, ShFileError::Io { .. } | ShFileError::Exr { .. }),
+            matches!(
+                e,
+                ShFileError::Io { .. } | ShFileError::Exr { .. } | ShFileError::File(_)
+            ),
             "{e}"
         );
         // no temporary file is left behind after a successful write
