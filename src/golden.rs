@@ -293,6 +293,18 @@ pub fn parse_manifest(text: &str) -> std::result::Result<Manifest, String> {
         if e.scene.is_empty() {
             return Err(format!("{}: must name a scene file", at("scene")));
         }
+        // The golden set is self-contained: a scene lies in the manifest's directory or below
+        // it, so checking never reads (and a report never names) a file outside the set.
+        let inside = Path::new(&e.scene)
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir));
+        if !inside {
+            return Err(format!(
+                "{}: '{}' must be a relative path inside the golden directory (no '..', no root)",
+                at("scene"),
+                e.scene
+            ));
+        }
         if tolerance_named(&e.tolerance).is_none() {
             let known: Vec<&str> = TOLERANCES.iter().map(|(n, _)| *n).collect();
             return Err(format!(

@@ -1404,6 +1404,13 @@ fn golden_manifest_names_that_would_escape_the_directory_are_refused() {
         let e = brdfkit::golden::parse_manifest(&text).unwrap_err();
         assert!(e.contains(".name") && !e.contains('\n'), "{bad:?}: {e}");
     }
+    // `scene` is read from the golden directory: it may not leave it either.
+    for bad in ["../a.toml", "/etc/passwd", "sub/../../a.toml"] {
+        let text = MANIFEST.replace("scene = \"a.toml\"", &format!("scene = \"{bad}\""));
+        let e = brdfkit::golden::parse_manifest(&text).unwrap_err();
+        assert!(e.contains(".scene") && !e.contains('\n'), "{bad:?}: {e}");
+    }
+    brdfkit::golden::parse_manifest(&MANIFEST.replace("a.toml", "scenes/a.toml")).unwrap();
     brdfkit::golden::parse_manifest(MANIFEST).unwrap();
 }
 
