@@ -20,7 +20,9 @@
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
 use crate::image_io::Image;
-use crate::kernel::{self, lanes::LANES, sh::ShRecurrence, skip, Cone, DirLights};
+use crate::kernel::lanes::{Dispatch, Isa, Kernel, LANES};
+use crate::kernel::models::LaneModel;
+use crate::kernel::{self, sh::ShRecurrence, skip, Cone, DirLights};
 use crate::light::Light;
 use crate::mesh::Mesh;
 use crate::raster::{VisBuffer, NO_TRIANGLE};
@@ -146,6 +148,15 @@ pub struct FramePrep<'a> {
     pub dropped: skip::LightDrop,
     /// Bands stored in the SH data set and bands shaded (0, 0 for other materials).
     pub sh_bands: (usize, usize),
+    /// The material's lane form ([`LaneModel::of`]), used when it is not an SH data set.
+    pub model: LaneModel<'a>,
+    /// Whether point lights go through the kernel with the directional ones (all but SH
+    /// data sets with a basis table; see [`FramePrep::shade_surface`]).
+    pub points_in_kernel: bool,
+    /// The instruction set of the kernels, detected once per frame
+    /// ([`Dispatch::detect`]); the same for every tile and thread, so the image does not
+    /// depend on the thread count. Tests set [`Dispatch::portable`] to compare the paths.
+    pub dispatch: Dispatch,
 }
 
 impl<'a> FramePrep<'a> {
@@ -193,6 +204,9 @@ impl<'a> FramePrep<'a> {
                 .copied()
                 .filter(|l| matches!(l, Light::Point { .. }))
                 .collect(),
+            points_in_kernel: brdf.as_sh().is_none_or(|ds| ds.basis_table().is_none()),
+            model: LaneModel::of(brdf),
+            dispatch: Dispatch::detect(),
             sh,
             eye: scene.camera.position,
             cull_lights: true,
@@ -207,55 +221,58 @@ impl<'a> FramePrep<'a> {
     }
 
     /// Radiance of one surface point lit by the chunks `chunks` of the directional lights
-    /// and by every point light.
-    pub fn shade_surface(
+    /// and by every point light, on the instruction set `s` (called from the tile loop,
+    /// which [`FramePrep::dispatch`] runs once per tile).
+    ///
+    /// The lights above the horizon go into `scratch` (local direction, weight `E cos`)
+    /// and from there through the SH kernel or the material's lane model. Point lights join
+    /// the list too, except for SH data sets with a basis table (their point lights keep
+    /// the table lookup of [`Brdf::eval`], as a GPU build does).
+    #[inline(always)]
+    pub fn shade_surface<S: Isa>(
         &self,
-        s: &Surface,
+        s: S,
+        surf: &Surface,
         chunks: &[u32],
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::sh::Scratch,
     ) -> Vec3 {
-        let frame = ShadingFrame::from_normal(s.normal);
-        let wo = local_view(&frame, s, self.eye);
+        let frame = ShadingFrame::from_normal(surf.normal);
+        let wo = local_view(&frame, surf, self.eye);
+        scratch.clear();
+        let includes_cosine = self.brdf.includes_cosine();
+        kernel::sh::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
+        let points_in_kernel = self.points_in_kernel;
+        if points_in_kernel {
+            for light in &self.points {
+                let (l, e) = light.at(surf.position);
+                let wi = frame.to_local(l);
+                if wi.z > 0.0 {
+                    scratch.push(wi, if includes_cosine { e } else { e * wi.z });
+                }
+            }
+        }
         let mut sum = match &self.sh {
             Some((ds, rec)) => {
-                coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
-                let (p, a) = local_angles(wo);
-                let (ts, tt) = hemi_texcoord(p, a);
-                ds.lookup_coeffs(ts, tt, ds.coeff_lookup, coeff_buf);
-                kernel::sh::shade_pixel(
-                    rec,
-                    coeff_buf,
-                    ds.cosine_included(),
-                    &frame,
-                    &self.dir,
-                    chunks,
-                    scratch,
-                )
-            }
-            None => {
-                let mut sum = Vec3::ZERO;
-                for &c in chunks {
-                    for i in c as usize * LANES..(c as usize + 1) * LANES {
-                        let e = Vec3::new(self.dir.er[i], self.dir.eg[i], self.dir.eb[i]);
-                        if e == Vec3::ZERO {
-                            continue; // padding (or a black light): contributes exactly 0
-                        }
-                        let l = Vec3::new(self.dir.dx[i], self.dir.dy[i], self.dir.dz[i]);
-                        let wi = frame.to_local(l);
-                        if wi.z > 0.0 {
-                            sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
-                        }
-                    }
+                if scratch.n == 0 {
+                    Vec3::ZERO
+                } else {
+                    coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
+                    let (p, a) = local_angles(wo);
+                    let (ts, tt) = hemi_texcoord(p, a);
+                    ds.lookup_coeffs(ts, tt, ds.coeff_lookup, coeff_buf);
+                    kernel::sh::sh_sum(s, rec, coeff_buf, scratch)
                 }
-                sum
             }
+            None => self.model.sum(s, wo, scratch),
         };
-        for light in &self.points {
-            let (l, e) = light.at(s.position);
-            let wi = frame.to_local(l);
-            if wi.z > 0.0 {
-                sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
+        if !points_in_kernel {
+            for light in &self.points {
+                let (l, e) = light.at(surf.position);
+                let wi = frame.to_local(l);
+                if wi.z > 0.0 {
+                    sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
+                }
             }
         }
         sum
@@ -303,45 +320,32 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
 pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (Image, ShadeCounts) {
     let per_tile = (vis.tile_size * vis.tile_size) as usize;
     let mut tiles = vec![Vec3::ZERO; vis.visible.len()];
+    let room = prep.dir.len() + prep.points.len();
     let counts: Vec<ShadeCounts> = tiles
         .par_chunks_mut(per_tile)
         .enumerate()
-        .map(|(t, out)| {
-            if !vis.tile_occupied[t] {
-                return ShadeCounts {
-                    tiles_skipped: 1,
-                    ..ShadeCounts::default()
-                };
-            }
-            let surfaces: Vec<(usize, Surface)> = (0..per_tile)
-                .filter_map(|i| {
-                    let (x, y) = vis.pixel(t * per_tile + i)?;
-                    surface_at(&scene.mesh, vis, x, y).map(|s| (i, s))
+        .map_init(
+            || (Vec::new(), kernel::sh::Scratch::default(), Vec::new()),
+            |(buf, scratch, surfaces), (t, out)| {
+                if !vis.tile_occupied[t] {
+                    return ShadeCounts {
+                        tiles_skipped: 1,
+                        ..ShadeCounts::default()
+                    };
+                }
+                scratch.reserve(room);
+                prep.dispatch.run(ShadeTile {
+                    prep,
+                    scene,
+                    vis,
+                    t,
+                    out,
+                    buf,
+                    scratch,
+                    surfaces,
                 })
-                .collect();
-            let cone = if prep.cull_lights {
-                Cone::around(surfaces.iter().map(|(_, s)| s.normal))
-            } else {
-                None
-            };
-            let chunks = prep.dir.chunks_for(cone);
-            let mut buf = Vec::new();
-            let mut scratch = kernel::sh::Scratch::default();
-            for (i, s) in &surfaces {
-                out[*i] = prep.shade_surface(s, &chunks, &mut buf, &mut scratch);
-            }
-            let lights = chunks
-                .iter()
-                .map(|&c| prep.chunk_live[c as usize] as u64)
-                .sum::<u64>()
-                + prep.points.len() as u64;
-            ShadeCounts {
-                tiles_shaded: 1,
-                tiles_skipped: 0,
-                pixels_shaded: surfaces.len() as u64,
-                light_pairs: surfaces.len() as u64 * lights,
-            }
-        })
+            },
+        )
         .collect();
     let mut img = Image::new(vis.width, vis.height);
     for t in 0..vis.tile_occupied.len() {
@@ -353,6 +357,60 @@ pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (I
         .into_iter()
         .fold(ShadeCounts::default(), |a, b| a + b);
     (img, total)
+}
+
+/// One occupied tile, as a [`Kernel`] so the whole tile loop is compiled for the
+/// instruction set dispatched once per frame. Buffers are the worker's, reused.
+struct ShadeTile<'p, 'a, 'o> {
+    prep: &'p FramePrep<'a>,
+    scene: &'p Scene,
+    vis: &'p VisBuffer,
+    t: usize,
+    out: &'o mut [Vec3],
+    buf: &'o mut Vec<f32>,
+    scratch: &'o mut kernel::sh::Scratch,
+    surfaces: &'o mut Vec<(usize, Surface)>,
+}
+
+impl Kernel for ShadeTile<'_, '_, '_> {
+    type Out = ShadeCounts;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> ShadeCounts {
+        let ShadeTile {
+            prep,
+            scene,
+            vis,
+            t,
+            out,
+            buf,
+            scratch,
+            surfaces,
+        } = self;
+        surfaces.clear();
+        surfaces.extend(tile_pixels(vis, t).filter_map(|(i, x, y)| {
+            surface_at_index(&scene.mesh, vis, t * out.len() + i, x, y).map(|s| (i, s))
+        }));
+        let cone = if prep.cull_lights {
+            Cone::around(surfaces.iter().map(|(_, s)| s.normal))
+        } else {
+            None
+        };
+        let chunks = prep.dir.chunks_for(cone);
+        for (i, surf) in surfaces.iter() {
+            out[*i] = prep.shade_surface(s, surf, &chunks, buf, scratch);
+        }
+        let lights = chunks
+            .iter()
+            .map(|&c| prep.chunk_live[c as usize] as u64)
+            .sum::<u64>()
+            + prep.points.len() as u64;
+        ShadeCounts {
+            tiles_shaded: 1,
+            tiles_skipped: 0,
+            pixels_shaded: surfaces.len() as u64,
+            light_pairs: surfaces.len() as u64 * lights,
+        }
+    }
 }
 
 /// The reference render: every light, no culling, the BRDF through [`Brdf::eval_f64`],
