@@ -113,11 +113,12 @@ pub fn local_view(frame: &ShadingFrame, surface: &Surface, eye: Vec3) -> Vec3 {
 
 /// Reflected radiance at one surface point: `sum_k f(l_k, v) cos E_k` (thesis Def. 10).
 #[inline]
-pub fn shade_point(brdf: &dyn Brdf, scene: &Scene, surface: &Surface, eye: Vec3) -> Vec3 {
+/// `lights` is the frame's light set (the scene's, less any dropped as negligible).
+pub fn shade_point(brdf: &dyn Brdf, lights: &[Light], surface: &Surface, eye: Vec3) -> Vec3 {
     let frame = ShadingFrame::from_normal(surface.normal);
     let wo = local_view(&frame, surface, eye);
     let mut sum = Vec3::ZERO;
-    for light in &scene.lights {
+    for light in lights {
         let (l, e) = light.at(surface.position);
         let wi = frame.to_local(l);
         if wi.z > 0.0 {
@@ -477,16 +478,26 @@ pub fn shade_reference_f64(scene: &Scene, vis: &VisBuffer) -> Image {
 }
 
 /// The scalar oracle: [`shade_point`] at every visible pixel, no kernel, no culling.
+///
+/// It shades what the fast path shades: the light set and SH bands that [`FramePrep::new`]
+/// kept (dropping negligible lights and bands is a decision about the scene, bounded in
+/// [`crate::kernel::skip`], not about the kernel), so the two differ only by the kernel's
+/// arithmetic. [`shade_reference_f64`] is the other reference: every light, every band, f64.
 pub fn shade_reference(scene: &Scene, vis: &VisBuffer) -> Image {
     let mut img = Image::new(vis.width, vis.height);
-    let brdf = scene.material.as_ref();
+    let prep = FramePrep::new(scene);
+    let brdf: &dyn Brdf = match &prep.sh {
+        Some((ds, _)) => ds.as_ref(),
+        None => scene.material.as_ref(),
+    };
+    let lights = &prep.dropped.kept;
     img.pixels
         .par_chunks_mut(vis.width as usize)
         .enumerate()
         .for_each(|(y, row)| {
             for (x, out) in row.iter_mut().enumerate() {
                 if let Some(s) = surface_at(&scene.mesh, vis, x as u32, y as u32) {
-                    *out = shade_point(brdf, scene, &s, scene.camera.position);
+                    *out = shade_point(brdf, lights, &s, scene.camera.position);
                 }
             }
         });
