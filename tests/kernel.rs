@@ -197,9 +197,7 @@ fn kernels_match_scalar_oracle_on_golden_light_sets() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("golden");
     for name in ["fig3-8-lloyd-studio", "fig3-6-uniform-city"] {
         let text = std::fs::read_to_string(dir.join(format!("{name}.toml"))).unwrap();
-        let mut f = SceneFile::parse(&text).unwrap();
-        // The oracle shades every light: compare without dropping negligible ones.
-        f.render.drop_lights = 0.0;
+        let f = SceneFile::parse(&text).unwrap();
         let s = Scene::resolve(&f, &dir).unwrap();
         let vis = render::rasterize(&s, false);
         let oracle = shade::shade_reference(&s, &vis);
