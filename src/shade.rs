@@ -319,41 +319,42 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
 
 /// [`shade_with`], also returning the work done ([`ShadeCounts`]).
 pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (Image, ShadeCounts) {
-    let per_tile = (vis.tile_size * vis.tile_size) as usize;
-    let mut tiles = vec![Vec3::ZERO; vis.visible.len()];
+    let mut img = Image::new(vis.width, vis.height);
+    let band_len = (vis.width * vis.tile_size) as usize;
     let room = prep.dir.len() + prep.points.len();
-    let counts: Vec<ShadeCounts> = tiles
-        .par_chunks_mut(per_tile)
+    // Parallel over bands of one tile row (contiguous in the image, so tiles write their
+    // pixels in place); each worker keeps its buffers across the tiles it shades.
+    let counts: Vec<ShadeCounts> = img
+        .pixels
+        .par_chunks_mut(band_len)
         .enumerate()
         .map_init(
             || (Vec::new(), kernel::sh::Scratch::default(), Vec::new()),
-            |(buf, scratch, surfaces), (t, out)| {
-                if !vis.tile_occupied[t] {
-                    return ShadeCounts {
-                        tiles_skipped: 1,
-                        ..ShadeCounts::default()
-                    };
+            |(buf, scratch, surfaces), (ty, band)| {
+                let mut counts = ShadeCounts::default();
+                for tx in 0..vis.tiles_x as usize {
+                    let t = ty * vis.tiles_x as usize + tx;
+                    if !vis.tile_occupied[t] {
+                        counts.tiles_skipped += 1;
+                        continue;
+                    }
+                    scratch.reserve(room);
+                    counts = counts
+                        + prep.dispatch.run(ShadeTile {
+                            prep,
+                            scene,
+                            vis,
+                            t,
+                            band,
+                            buf,
+                            scratch,
+                            surfaces,
+                        });
                 }
-                scratch.reserve(room);
-                prep.dispatch.run(ShadeTile {
-                    prep,
-                    scene,
-                    vis,
-                    t,
-                    out,
-                    buf,
-                    scratch,
-                    surfaces,
-                })
+                counts
             },
         )
         .collect();
-    let mut img = Image::new(vis.width, vis.height);
-    for t in 0..vis.tile_occupied.len() {
-        for (i, x, y) in tile_pixels(vis, t) {
-            img.pixels[(y * vis.width + x) as usize] = tiles[t * per_tile + i];
-        }
-    }
     let total = counts
         .into_iter()
         .fold(ShadeCounts::default(), |a, b| a + b);
@@ -361,13 +362,14 @@ pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (I
 }
 
 /// One occupied tile, as a [`Kernel`] so the whole tile loop is compiled for the
-/// instruction set dispatched once per frame. Buffers are the worker's, reused.
+/// instruction set dispatched once per frame. `band` is the image rows of the tile's row
+/// of tiles; buffers are the worker's, reused.
 struct ShadeTile<'p, 'a, 'o> {
     prep: &'p FramePrep<'a>,
     scene: &'p Scene,
     vis: &'p VisBuffer,
     t: usize,
-    out: &'o mut [Vec3],
+    band: &'o mut [Vec3],
     buf: &'o mut Vec<f32>,
     scratch: &'o mut kernel::sh::Scratch,
     surfaces: &'o mut Vec<(usize, Surface)>,
@@ -382,14 +384,17 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             scene,
             vis,
             t,
-            out,
+            band,
             buf,
             scratch,
             surfaces,
         } = self;
+        let per_tile = (vis.tile_size * vis.tile_size) as usize;
+        let y0 = (t as u32 / vis.tiles_x) * vis.tile_size;
         surfaces.clear();
         surfaces.extend(tile_pixels(vis, t).filter_map(|(i, x, y)| {
-            surface_at_index(&scene.mesh, vis, t * out.len() + i, x, y).map(|s| (i, s))
+            let at = ((y - y0) * vis.width + x) as usize;
+            surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y).map(|s| (at, s))
         }));
         let cone = if prep.cull_lights {
             Cone::around(surfaces.iter().map(|(_, s)| s.normal))
@@ -397,8 +402,8 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             None
         };
         let chunks = prep.dir.chunks_for(cone);
-        for (i, surf) in surfaces.iter() {
-            out[*i] = prep.shade_surface(s, surf, &chunks, buf, scratch);
+        for (at, surf) in surfaces.iter() {
+            band[*at] = prep.shade_surface(s, surf, &chunks, buf, scratch);
         }
         let lights = chunks
             .iter()

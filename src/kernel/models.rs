@@ -74,7 +74,13 @@ impl<'a> LaneModel<'a> {
                     // powf per lane: the exact scalar function, no approximation.
                     let mut p = [0.0f32; LANES];
                     nh.store(&mut p);
-                    let p = s.load(&p.map(|v| v.powf(exponent)));
+                    // Padding lanes (weight 0) are not evaluated.
+                    let live = (sc.n - o).min(LANES);
+                    for v in &mut p[..live] {
+                        *v = v.powf(exponent);
+                    }
+                    p[live..].fill(0.0);
+                    let p = s.load(&p);
                     let (wr, wg, wb) = (
                         s.load(&sc.wr[o..]),
                         s.load(&sc.wg[o..]),
