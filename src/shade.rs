@@ -261,7 +261,7 @@ impl<'a> FramePrep<'a> {
                     coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
                     let (p, a) = local_angles(wo);
                     let (ts, tt) = hemi_texcoord(p, a);
-                    ds.lookup_coeffs(ts, tt, ds.coeff_lookup, coeff_buf);
+                    kernel::sh::lookup_coeffs(s, ds, ts, tt, coeff_buf);
                     kernel::sh::sh_sum(s, rec, coeff_buf, scratch)
                 }
             }

@@ -13,7 +13,8 @@
 
 use super::lanes::{F32x8, Isa, LANES};
 use super::DirLights;
-use crate::conventions::ShadingFrame;
+use crate::conventions::{hemi_bilinear_texels, hemi_nearest_texel, ShadingFrame};
+use crate::sh::dataset::{Lookup, ShDataset};
 use glam::Vec3;
 
 /// Recurrence constants for `bands` bands, computed exactly as
@@ -317,4 +318,41 @@ pub fn shade_pixel<S: Isa>(
     scratch.clear();
     gather_dir(s, frame, includes_cosine, lights, chunks, scratch);
     sh_sum(s, rec, c, scratch)
+}
+
+/// [`ShDataset::lookup_coeffs`] on lanes: the view coefficients at texture coordinates
+/// `(u, v)` into `out` (`3 bands^2` long), the bilinear blend of four texel blocks eight
+/// coefficients at a time (with FMA where the instruction set has it: within rounding of
+/// the scalar blend).
+#[inline(always)]
+pub fn lookup_coeffs<S: Isa>(s: S, ds: &ShDataset, u: f32, v: f32, out: &mut [f32]) {
+    let (nu, nv) = ds.grid();
+    match ds.coeff_lookup {
+        Lookup::Nearest => {
+            let (i, j) = hemi_nearest_texel(u, v, nu, nv);
+            out.copy_from_slice(ds.texel_rgb(i, j));
+        }
+        Lookup::Bilinear => {
+            let [(i0, j0, w0), (i1, j1, w1), (i2, j2, w2), (i3, j3, w3)] =
+                hemi_bilinear_texels(u, v, nu, nv);
+            let (b0, b1, b2, b3) = (
+                ds.texel_rgb(i0, j0),
+                ds.texel_rgb(i1, j1),
+                ds.texel_rgb(i2, j2),
+                ds.texel_rgb(i3, j3),
+            );
+            let n = out.len();
+            let full = n / LANES * LANES;
+            let (sw0, sw1, sw2, sw3) = (s.splat(w0), s.splat(w1), s.splat(w2), s.splat(w3));
+            for o in (0..full).step_by(LANES) {
+                let acc = s.load(&b0[o..]) * sw0;
+                let acc = s.load(&b1[o..]).mul_add(sw1, acc);
+                let acc = s.load(&b2[o..]).mul_add(sw2, acc);
+                s.load(&b3[o..]).mul_add(sw3, acc).store(&mut out[o..]);
+            }
+            for k in full..n {
+                out[k] = b0[k] * w0 + b1[k] * w1 + b2[k] * w2 + b3[k] * w3;
+            }
+        }
+    }
 }
