@@ -20,7 +20,7 @@
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
 use crate::image_io::Image;
-use crate::kernel::lanes::{Dispatch, Isa, Kernel, LANES};
+use crate::kernel::lanes::{Dispatch, F32x8, Isa, Kernel, LANES};
 use crate::kernel::models::LaneModel;
 use crate::kernel::{self, sh::ShRecurrence, skip, Cone, DirLights};
 use crate::light::Light;
@@ -280,6 +280,71 @@ impl<'a> FramePrep<'a> {
     }
 }
 
+impl FramePrep<'_> {
+    /// Up to eight pixels of an SH data set lit only by point lights, one pixel per lane
+    /// ([`kernel::sh::sh_sum_packed`]): with a handful of lights, a light per lane would
+    /// leave most lanes empty. Same terms as [`FramePrep::shade_surface`]; each pixel's
+    /// sum runs in its own lane over the lights in order, so it does not depend on which
+    /// pixels share its batch (nor on the tile size or thread count).
+    #[inline(always)]
+    fn shade_packed<S: Isa>(
+        &self,
+        s: S,
+        ds: &ShDataset,
+        rec: &ShRecurrence,
+        batch: &[(usize, Surface)],
+        buf: &mut Vec<f32>,
+        sc: &mut kernel::sh::Scratch,
+    ) -> [Vec3; LANES] {
+        let t3 = 3 * ds.bands() * ds.bands();
+        buf.resize(t3 * (LANES + 1), 0.0);
+        let (ct, one) = buf.split_at_mut(t3 * LANES);
+        let includes_cosine = self.brdf.includes_cosine();
+        let np = self.points.len();
+        for p in 0..LANES {
+            let Some((_, surf)) = batch.get(p) else {
+                for k in 0..t3 {
+                    ct[k * LANES + p] = 0.0;
+                }
+                for i in 0..np {
+                    let o = i * LANES + p;
+                    (sc.x[o], sc.y[o], sc.z[o]) = (0.0, 0.0, 1.0);
+                    (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
+                }
+                continue;
+            };
+            let frame = ShadingFrame::from_normal(surf.normal);
+            let wo = local_view(&frame, surf, self.eye);
+            let (pa, az) = local_angles(wo);
+            let (ts, tt) = hemi_texcoord(pa, az);
+            kernel::sh::lookup_coeffs(s, ds, ts, tt, one);
+            for (k, &c) in one.iter().enumerate() {
+                ct[k * LANES + p] = c;
+            }
+            for (i, light) in self.points.iter().enumerate() {
+                let (l, e) = light.at(surf.position);
+                let wi = frame.to_local(l);
+                // Below the horizon (or degenerate, NaN): weight 0 along the normal, so
+                // the lane adds an exact 0.
+                let (wi, w) = if wi.z > 0.0 {
+                    (wi, if includes_cosine { e } else { e * wi.z })
+                } else {
+                    (Vec3::Z, Vec3::ZERO)
+                };
+                let o = i * LANES + p;
+                (sc.x[o], sc.y[o], sc.z[o]) = (wi.x, wi.y, wi.z);
+                (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);
+            }
+        }
+        let (r, g, b) = kernel::sh::sh_sum_packed(s, rec, ct, np, sc);
+        let (mut ar, mut ag, mut ab) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
+        r.store(&mut ar);
+        g.store(&mut ag);
+        b.store(&mut ab);
+        std::array::from_fn(|p| Vec3::new(ar[p], ag[p], ab[p]))
+    }
+}
+
 /// Work done by one [`shade_with_counts`] call, gathered per tile and summed after
 /// (integers: the totals do not depend on the thread count or the order of the sum).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -321,7 +386,8 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
 pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (Image, ShadeCounts) {
     let mut img = Image::new(vis.width, vis.height);
     let band_len = (vis.width * vis.tile_size) as usize;
-    let room = prep.dir.len() + prep.points.len();
+    // Per-pixel lists, or the pixel-packed point-light path's eight lanes per light.
+    let room = prep.dir.len() + LANES * prep.points.len();
     // Parallel over bands of one tile row (contiguous in the image, so tiles write their
     // pixels in place); each worker keeps its buffers across the tiles it shades.
     let counts: Vec<ShadeCounts> = img
@@ -402,8 +468,20 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             None
         };
         let chunks = prep.dir.chunks_for(cone);
-        for (at, surf) in surfaces.iter() {
-            band[*at] = prep.shade_surface(s, surf, &chunks, buf, scratch);
+        match &prep.sh {
+            Some((ds, rec)) if prep.dir.is_empty() && prep.points_in_kernel => {
+                for batch in surfaces.chunks(LANES) {
+                    let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
+                    for (k, (at, _)) in batch.iter().enumerate() {
+                        band[*at] = rgb[k];
+                    }
+                }
+            }
+            _ => {
+                for (at, surf) in surfaces.iter() {
+                    band[*at] = prep.shade_surface(s, surf, &chunks, buf, scratch);
+                }
+            }
         }
         let lights = chunks
             .iter()

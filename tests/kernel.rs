@@ -206,3 +206,36 @@ fn kernels_match_scalar_oracle_on_golden_light_sets() {
         }
     }
 }
+
+#[test]
+fn pixel_packed_point_light_path_matches_oracle_and_tile_size() {
+    // SH data sets under point lights only take the pixel-per-lane path.
+    let points = "[[light]]\nkind = \"point\"\nposition = [3.0, 5.0, 4.0]\nintensity = 10.0\n\
+                  [[light]]\nkind = \"point\"\nposition = [-4.0, -1.0, 2.0]\nintensity = 6.0\n";
+    let mut images = Vec::new();
+    for tile in [16, 13] {
+        for name in ["magenta-plastic", "teal-paint"] {
+            let mut f = SceneFile::default();
+            f.render.width = 64;
+            f.render.height = 48;
+            f.render.tile_size = tile;
+            f.material = MaterialSpec::Library {
+                name: name.into(),
+                lookup: None,
+            };
+            f.lights = Some(SceneFile::parse(points).unwrap().lights.unwrap());
+            let s = Scene::resolve(&f, Path::new("/")).unwrap();
+            let vis = render::rasterize(&s, false);
+            let oracle = shade::shade_reference(&s, &vis);
+            for (path, img) in both_paths(&s, &vis) {
+                let what = format!("{name} points tile {tile} {path}");
+                assert_close(&img, &oracle, SH_KERNEL_TOLERANCE, &what);
+                images.push((format!("{name} {path}"), img));
+            }
+        }
+    }
+    let (a, b) = images.split_at(images.len() / 2);
+    for ((na, ia), (_, ib)) in a.iter().zip(b) {
+        assert!(ia == ib, "{na}: tile size 16 and 13 differ");
+    }
+}

@@ -66,17 +66,22 @@ impl ShRecurrence {
 /// coefficients `c` (`[R.., G.., B..]`, each `bands^2` long). `bands` is a literal at every
 /// call site of the hot path ([`sh_sum`]), so the loops below have fixed trip counts.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn sh_dot<S: Isa>(
     s: S,
     bands: usize,
     rec: &ShRecurrence,
     c: &[f32],
+    packed: bool,
     x: S::V,
     y: S::V,
     z: S::V,
 ) -> (S::V, S::V, S::V) {
     let t = bands * bands;
-    let (cr, cg, cb) = (&c[..t], &c[t..2 * t], &c[2 * t..3 * t]);
+    // Per-pixel coefficients `[R.., G.., B..]` (one pixel, splat to every lane), or
+    // `packed`: eight pixels' coefficients transposed, `c[(colour t + k) 8 + lane]`.
+    let w = if packed { LANES } else { 1 };
+    let (cr, cg, cb) = (&c[..t * w], &c[t * w..2 * t * w], &c[2 * t * w..3 * t * w]);
     let (qmm_t, c1_t) = (&rec.qmm[..bands], &rec.c1[..bands]);
     let (a_t, b_t) = (&rec.a[..t], &rec.b[..t]);
     let (mut ar, mut ag, mut ab) = (s.zero(), s.zero(), s.zero());
@@ -85,9 +90,15 @@ fn sh_dot<S: Isa>(
     macro_rules! acc {
         ($k:expr, $yv:expr) => {{
             let (k, yv) = ($k, $yv);
-            ar = yv.mul_add(s.splat(cr[k]), ar);
-            ag = yv.mul_add(s.splat(cg[k]), ag);
-            ab = yv.mul_add(s.splat(cb[k]), ab);
+            if packed {
+                ar = yv.mul_add(s.load(&cr[k * LANES..]), ar);
+                ag = yv.mul_add(s.load(&cg[k * LANES..]), ag);
+                ab = yv.mul_add(s.load(&cb[k * LANES..]), ab);
+            } else {
+                ar = yv.mul_add(s.splat(cr[k]), ar);
+                ag = yv.mul_add(s.splat(cg[k]), ag);
+                ab = yv.mul_add(s.splat(cb[k]), ab);
+            }
         }};
     }
     let sqrt2 = s.splat(std::f64::consts::SQRT_2 as f32);
@@ -290,6 +301,7 @@ fn sh_groups<S: Isa>(
             bands,
             rec,
             c,
+            false,
             s.load(&sc.x[o..]),
             s.load(&sc.y[o..]),
             s.load(&sc.z[o..]),
@@ -355,4 +367,59 @@ pub fn lookup_coeffs<S: Isa>(s: S, ds: &ShDataset, u: f32, v: f32, out: &mut [f3
             }
         }
     }
+}
+
+/// Eight pixels at once, one per lane, each lit by the same few lights (point lights
+/// only: a point-light scene would otherwise fill one lane of eight). `ct` holds the
+/// pixels' coefficients transposed (`ct[(colour bands^2 + k) 8 + lane]`); light `i` of lane
+/// `p` is at index `8 i + p` of `sc`'s arrays (local direction, weight; weight 0 where the
+/// light is below that pixel's horizon or the lane is empty). Returns per-lane RGB sums,
+/// over the lights in order: a pixel's result does not depend on its neighbours in the
+/// batch.
+#[inline(always)]
+pub fn sh_sum_packed<S: Isa>(
+    s: S,
+    rec: &ShRecurrence,
+    ct: &[f32],
+    lights: usize,
+    sc: &Scratch,
+) -> (S::V, S::V, S::V) {
+    macro_rules! bands {
+        ($($b:literal)*) => {
+            match rec.bands {
+                $($b => packed_groups(s, $b, rec, ct, lights, sc),)*
+                b => packed_groups(s, b, rec, ct, lights, sc),
+            }
+        };
+    }
+    bands!(1 2 3 4 5 6 7 8 9 10)
+}
+
+#[inline(always)]
+fn packed_groups<S: Isa>(
+    s: S,
+    bands: usize,
+    rec: &ShRecurrence,
+    ct: &[f32],
+    lights: usize,
+    sc: &Scratch,
+) -> (S::V, S::V, S::V) {
+    let (mut tr, mut tg, mut tb) = (s.zero(), s.zero(), s.zero());
+    for i in 0..lights {
+        let o = i * LANES;
+        let (fr, fg, fb) = sh_dot(
+            s,
+            bands,
+            rec,
+            ct,
+            true,
+            s.load(&sc.x[o..]),
+            s.load(&sc.y[o..]),
+            s.load(&sc.z[o..]),
+        );
+        tr = fr.mul_add(s.load(&sc.wr[o..]), tr);
+        tg = fg.mul_add(s.load(&sc.wg[o..]), tg);
+        tb = fb.mul_add(s.load(&sc.wb[o..]), tb);
+    }
+    (tr, tg, tb)
 }
