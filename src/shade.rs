@@ -6,9 +6,13 @@
 //! Negligible lights and SH bands a material does not need are dropped once per frame in
 //! [`FramePrep::new`], within the bounds of [`crate::kernel::skip`]; [`ShadeCounts`]
 //! records the work done, so tests can see each skip.
-//! Directional lights go through the kernels of [`crate::kernel`] (structure of arrays,
-//! per-tile normal-cone culling that provably changes no bit); [`shade_point`], the plain
-//! per-light loop over [`Brdf::eval`], is the scalar oracle the kernels are tested against.
+//! Lights go through the kernels of [`crate::kernel`] (structure of arrays, eight lanes on
+//! the instruction set dispatched once per frame, per-tile normal-cone culling that
+//! provably changes no bit): per pixel, the lights above its horizon, one per lane; for SH
+//! data sets under point lights only, eight pixels per group, one per lane. The image is
+//! written tile by tile in place (parallel over bands of one tile row). [`shade_point`],
+//! the plain per-light loop over [`Brdf::eval`], is the scalar oracle the kernels are
+//! tested against.
 //!
 //! Per pixel: perspective-correct barycentrics of the source triangle give the world
 //! position and the interpolated normal; back faces (two-sided mode) get the normal flipped,
