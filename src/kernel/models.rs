@@ -49,6 +49,18 @@ impl<'a> LaneModel<'a> {
                 }
                 sum
             }
+            // One light (a key light, a point light): a group would be seven lanes of
+            // padding and six lane sums; the scalar formula is cheaper. Chosen by the
+            // pixel's own light count, so still independent of tiles and threads.
+            LaneModel::Lambert { albedo } if sc.n == 1 => {
+                Vec3::new(sc.wr[0], sc.wg[0], sc.wb[0]) * (albedo / PI)
+            }
+            LaneModel::BlinnPhong { kd, ks, exponent } if sc.n == 1 => {
+                let h = Vec3::new(sc.x[0], sc.y[0], sc.z[0]) + wo;
+                let nh = (h.z / h.length()).max(0.0);
+                let spec = (exponent + 8.0) / (8.0 * PI) * nh.powf(exponent);
+                (kd / PI + ks * spec) * Vec3::new(sc.wr[0], sc.wg[0], sc.wb[0])
+            }
             LaneModel::Lambert { albedo } => {
                 let end = sc.pad();
                 let (mut r, mut g, mut b) = (s.zero(), s.zero(), s.zero());
