@@ -6,7 +6,7 @@
 
 use brdfkit::conventions::ShadingFrame;
 use brdfkit::env::prepare::{EnvSpec, SamplerKind};
-use brdfkit::kernel::lanes::{F32x8, LANES};
+use brdfkit::kernel::lanes::{Dispatch, F32x8, Isa, Kernel, LANES};
 use brdfkit::kernel::sh::{shade_pixel, Scratch, ShRecurrence};
 use brdfkit::kernel::DirLights;
 use brdfkit::light::Light;
@@ -17,19 +17,58 @@ use glam::Vec3;
 use std::hint::black_box;
 use std::path::Path;
 
-/// Independent multiply-add chains on eight lanes: the machine's peak for the kernel's
-/// instruction mix (separate mul and add, as Rust emits them; no FMA contraction).
-#[multiversion::multiversion(targets("x86_64+avx2"))]
-fn madd_peak(iters: usize, seed: f32) -> f32 {
-    let m = F32x8::splat(0.999_999);
-    let a = F32x8::splat(1e-7);
-    let mut acc = [F32x8::splat(seed); 8];
-    for _ in 0..iters {
-        for v in acc.iter_mut() {
-            *v = *v * m + a;
+/// Independent fused multiply-add chains on eight lanes ([`F32x8::mul_add`], the kernel's
+/// instruction: FMA on the AVX2+FMA path): the machine's peak for the kernel's mix.
+struct MaddPeak {
+    iters: usize,
+    seed: f32,
+}
+
+impl Kernel for MaddPeak {
+    type Out = f32;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> f32 {
+        let m = s.splat(0.999_999);
+        let a = s.splat(1e-7);
+        let mut acc = [s.splat(self.seed); 10];
+        for _ in 0..self.iters {
+            for v in acc.iter_mut() {
+                *v = v.mul_add(m, a);
+            }
         }
+        acc.iter().map(|v| v.sum()).sum()
     }
-    acc.iter().map(|v| v.sum()).sum()
+}
+
+/// Many pixels through the SH kernel, on the dispatched instruction set.
+struct ShPixels<'a> {
+    rec: &'a ShRecurrence,
+    coeffs: &'a [f32],
+    frames: &'a [ShadingFrame],
+    lights: &'a DirLights,
+    chunks: &'a [u32],
+    scratch: &'a mut Scratch,
+}
+
+impl Kernel for ShPixels<'_> {
+    type Out = Vec3;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        for f in self.frames {
+            sum += shade_pixel(
+                s,
+                self.rec,
+                self.coeffs,
+                true,
+                f,
+                self.lights,
+                self.chunks,
+                self.scratch,
+            );
+        }
+        sum
+    }
 }
 
 fn lights(n: usize) -> DirLights {
@@ -50,10 +89,17 @@ fn lights(n: usize) -> DirLights {
 fn kernel_throughput(c: &mut Criterion) {
     let mut g = c.benchmark_group("madd-peak");
     let iters = 100_000;
-    // 8 chains x 8 lanes x (1 mul + 1 add) per iteration: count multiply-adds.
-    g.throughput(Throughput::Elements((iters * 8 * LANES) as u64));
-    g.bench_function("f32x8", |b| {
-        b.iter(|| madd_peak(black_box(iters), black_box(1.0)))
+    let isa = Dispatch::detect();
+    eprintln!("kernel instruction set: {}", isa.name());
+    // 10 chains x 8 lanes x 1 fused multiply-add per iteration: count multiply-adds.
+    g.throughput(Throughput::Elements((iters * 10 * LANES) as u64));
+    g.bench_function(format!("f32x8-{}", isa.name()), |b| {
+        b.iter(|| {
+            isa.run(MaddPeak {
+                iters: black_box(iters),
+                seed: black_box(1.0),
+            })
+        })
     });
     g.finish();
 
@@ -79,12 +125,16 @@ fn kernel_throughput(c: &mut Criterion) {
             &bands,
             |b, _| {
                 let mut scratch = Scratch::default();
+                scratch.reserve(dl.len());
                 b.iter(|| {
-                    let mut s = Vec3::ZERO;
-                    for f in &frames {
-                        s += shade_pixel(&rec, &coeffs, true, f, &dl, &all, &mut scratch);
-                    }
-                    black_box(s)
+                    black_box(isa.run(ShPixels {
+                        rec: &rec,
+                        coeffs: &coeffs,
+                        frames: &frames,
+                        lights: &dl,
+                        chunks: &all,
+                        scratch: &mut scratch,
+                    }))
                 })
             },
         );

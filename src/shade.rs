@@ -6,9 +6,13 @@
 //! Negligible lights and SH bands a material does not need are dropped once per frame in
 //! [`FramePrep::new`], within the bounds of [`crate::kernel::skip`]; [`ShadeCounts`]
 //! records the work done, so tests can see each skip.
-//! Directional lights go through the kernels of [`crate::kernel`] (structure of arrays,
-//! per-tile normal-cone culling that provably changes no bit); [`shade_point`], the plain
-//! per-light loop over [`Brdf::eval`], is the scalar oracle the kernels are tested against.
+//! Lights go through the kernels of [`crate::kernel`] (structure of arrays, eight lanes on
+//! the instruction set dispatched once per frame, per-tile normal-cone culling that
+//! provably changes no bit): per pixel, the lights above its horizon, one per lane; for SH
+//! data sets under point lights only, eight pixels per group, one per lane. The image is
+//! written tile by tile in place (parallel over bands of one tile row). [`shade_point`],
+//! the plain per-light loop over [`Brdf::eval`], is the scalar oracle the kernels are
+//! tested against.
 //!
 //! Per pixel: perspective-correct barycentrics of the source triangle give the world
 //! position and the interpolated normal; back faces (two-sided mode) get the normal flipped,
@@ -20,7 +24,9 @@
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
 use crate::image_io::Image;
-use crate::kernel::{self, lanes::LANES, sh::ShRecurrence, skip, Cone, DirLights};
+use crate::kernel::lanes::{Dispatch, F32x8, Isa, Kernel, LANES};
+use crate::kernel::models::LaneModel;
+use crate::kernel::{self, sh::ShRecurrence, skip, Cone, DirLights};
 use crate::light::Light;
 use crate::mesh::Mesh;
 use crate::raster::{VisBuffer, NO_TRIANGLE};
@@ -147,6 +153,15 @@ pub struct FramePrep<'a> {
     pub dropped: skip::LightDrop,
     /// Bands stored in the SH data set and bands shaded (0, 0 for other materials).
     pub sh_bands: (usize, usize),
+    /// The material's lane form ([`LaneModel::of`]), used when it is not an SH data set.
+    pub model: LaneModel<'a>,
+    /// Whether point lights go through the kernel with the directional ones (all but SH
+    /// data sets with a basis table; see [`FramePrep::shade_surface`]).
+    pub points_in_kernel: bool,
+    /// The instruction set of the kernels, detected once per frame
+    /// ([`Dispatch::detect`]); the same for every tile and thread, so the image does not
+    /// depend on the thread count. Tests set [`Dispatch::portable`] to compare the paths.
+    pub dispatch: Dispatch,
 }
 
 impl<'a> FramePrep<'a> {
@@ -194,6 +209,9 @@ impl<'a> FramePrep<'a> {
                 .copied()
                 .filter(|l| matches!(l, Light::Point { .. }))
                 .collect(),
+            points_in_kernel: brdf.as_sh().is_none_or(|ds| ds.basis_table().is_none()),
+            model: LaneModel::of(brdf),
+            dispatch: Dispatch::detect(),
             sh,
             eye: scene.camera.position,
             cull_lights: true,
@@ -208,58 +226,126 @@ impl<'a> FramePrep<'a> {
     }
 
     /// Radiance of one surface point lit by the chunks `chunks` of the directional lights
-    /// and by every point light.
-    pub fn shade_surface(
+    /// and by every point light, on the instruction set `s` (called from the tile loop,
+    /// which [`FramePrep::dispatch`] runs once per tile).
+    ///
+    /// The lights above the horizon go into `scratch` (local direction, weight `E cos`)
+    /// and from there through the SH kernel or the material's lane model. Point lights join
+    /// the list too, except for SH data sets with a basis table (their point lights keep
+    /// the table lookup of [`Brdf::eval`], as a GPU build does).
+    #[inline(always)]
+    pub fn shade_surface<S: Isa>(
         &self,
-        s: &Surface,
+        s: S,
+        surf: &Surface,
         chunks: &[u32],
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::sh::Scratch,
     ) -> Vec3 {
-        let frame = ShadingFrame::from_normal(s.normal);
-        let wo = local_view(&frame, s, self.eye);
+        let frame = ShadingFrame::from_normal(surf.normal);
+        let wo = local_view(&frame, surf, self.eye);
+        scratch.clear();
+        let includes_cosine = self.brdf.includes_cosine();
+        kernel::sh::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
+        let points_in_kernel = self.points_in_kernel;
+        if points_in_kernel {
+            for light in &self.points {
+                let (l, e) = light.at(surf.position);
+                let wi = frame.to_local(l);
+                if wi.z > 0.0 {
+                    scratch.push(wi, if includes_cosine { e } else { e * wi.z });
+                }
+            }
+        }
         let mut sum = match &self.sh {
             Some((ds, rec)) => {
-                coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
-                let (p, a) = local_angles(wo);
-                let (ts, tt) = hemi_texcoord(p, a);
-                ds.lookup_coeffs(ts, tt, ds.coeff_lookup, coeff_buf);
-                kernel::sh::shade_pixel(
-                    rec,
-                    coeff_buf,
-                    ds.cosine_included(),
-                    &frame,
-                    &self.dir,
-                    chunks,
-                    scratch,
-                )
-            }
-            None => {
-                let mut sum = Vec3::ZERO;
-                for &c in chunks {
-                    for i in c as usize * LANES..(c as usize + 1) * LANES {
-                        let e = Vec3::new(self.dir.er[i], self.dir.eg[i], self.dir.eb[i]);
-                        if e == Vec3::ZERO {
-                            continue; // padding (or a black light): contributes exactly 0
-                        }
-                        let l = Vec3::new(self.dir.dx[i], self.dir.dy[i], self.dir.dz[i]);
-                        let wi = frame.to_local(l);
-                        if wi.z > 0.0 {
-                            sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
-                        }
-                    }
+                if scratch.n == 0 {
+                    Vec3::ZERO
+                } else {
+                    coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
+                    let (p, a) = local_angles(wo);
+                    let (ts, tt) = hemi_texcoord(p, a);
+                    kernel::sh::lookup_coeffs(s, ds, ts, tt, coeff_buf);
+                    kernel::sh::sh_sum(s, rec, coeff_buf, scratch)
                 }
-                sum
             }
+            None => self.model.sum(s, wo, scratch),
         };
-        for light in &self.points {
-            let (l, e) = light.at(s.position);
-            let wi = frame.to_local(l);
-            if wi.z > 0.0 {
-                sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
+        if !points_in_kernel {
+            for light in &self.points {
+                let (l, e) = light.at(surf.position);
+                let wi = frame.to_local(l);
+                if wi.z > 0.0 {
+                    sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
+                }
             }
         }
         sum
+    }
+}
+
+impl FramePrep<'_> {
+    /// Up to eight pixels of an SH data set lit only by point lights, one pixel per lane
+    /// ([`kernel::sh::sh_sum_packed`]): with a handful of lights, a light per lane would
+    /// leave most lanes empty. Same terms as [`FramePrep::shade_surface`]; each pixel's
+    /// sum runs in its own lane over the lights in order, so it does not depend on which
+    /// pixels share its batch (nor on the tile size or thread count).
+    #[inline(always)]
+    fn shade_packed<S: Isa>(
+        &self,
+        s: S,
+        ds: &ShDataset,
+        rec: &ShRecurrence,
+        batch: &[(usize, Surface)],
+        buf: &mut Vec<f32>,
+        sc: &mut kernel::sh::Scratch,
+    ) -> [Vec3; LANES] {
+        let t3 = 3 * ds.bands() * ds.bands();
+        buf.resize(t3 * (LANES + 1), 0.0);
+        let (ct, one) = buf.split_at_mut(t3 * LANES);
+        let includes_cosine = self.brdf.includes_cosine();
+        let np = self.points.len();
+        for p in 0..LANES {
+            let Some((_, surf)) = batch.get(p) else {
+                for k in 0..t3 {
+                    ct[k * LANES + p] = 0.0;
+                }
+                for i in 0..np {
+                    let o = i * LANES + p;
+                    (sc.x[o], sc.y[o], sc.z[o]) = (0.0, 0.0, 1.0);
+                    (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
+                }
+                continue;
+            };
+            let frame = ShadingFrame::from_normal(surf.normal);
+            let wo = local_view(&frame, surf, self.eye);
+            let (pa, az) = local_angles(wo);
+            let (ts, tt) = hemi_texcoord(pa, az);
+            kernel::sh::lookup_coeffs(s, ds, ts, tt, one);
+            for (k, &c) in one.iter().enumerate() {
+                ct[k * LANES + p] = c;
+            }
+            for (i, light) in self.points.iter().enumerate() {
+                let (l, e) = light.at(surf.position);
+                let wi = frame.to_local(l);
+                // Below the horizon (or degenerate, NaN): weight 0 along the normal, so
+                // the lane adds an exact 0.
+                let (wi, w) = if wi.z > 0.0 {
+                    (wi, if includes_cosine { e } else { e * wi.z })
+                } else {
+                    (Vec3::Z, Vec3::ZERO)
+                };
+                let o = i * LANES + p;
+                (sc.x[o], sc.y[o], sc.z[o]) = (wi.x, wi.y, wi.z);
+                (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);
+            }
+        }
+        let (r, g, b) = kernel::sh::sh_sum_packed(s, rec, ct, np, sc);
+        let (mut ar, mut ag, mut ab) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
+        r.store(&mut ar);
+        g.store(&mut ag);
+        b.store(&mut ab);
+        std::array::from_fn(|p| Vec3::new(ar[p], ag[p], ab[p]))
     }
 }
 
@@ -302,58 +388,117 @@ pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
 
 /// [`shade_with`], also returning the work done ([`ShadeCounts`]).
 pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (Image, ShadeCounts) {
-    let per_tile = (vis.tile_size * vis.tile_size) as usize;
-    let mut tiles = vec![Vec3::ZERO; vis.visible.len()];
-    let counts: Vec<ShadeCounts> = tiles
-        .par_chunks_mut(per_tile)
-        .enumerate()
-        .map(|(t, out)| {
-            if !vis.tile_occupied[t] {
-                return ShadeCounts {
-                    tiles_skipped: 1,
-                    ..ShadeCounts::default()
-                };
-            }
-            let surfaces: Vec<(usize, Surface)> = (0..per_tile)
-                .filter_map(|i| {
-                    let (x, y) = vis.pixel(t * per_tile + i)?;
-                    surface_at(&scene.mesh, vis, x, y).map(|s| (i, s))
-                })
-                .collect();
-            let cone = if prep.cull_lights {
-                Cone::around(surfaces.iter().map(|(_, s)| s.normal))
-            } else {
-                None
-            };
-            let chunks = prep.dir.chunks_for(cone);
-            let mut buf = Vec::new();
-            let mut scratch = kernel::sh::Scratch::default();
-            for (i, s) in &surfaces {
-                out[*i] = prep.shade_surface(s, &chunks, &mut buf, &mut scratch);
-            }
-            let lights = chunks
-                .iter()
-                .map(|&c| prep.chunk_live[c as usize] as u64)
-                .sum::<u64>()
-                + prep.points.len() as u64;
-            ShadeCounts {
-                tiles_shaded: 1,
-                tiles_skipped: 0,
-                pixels_shaded: surfaces.len() as u64,
-                light_pairs: surfaces.len() as u64 * lights,
-            }
-        })
-        .collect();
     let mut img = Image::new(vis.width, vis.height);
-    for t in 0..vis.tile_occupied.len() {
-        for (i, x, y) in tile_pixels(vis, t) {
-            img.pixels[(y * vis.width + x) as usize] = tiles[t * per_tile + i];
-        }
-    }
+    let band_len = (vis.width * vis.tile_size) as usize;
+    // Per-pixel lists, or the pixel-packed point-light path's eight lanes per light.
+    let room = prep.dir.len() + LANES * prep.points.len();
+    // Parallel over bands of one tile row (contiguous in the image, so tiles write their
+    // pixels in place); each worker keeps its buffers across the tiles it shades.
+    let counts: Vec<ShadeCounts> = img
+        .pixels
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .map_init(
+            || (Vec::new(), kernel::sh::Scratch::default(), Vec::new()),
+            |(buf, scratch, surfaces), (ty, band)| {
+                let mut counts = ShadeCounts::default();
+                for tx in 0..vis.tiles_x as usize {
+                    let t = ty * vis.tiles_x as usize + tx;
+                    if !vis.tile_occupied[t] {
+                        counts.tiles_skipped += 1;
+                        continue;
+                    }
+                    scratch.reserve(room);
+                    counts = counts
+                        + prep.dispatch.run(ShadeTile {
+                            prep,
+                            scene,
+                            vis,
+                            t,
+                            band,
+                            buf,
+                            scratch,
+                            surfaces,
+                        });
+                }
+                counts
+            },
+        )
+        .collect();
     let total = counts
         .into_iter()
         .fold(ShadeCounts::default(), |a, b| a + b);
     (img, total)
+}
+
+/// One occupied tile, as a [`Kernel`] so the whole tile loop is compiled for the
+/// instruction set dispatched once per frame. `band` is the image rows of the tile's row
+/// of tiles; buffers are the worker's, reused.
+struct ShadeTile<'p, 'a, 'o> {
+    prep: &'p FramePrep<'a>,
+    scene: &'p Scene,
+    vis: &'p VisBuffer,
+    t: usize,
+    band: &'o mut [Vec3],
+    buf: &'o mut Vec<f32>,
+    scratch: &'o mut kernel::sh::Scratch,
+    surfaces: &'o mut Vec<(usize, Surface)>,
+}
+
+impl Kernel for ShadeTile<'_, '_, '_> {
+    type Out = ShadeCounts;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> ShadeCounts {
+        let ShadeTile {
+            prep,
+            scene,
+            vis,
+            t,
+            band,
+            buf,
+            scratch,
+            surfaces,
+        } = self;
+        let per_tile = (vis.tile_size * vis.tile_size) as usize;
+        let y0 = (t as u32 / vis.tiles_x) * vis.tile_size;
+        surfaces.clear();
+        surfaces.extend(tile_pixels(vis, t).filter_map(|(i, x, y)| {
+            let at = ((y - y0) * vis.width + x) as usize;
+            surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y).map(|s| (at, s))
+        }));
+        let cone = if prep.cull_lights {
+            Cone::around(surfaces.iter().map(|(_, s)| s.normal))
+        } else {
+            None
+        };
+        let chunks = prep.dir.chunks_for(cone);
+        match &prep.sh {
+            Some((ds, rec)) if prep.dir.is_empty() && prep.points_in_kernel => {
+                for batch in surfaces.chunks(LANES) {
+                    let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
+                    for (k, (at, _)) in batch.iter().enumerate() {
+                        band[*at] = rgb[k];
+                    }
+                }
+            }
+            _ => {
+                for (at, surf) in surfaces.iter() {
+                    band[*at] = prep.shade_surface(s, surf, &chunks, buf, scratch);
+                }
+            }
+        }
+        let lights = chunks
+            .iter()
+            .map(|&c| prep.chunk_live[c as usize] as u64)
+            .sum::<u64>()
+            + prep.points.len() as u64;
+        ShadeCounts {
+            tiles_shaded: 1,
+            tiles_skipped: 0,
+            pixels_shaded: surfaces.len() as u64,
+            light_pairs: surfaces.len() as u64 * lights,
+        }
+    }
 }
 
 /// The reference render: every light, no culling, the BRDF through [`Brdf::eval_f64`],

@@ -1,6 +1,7 @@
 //! The kernels against the scalar oracle, and the work they skip against not skipping it.
 
 use brdfkit::env::prepare::{EnvSpec, SamplerKind};
+use brdfkit::kernel::lanes::Dispatch;
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
@@ -29,6 +30,17 @@ fn scene(material: MaterialSpec, lights: usize) -> Scene {
     Scene::resolve(&f, Path::new("/")).unwrap()
 }
 
+/// Where a failing comparison leaves its `expected | difference | actual` strip.
+fn failure_png(what: &str) -> std::path::PathBuf {
+    let name: String = what
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("target/kernel-failures")
+        .join(format!("{name}.png"))
+}
+
 fn assert_close(
     a: &brdfkit::image_io::Image,
     oracle: &brdfkit::image_io::Image,
@@ -36,6 +48,7 @@ fn assert_close(
     what: &str,
 ) {
     let mut worst = 0.0f32;
+    let mut failed = None;
     let peak = oracle
         .pixels
         .iter()
@@ -46,9 +59,17 @@ fn assert_close(
         // Relative to the pixel, or to 1% of the image's peak where SH terms cancel.
         let scale = q.abs().max_element().max(1e-2 * peak);
         worst = worst.max(d / scale);
-        assert!(
-            d <= tol * scale + 1e-6,
-            "{what}: kernel {p:?} vs oracle {q:?}"
+        if !(d <= tol * scale + 1e-6) && failed.is_none() {
+            failed = Some(format!("{what}: kernel {p:?} vs oracle {q:?}"));
+        }
+    }
+    if let Some(msg) = failed {
+        let png = failure_png(what);
+        std::fs::create_dir_all(png.parent().unwrap()).unwrap();
+        brdfkit::golden::write_triptych(&png, oracle, a).unwrap();
+        panic!(
+            "{msg} (worst relative difference {worst:.2e}; oracle | difference | kernel in {})",
+            png.display()
         );
     }
     assert!(
@@ -61,6 +82,23 @@ fn assert_close(
         "{what}: too few lit pixels"
     );
     eprintln!("{what}: worst relative difference {worst:.2e}");
+}
+
+/// The fast path on the detected instruction set and on the portable one.
+fn both_paths(
+    s: &Scene,
+    vis: &brdfkit::raster::VisBuffer,
+) -> [(String, brdfkit::image_io::Image); 2] {
+    let mut prep = FramePrep::new(s);
+    let detected = (
+        prep.dispatch.name().to_string(),
+        shade::shade_with(&prep, s, vis),
+    );
+    prep.dispatch = Dispatch::portable();
+    [
+        detected,
+        ("portable".into(), shade::shade_with(&prep, s, vis)),
+    ]
 }
 
 #[test]
@@ -83,12 +121,15 @@ fn sh_kernel_matches_scalar_oracle_for_library_materials() {
             "{name} should be an SH data set"
         );
         let vis = render::rasterize(&s, false);
-        assert_close(
-            &shade::shade(&s, &vis),
-            &shade::shade_reference(&s, &vis),
-            SH_KERNEL_TOLERANCE,
-            name,
-        );
+        let oracle = shade::shade_reference(&s, &vis);
+        for (path, img) in both_paths(&s, &vis) {
+            assert_close(
+                &img,
+                &oracle,
+                SH_KERNEL_TOLERANCE,
+                &format!("{name} {path}"),
+            );
+        }
     }
 }
 
@@ -102,12 +143,11 @@ fn generic_kernel_matches_scalar_oracle_for_analytic_materials() {
         let spec = SceneFile::parse(m).unwrap().material;
         let s = scene(spec, 128);
         let vis = render::rasterize(&s, false);
-        assert_close(
-            &shade::shade(&s, &vis),
-            &shade::shade_reference(&s, &vis),
-            KERNEL_TOLERANCE,
-            m.trim(),
-        );
+        let oracle = shade::shade_reference(&s, &vis);
+        for (path, img) in both_paths(&s, &vis) {
+            let what = format!("{} {path}", m.trim());
+            assert_close(&img, &oracle, KERNEL_TOLERANCE, &what);
+        }
     }
 }
 
@@ -149,4 +189,53 @@ fn normal_cone_culling_changes_no_bit_and_skips_work() {
         "only {} of {all} chunks culled for a downward tile",
         all - kept
     );
+}
+
+#[test]
+fn kernels_match_scalar_oracle_on_golden_light_sets() {
+    // Bright studio lights (a wide dynamic range) and many weak uniform ones.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("golden");
+    for name in ["fig3-8-lloyd-studio", "fig3-6-uniform-city"] {
+        let text = std::fs::read_to_string(dir.join(format!("{name}.toml"))).unwrap();
+        let f = SceneFile::parse(&text).unwrap();
+        let s = Scene::resolve(&f, &dir).unwrap();
+        let vis = render::rasterize(&s, false);
+        let oracle = shade::shade_reference(&s, &vis);
+        for (path, img) in both_paths(&s, &vis) {
+            assert_close(&img, &oracle, KERNEL_TOLERANCE, &format!("{name} {path}"));
+        }
+    }
+}
+
+#[test]
+fn pixel_packed_point_light_path_matches_oracle_and_tile_size() {
+    // SH data sets under point lights only take the pixel-per-lane path.
+    let points = "[[light]]\nkind = \"point\"\nposition = [3.0, 5.0, 4.0]\nintensity = 10.0\n\
+                  [[light]]\nkind = \"point\"\nposition = [-4.0, -1.0, 2.0]\nintensity = 6.0\n";
+    let mut images = Vec::new();
+    for tile in [16, 13] {
+        for name in ["magenta-plastic", "teal-paint"] {
+            let mut f = SceneFile::default();
+            f.render.width = 64;
+            f.render.height = 48;
+            f.render.tile_size = tile;
+            f.material = MaterialSpec::Library {
+                name: name.into(),
+                lookup: None,
+            };
+            f.lights = Some(SceneFile::parse(points).unwrap().lights.unwrap());
+            let s = Scene::resolve(&f, Path::new("/")).unwrap();
+            let vis = render::rasterize(&s, false);
+            let oracle = shade::shade_reference(&s, &vis);
+            for (path, img) in both_paths(&s, &vis) {
+                let what = format!("{name} points tile {tile} {path}");
+                assert_close(&img, &oracle, SH_KERNEL_TOLERANCE, &what);
+                images.push((format!("{name} {path}"), img));
+            }
+        }
+    }
+    let (a, b) = images.split_at(images.len() / 2);
+    for ((na, ia), (_, ib)) in a.iter().zip(b) {
+        assert!(ia == ib, "{na}: tile size 16 and 13 differ");
+    }
 }

@@ -167,4 +167,8 @@ impl Brdf for DBrdf {
         let pmax = self.p.iter().copied().fold(0.0f32, f32::max);
         Some(self.c * pmax * self.rs.max(Vec3::ONE))
     }
+
+    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
+        Some(crate::kernel::models::LaneModel::DBrdf(self))
+    }
 }

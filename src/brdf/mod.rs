@@ -78,6 +78,12 @@ pub trait Brdf: Send + Sync {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         None
     }
+
+    /// The model's lane form for the fast kernel ([`crate::kernel::models`]), evaluating
+    /// eight lights at once; `None` (the default) evaluates [`Brdf::eval`] per light.
+    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
+        None
+    }
 }
 
 /// `f * cos(polar_i)` whatever the model's cosine convention: the integrand of the

@@ -1,25 +1,47 @@
-//! The shading kernel: a material against a set of directional lights, per pixel.
+//! The shading kernel: a material against a set of lights, per pixel (thesis chapter 3:
+//! 3.1.5 BRDF evaluation; the sum over delta lights `L(v) = sum_k f(l_k, v) cos(theta_k)
+//! E_k`, Def. 10, with the light sets of 3.2; the SH form
+//! `sum_k E_k w_k sum_lm c_lm(v) Y_lm(l_k)`, Def. 12, Code 4). Units: `E_k`
+//! irradiance at normal incidence (W/m^2, RGB), `f` in 1/sr, the result radiance.
 //!
-//! Design rule: the hot loops see only structures of arrays and fixed-width lanes
-//! ([`lanes::F32x8`]); everything that can be decided once per frame or per tile is
-//! decided there, never per light per pixel. The scalar `Brdf::eval` loop in
-//! [`crate::shade`] is the oracle; every kernel here is compared with it in tests, within
-//! a named tolerance ([`KERNEL_TOLERANCE`]).
+//! # Design
+//! - **Structures of arrays.** Directional lights live in [`DirLights`] (one array per
+//!   component, chunks of [`LANES`], sorted for spatial coherence). Per pixel, the lights
+//!   above its horizon are compacted into a per-worker [`sh::Scratch`] (local direction and
+//!   weight per array, reused across pixels and tiles: no allocation or push per pixel) by
+//!   masked compress-stores ([`sh::gather_dir`]); a pixel's RGB coefficients are one
+//!   contiguous `[R.., G.., B..]` block.
+//! - **Lanes.** Every kernel evaluates eight lights at once, one per lane: the SH basis by
+//!   the rescaled associated-Legendre recurrence with a fused multiply-add per term and
+//!   colour ([`sh`], monomorphised per band count 1..=10), the analytic models and the
+//!   D-BRDF by their lane forms ([`models`]).
+//! - **Dispatch.** SIMD lives only in [`lanes`]: [`lanes::F32x8`] on AVX2 + FMA
+//!   (`core::arch`) or portable `[f32; 8]`, chosen once per frame
+//!   ([`lanes::Dispatch::detect`], stored in [`crate::shade::FramePrep`]); the tile loop
+//!   runs inside the chosen path's `target_feature` function. Every tile and thread takes
+//!   the same path, so the image does not depend on the thread count.
+//! - **Tolerance.** The f32 paths sum in another order than the scalar oracle
+//!   ([`crate::shade::shade_reference`], and the f64 reference, neither of which uses any
+//!   of this), use FMA, and the D-BRDF's `acos`/`atan2` are polynomials with stated,
+//!   tested maximum errors ([`approx`]). Each path is held within [`KERNEL_TOLERANCE`]
+//!   (analytic, D-BRDF) or [`SH_KERNEL_TOLERANCE`] (SH) of the oracle (tests/kernel.rs, both
+//!   paths), which the golden check's `kernel-dispatch` tolerance builds on.
 //!
 //! Work skipped, and why it changes nothing:
 //! - lights are sorted once per frame into spatially coherent chunks of
 //!   [`lanes::LANES`], each with a bounding cone; a tile skips a chunk when the chunk's
 //!   cone lies wholly below the horizon of the tile's normal cone (with a safety margin).
-//!   The skipped lights would have been masked to exactly zero for every pixel of the
-//!   tile, and adding exact zeros does not change a float sum, so the image is
-//!   bit-identical with and without culling, for any tile size;
-//! - a chunk whose lanes are all below a pixel's horizon is skipped for that pixel (the
-//!   same argument).
+//!   The skipped lights would have been left out of every pixel's compacted list anyway
+//!   (they are below its horizon), so the image is bit-identical with and without culling,
+//!   for any tile size;
+//! - a chunk whose lanes are all below a pixel's horizon costs that pixel one mask test.
 //!
 //! Work skipped with a bounded change to the image (negligible lights, SH bands a material
 //! does not need) is decided per frame in [`skip`].
 
+pub mod approx;
 pub mod lanes;
+pub mod models;
 pub mod sh;
 pub mod skip;
 
@@ -64,6 +86,8 @@ pub struct DirLights {
     pub chunk_axis: Vec<Vec3>,
     pub chunk_cos: Vec<f32>,
     pub chunk_sin: Vec<f32>,
+    /// Per chunk: bit `i` set when lane `i` carries power (not padding, not black).
+    pub chunk_live_mask: Vec<u8>,
 }
 
 /// A normal cone: every normal `n` of a tile has `n . axis >= cos`, `sin = sqrt(1-cos^2)`
@@ -155,6 +179,11 @@ impl DirLights {
         }
         for c in 0..s.chunks() {
             let r = c * LANES..(c + 1) * LANES;
+            let live_mask = r
+                .clone()
+                .filter(|&i| s.er[i] != 0.0 || s.eg[i] != 0.0 || s.eb[i] != 0.0)
+                .fold(0u8, |m, i| m | 1 << (i - c * LANES));
+            s.chunk_live_mask.push(live_mask);
             let live: Vec<Vec3> = r
                 .clone()
                 .filter(|&i| s.er[i] != 0.0 || s.eg[i] != 0.0 || s.eb[i] != 0.0)

@@ -1,15 +1,20 @@
-//! The SH kernel: `sum_k E_k w_k sum_lm c_lm(view) Y_lm(l_k)` for one pixel (thesis Def. 10
-//! and 12, Code 4), eight lights at a time.
+//! The SH kernel: `sum_k E_k w_k sum_lm c_lm(view) Y_lm(l_k)` for one pixel (thesis 3.1.5,
+//! Def. 10 and 12, Code 4), eight lights at a time, one light per lane.
 //!
-//! Per chunk of eight lights: their local directions (three dot products each), the horizon
-//! mask and weights `E cos` (or `E` when the data set includes the cosine), then one fused
-//! pass over (l, m) that runs the SH recurrence of [`crate::sh::basis`] on eight lanes and
-//! immediately accumulates `c_lm * Y_lm` per colour, so the basis is never stored. The
-//! recurrence constants are computed once per data set ([`ShRecurrence`]).
+//! Per pixel, [`Scratch`] first receives the lights above the horizon in local coordinates
+//! with their weights `E_k w_k` (`w_k = cos(theta_k)`, or 1 when the data set includes the
+//! cosine), compacted in light order ([`gather_dir`], [`Scratch::push`]). [`sh_sum`] then
+//! runs, per group of eight, one fused pass over (m, l): the rescaled associated-Legendre
+//! recurrence of [`crate::sh::basis`] on eight lanes, accumulating `c_lm Y_lm` per colour at
+//! once, so the basis is never stored. The band count is a literal in each of the
+//! monomorphised copies (1..=10 bands; more bands take a generic copy), so the (m, l) loops
+//! have fixed trip counts and unroll. Units: `E` irradiance (W/m^2) at normal incidence,
+//! coefficients in 1/sr, result radiance.
 
-use super::lanes::{F32x8, LANES};
+use super::lanes::{F32x8, Isa, LANES};
 use super::DirLights;
-use crate::conventions::ShadingFrame;
+use crate::conventions::{hemi_bilinear_texels, hemi_nearest_texel, ShadingFrame};
+use crate::sh::dataset::{Lookup, ShDataset};
 use glam::Vec3;
 
 /// Recurrence constants for `bands` bands, computed exactly as
@@ -58,48 +63,78 @@ impl ShRecurrence {
 }
 
 /// Per-lane sums `sum_k c_k Y_k(x, y, z)` for the three colours of one view texel's
-/// coefficients `c` (`[R.., G.., B..]`, each `bands^2` long).
+/// coefficients `c` (`[R.., G.., B..]`, each `bands^2` long). `bands` is a literal at every
+/// call site of the hot path ([`sh_sum`]), so the loops below have fixed trip counts.
 #[inline(always)]
-fn sh_dot(rec: &ShRecurrence, c: &[f32], x: F32x8, y: F32x8, z: F32x8) -> (F32x8, F32x8, F32x8) {
-    let bands = rec.bands;
+#[allow(clippy::too_many_arguments)]
+fn sh_dot<S: Isa>(
+    s: S,
+    bands: usize,
+    rec: &ShRecurrence,
+    c: &[f32],
+    packed: bool,
+    x: S::V,
+    y: S::V,
+    z: S::V,
+) -> (S::V, S::V, S::V) {
     let t = bands * bands;
-    let (cr, cg, cb) = (&c[..t], &c[t..2 * t], &c[2 * t..3 * t]);
-    let (mut ar, mut ag, mut ab) = (F32x8::default(), F32x8::default(), F32x8::default());
-    let mut acc = |k: usize, yv: F32x8| {
-        ar += yv * cr[k];
-        ag += yv * cg[k];
-        ab += yv * cb[k];
-    };
-    let sqrt2 = std::f64::consts::SQRT_2 as f32;
-    let mut cm = F32x8::splat(1.0);
-    let mut sm = F32x8::splat(0.0);
+    // Per-pixel coefficients `[R.., G.., B..]` (one pixel, splat to every lane), or
+    // `packed`: eight pixels' coefficients transposed, `c[(colour t + k) 8 + lane]`.
+    let w = if packed { LANES } else { 1 };
+    let (cr, cg, cb) = (&c[..t * w], &c[t * w..2 * t * w], &c[2 * t * w..3 * t * w]);
+    let (qmm_t, c1_t) = (&rec.qmm[..bands], &rec.c1[..bands]);
+    let (a_t, b_t) = (&rec.a[..t], &rec.b[..t]);
+    let (mut ar, mut ag, mut ab) = (s.zero(), s.zero(), s.zero());
+    // Macros, not closures: a closure is a function of its own, which the compiler may
+    // leave out of line and so outside the dispatcher's `target_feature` function.
+    macro_rules! acc {
+        ($k:expr, $yv:expr) => {{
+            let (k, yv) = ($k, $yv);
+            if packed {
+                ar = yv.mul_add(s.load(&cr[k * LANES..]), ar);
+                ag = yv.mul_add(s.load(&cg[k * LANES..]), ag);
+                ab = yv.mul_add(s.load(&cb[k * LANES..]), ab);
+            } else {
+                ar = yv.mul_add(s.splat(cr[k]), ar);
+                ag = yv.mul_add(s.splat(cg[k]), ag);
+                ab = yv.mul_add(s.splat(cb[k]), ab);
+            }
+        }};
+    }
+    let sqrt2 = s.splat(std::f64::consts::SQRT_2 as f32);
+    let mut cm = s.splat(1.0);
+    let mut sm = s.zero();
     for m in 0..bands {
         if m > 0 {
-            let c = x * cm - y * sm;
-            let s = x * sm + y * cm;
+            // (cos, sin)(m phi) from (cos, sin)((m-1) phi), scaled by sin(theta)^m.
+            let c = y.neg_mul_add(sm, x * cm);
+            let sn = x.mul_add(sm, y * cm);
             cm = c;
-            sm = s;
+            sm = sn;
         }
-        let qmm = F32x8::splat(rec.qmm[m]);
+        let qmm = s.splat(qmm_t[m]);
         let (fc, fs) = (cm * sqrt2, sm * sqrt2);
-        let mut emit = |l: usize, q: F32x8| {
-            let base = l * l + l;
-            if m == 0 {
-                acc(base, q);
-            } else {
-                acc(base + m, q * fc);
-                acc(base - m, q * fs);
-            }
-        };
-        emit(m, qmm);
+        macro_rules! emit {
+            ($l:expr, $q:expr) => {{
+                let (l, q) = ($l, $q);
+                let base = l * l + l;
+                if m == 0 {
+                    acc!(base, q);
+                } else {
+                    acc!(base + m, q * fc);
+                    acc!(base - m, q * fs);
+                }
+            }};
+        }
+        emit!(m, qmm);
         if m + 1 < bands {
             let mut q2 = qmm;
-            let mut q1 = (z * rec.c1[m]) * qmm;
-            emit(m + 1, q1);
+            let mut q1 = (z * s.splat(c1_t[m])) * qmm;
+            emit!(m + 1, q1);
             for l in (m + 2)..bands {
                 let k = l * l + l + m;
-                let q = (z * q1 - q2 * rec.b[k]) * rec.a[k];
-                emit(l, q);
+                let q = q2.neg_mul_add(s.splat(b_t[k]), z * q1) * s.splat(a_t[k]);
+                emit!(l, q);
                 q2 = q1;
                 q1 = q;
             }
@@ -108,29 +143,182 @@ fn sh_dot(rec: &ShRecurrence, c: &[f32], x: F32x8, y: F32x8, z: F32x8) -> (F32x8
     (ar, ag, ab)
 }
 
-/// Per-pixel scratch space for [`shade_pixel`]: the lights above the pixel's horizon,
-/// compacted (in light order) into local coordinates and weights.
+/// Per-worker scratch space, reused across the pixels of a tile (and across tiles): the
+/// lights above one pixel's horizon as a structure of arrays, local direction `(x, y, z)`
+/// and RGB weight, `n` of them. Sized once by [`Scratch::reserve`]; nothing is pushed or
+/// allocated per pixel.
 #[derive(Clone, Debug, Default)]
 pub struct Scratch {
-    x: Vec<f32>,
-    y: Vec<f32>,
-    z: Vec<f32>,
-    wr: Vec<f32>,
-    wg: Vec<f32>,
-    wb: Vec<f32>,
+    pub x: Vec<f32>,
+    pub y: Vec<f32>,
+    pub z: Vec<f32>,
+    pub wr: Vec<f32>,
+    pub wg: Vec<f32>,
+    pub wb: Vec<f32>,
+    pub n: usize,
 }
 
-/// Reflected radiance of one pixel: view coefficients `c`, shading frame, the lights and
-/// the chunk list to visit. `includes_cosine`: the data already holds `f cos`.
-///
-/// Two passes: the first computes every visited light's local direction and weight and
-/// keeps, in light order, those above the horizon (weight > 0); the second runs the SH sum
-/// over the kept lights eight at a time (the last group padded with zero weights). Lights
-/// below the horizon thus cost three dot products, not a basis evaluation. The kept list,
-/// and so the result, depends only on the pixel and the lights, never on which chunks a
-/// tile's culling dropped (those lights are below the horizon and would not be kept).
-#[multiversion::multiversion(targets("x86_64+avx2"))]
-pub fn shade_pixel(
+impl Scratch {
+    /// Room for `lights` lights (plus a group of padding); never shrinks.
+    pub fn reserve(&mut self, lights: usize) {
+        let len = lights + 2 * LANES;
+        if self.x.len() < len {
+            for v in [
+                &mut self.x,
+                &mut self.y,
+                &mut self.z,
+                &mut self.wr,
+                &mut self.wg,
+                &mut self.wb,
+            ] {
+                v.resize(len, 0.0);
+            }
+        }
+        self.n = 0;
+    }
+
+    /// Empties the list (keeps the room).
+    #[inline(always)]
+    pub fn clear(&mut self) {
+        self.n = 0;
+    }
+
+    /// Appends one light (local direction, RGB weight). Panics past the reserved room.
+    #[inline(always)]
+    pub fn push(&mut self, l: Vec3, w: Vec3) {
+        let i = self.n;
+        self.x[i] = l.x;
+        self.y[i] = l.y;
+        self.z[i] = l.z;
+        self.wr[i] = w.x;
+        self.wg[i] = w.y;
+        self.wb[i] = w.z;
+        self.n += 1;
+    }
+
+    /// Pads the list to whole groups of [`LANES`] with lights of zero weight pointing
+    /// along the normal (so every basis value stays finite), and returns the padded count.
+    #[inline(always)]
+    pub fn pad(&mut self) -> usize {
+        let end = self.n.div_ceil(LANES) * LANES;
+        for i in self.n..end {
+            self.x[i] = 0.0;
+            self.y[i] = 0.0;
+            self.z[i] = 1.0;
+            self.wr[i] = 0.0;
+            self.wg[i] = 0.0;
+            self.wb[i] = 0.0;
+        }
+        end
+    }
+}
+
+/// Appends to `sc` the lights of chunks `chunks` of `lights` that lie above the horizon of
+/// `frame` (and carry power), in light order, as local directions with weights `E cos`
+/// (`E` when `includes_cosine`). Lights at or below the horizon weigh exactly zero in the
+/// oracle and are not kept, so what is kept (and the result) depends only on the pixel and
+/// the lights, never on which chunks a tile's culling dropped.
+#[inline(always)]
+pub fn gather_dir<S: Isa>(
+    s: S,
+    frame: &ShadingFrame,
+    includes_cosine: bool,
+    lights: &DirLights,
+    chunks: &[u32],
+    sc: &mut Scratch,
+) {
+    let (t, b, n) = (frame.t, frame.b, frame.n);
+    let (tx, ty, tz) = (s.splat(t.x), s.splat(t.y), s.splat(t.z));
+    let (bx, by, bz) = (s.splat(b.x), s.splat(b.y), s.splat(b.z));
+    let (nx, ny, nz) = (s.splat(n.x), s.splat(n.y), s.splat(n.z));
+    let zero = s.zero();
+    for &ch in chunks {
+        let o = ch as usize * LANES;
+        let dx = s.load(&lights.dx[o..]);
+        let dy = s.load(&lights.dy[o..]);
+        let dz = s.load(&lights.dz[o..]);
+        let z = dz.mul_add(nz, dy.mul_add(ny, dx * nx));
+        let mask = z.gt_mask(zero) & lights.chunk_live_mask[ch as usize] as u32;
+        if mask == 0 {
+            continue;
+        }
+        let x = dz.mul_add(tz, dy.mul_add(ty, dx * tx));
+        let y = dz.mul_add(bz, dy.mul_add(by, dx * bx));
+        let (er, eg, eb) = (
+            s.load(&lights.er[o..]),
+            s.load(&lights.eg[o..]),
+            s.load(&lights.eb[o..]),
+        );
+        let (wr, wg, wb) = if includes_cosine {
+            (er, eg, eb)
+        } else {
+            (er * z, eg * z, eb * z)
+        };
+        let at = sc.n;
+        x.compress_store(mask, &mut sc.x, at);
+        y.compress_store(mask, &mut sc.y, at);
+        z.compress_store(mask, &mut sc.z, at);
+        wr.compress_store(mask, &mut sc.wr, at);
+        wg.compress_store(mask, &mut sc.wg, at);
+        sc.n += wb.compress_store(mask, &mut sc.wb, at);
+    }
+}
+
+/// `sum_k w_k sum_lm c_lm Y_lm(l_k)` (RGB) over the lights in `sc`, for view coefficients
+/// `c` (`[R.., G.., B..]`, `rec.bands^2` each). Pads `sc` ([`Scratch::pad`]). Summation
+/// order: per lane over the groups in light order, then the lanes in the fixed order of
+/// [`F32x8::sum`]; it depends only on the light list.
+#[inline(always)]
+pub fn sh_sum<S: Isa>(s: S, rec: &ShRecurrence, c: &[f32], sc: &mut Scratch) -> Vec3 {
+    if sc.n == 0 {
+        return Vec3::ZERO;
+    }
+    let end = sc.pad();
+    macro_rules! bands {
+        ($($b:literal)*) => {
+            match rec.bands {
+                $($b => sh_groups(s, $b, rec, c, sc, end),)*
+                b => sh_groups(s, b, rec, c, sc, end),
+            }
+        };
+    }
+    bands!(1 2 3 4 5 6 7 8 9 10)
+}
+
+#[inline(always)]
+fn sh_groups<S: Isa>(
+    s: S,
+    bands: usize,
+    rec: &ShRecurrence,
+    c: &[f32],
+    sc: &Scratch,
+    end: usize,
+) -> Vec3 {
+    let (mut tr, mut tg, mut tb) = (s.zero(), s.zero(), s.zero());
+    for o in (0..end).step_by(LANES) {
+        let (fr, fg, fb) = sh_dot(
+            s,
+            bands,
+            rec,
+            c,
+            false,
+            s.load(&sc.x[o..]),
+            s.load(&sc.y[o..]),
+            s.load(&sc.z[o..]),
+        );
+        tr = fr.mul_add(s.load(&sc.wr[o..]), tr);
+        tg = fg.mul_add(s.load(&sc.wg[o..]), tg);
+        tb = fb.mul_add(s.load(&sc.wb[o..]), tb);
+    }
+    Vec3::new(tr.sum(), tg.sum(), tb.sum())
+}
+
+/// One pixel through the SH kernel: [`gather_dir`] then [`sh_sum`], on the instruction set
+/// of `s`. For benches and tests; the renderer calls the two steps from its tile loop.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn shade_pixel<S: Isa>(
+    s: S,
     rec: &ShRecurrence,
     c: &[f32],
     includes_cosine: bool,
@@ -139,69 +327,99 @@ pub fn shade_pixel(
     chunks: &[u32],
     scratch: &mut Scratch,
 ) -> Vec3 {
-    let (t, b, n) = (frame.t, frame.b, frame.n);
-    let sc = scratch;
-    for v in [
-        &mut sc.x, &mut sc.y, &mut sc.z, &mut sc.wr, &mut sc.wg, &mut sc.wb,
-    ] {
-        v.clear();
-    }
-    for &ch in chunks {
-        let o = ch as usize * LANES;
-        let dx = F32x8::from_slice(&lights.dx[o..]);
-        let dy = F32x8::from_slice(&lights.dy[o..]);
-        let dz = F32x8::from_slice(&lights.dz[o..]);
-        let z = dx * n.x + dy * n.y + dz * n.z;
-        // Horizon: lanes at or below it weigh exactly zero and are not kept.
-        let cosw = if includes_cosine {
-            F32x8::splat(1.0)
-        } else {
-            z
-        };
-        let w = cosw.select_positive(z);
-        if !w.any_nonzero() {
-            continue;
+    scratch.clear();
+    gather_dir(s, frame, includes_cosine, lights, chunks, scratch);
+    sh_sum(s, rec, c, scratch)
+}
+
+/// [`ShDataset::lookup_coeffs`] on lanes: the view coefficients at texture coordinates
+/// `(u, v)` into `out` (`3 bands^2` long), the bilinear blend of four texel blocks eight
+/// coefficients at a time (with FMA where the instruction set has it: within rounding of
+/// the scalar blend).
+#[inline(always)]
+pub fn lookup_coeffs<S: Isa>(s: S, ds: &ShDataset, u: f32, v: f32, out: &mut [f32]) {
+    let (nu, nv) = ds.grid();
+    match ds.coeff_lookup {
+        Lookup::Nearest => {
+            let (i, j) = hemi_nearest_texel(u, v, nu, nv);
+            out.copy_from_slice(ds.texel_rgb(i, j));
         }
-        let x = dx * t.x + dy * t.y + dz * t.z;
-        let y = dx * b.x + dy * b.y + dz * b.z;
-        let er = w * F32x8::from_slice(&lights.er[o..]);
-        let eg = w * F32x8::from_slice(&lights.eg[o..]);
-        let eb = w * F32x8::from_slice(&lights.eb[o..]);
-        for i in 0..LANES {
-            if er.0[i] != 0.0 || eg.0[i] != 0.0 || eb.0[i] != 0.0 {
-                sc.x.push(x.0[i]);
-                sc.y.push(y.0[i]);
-                sc.z.push(z.0[i]);
-                sc.wr.push(er.0[i]);
-                sc.wg.push(eg.0[i]);
-                sc.wb.push(eb.0[i]);
+        Lookup::Bilinear => {
+            let [(i0, j0, w0), (i1, j1, w1), (i2, j2, w2), (i3, j3, w3)] =
+                hemi_bilinear_texels(u, v, nu, nv);
+            let (b0, b1, b2, b3) = (
+                ds.texel_rgb(i0, j0),
+                ds.texel_rgb(i1, j1),
+                ds.texel_rgb(i2, j2),
+                ds.texel_rgb(i3, j3),
+            );
+            let n = out.len();
+            let full = n / LANES * LANES;
+            let (sw0, sw1, sw2, sw3) = (s.splat(w0), s.splat(w1), s.splat(w2), s.splat(w3));
+            for o in (0..full).step_by(LANES) {
+                let acc = s.load(&b0[o..]) * sw0;
+                let acc = s.load(&b1[o..]).mul_add(sw1, acc);
+                let acc = s.load(&b2[o..]).mul_add(sw2, acc);
+                s.load(&b3[o..]).mul_add(sw3, acc).store(&mut out[o..]);
+            }
+            for k in full..n {
+                out[k] = b0[k] * w0 + b1[k] * w1 + b2[k] * w2 + b3[k] * w3;
             }
         }
     }
-    while sc.x.len() % LANES != 0 {
-        for (v, fill) in [
-            (&mut sc.x, 0.0),
-            (&mut sc.y, 0.0),
-            (&mut sc.z, 1.0),
-            (&mut sc.wr, 0.0),
-            (&mut sc.wg, 0.0),
-            (&mut sc.wb, 0.0),
-        ] {
-            v.push(fill);
-        }
+}
+
+/// Eight pixels at once, one per lane, each lit by the same few lights (point lights
+/// only: a point-light scene would otherwise fill one lane of eight). `ct` holds the
+/// pixels' coefficients transposed (`ct[(colour bands^2 + k) 8 + lane]`); light `i` of lane
+/// `p` is at index `8 i + p` of `sc`'s arrays (local direction, weight; weight 0 where the
+/// light is below that pixel's horizon or the lane is empty). Returns per-lane RGB sums,
+/// over the lights in order: a pixel's result does not depend on its neighbours in the
+/// batch.
+#[inline(always)]
+pub fn sh_sum_packed<S: Isa>(
+    s: S,
+    rec: &ShRecurrence,
+    ct: &[f32],
+    lights: usize,
+    sc: &Scratch,
+) -> (S::V, S::V, S::V) {
+    macro_rules! bands {
+        ($($b:literal)*) => {
+            match rec.bands {
+                $($b => packed_groups(s, $b, rec, ct, lights, sc),)*
+                b => packed_groups(s, b, rec, ct, lights, sc),
+            }
+        };
     }
-    let (mut tr, mut tg, mut tb) = (F32x8::default(), F32x8::default(), F32x8::default());
-    for o in (0..sc.x.len()).step_by(LANES) {
+    bands!(1 2 3 4 5 6 7 8 9 10)
+}
+
+#[inline(always)]
+fn packed_groups<S: Isa>(
+    s: S,
+    bands: usize,
+    rec: &ShRecurrence,
+    ct: &[f32],
+    lights: usize,
+    sc: &Scratch,
+) -> (S::V, S::V, S::V) {
+    let (mut tr, mut tg, mut tb) = (s.zero(), s.zero(), s.zero());
+    for i in 0..lights {
+        let o = i * LANES;
         let (fr, fg, fb) = sh_dot(
+            s,
+            bands,
             rec,
-            c,
-            F32x8::from_slice(&sc.x[o..]),
-            F32x8::from_slice(&sc.y[o..]),
-            F32x8::from_slice(&sc.z[o..]),
+            ct,
+            true,
+            s.load(&sc.x[o..]),
+            s.load(&sc.y[o..]),
+            s.load(&sc.z[o..]),
         );
-        tr += fr * F32x8::from_slice(&sc.wr[o..]);
-        tg += fg * F32x8::from_slice(&sc.wg[o..]);
-        tb += fb * F32x8::from_slice(&sc.wb[o..]);
+        tr = fr.mul_add(s.load(&sc.wr[o..]), tr);
+        tg = fg.mul_add(s.load(&sc.wg[o..]), tg);
+        tb = fb.mul_add(s.load(&sc.wb[o..]), tb);
     }
-    Vec3::new(tr.sum(), tg.sum(), tb.sum())
+    (tr, tg, tb)
 }

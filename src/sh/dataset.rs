@@ -402,6 +402,15 @@ impl ShDataset {
         &self.coeffs[o..o + t]
     }
 
+    /// The `3 T` coefficients of view texel `(i, j)`, `[R.., G.., B..]` (contiguous: the
+    /// kernel reads a pixel's colours as one block). Panics if out of range.
+    #[inline]
+    pub fn texel_rgb(&self, i: usize, j: usize) -> &[f32] {
+        let t = 3 * num_terms(self.bands);
+        let o = (j * self.nu + i) * t;
+        &self.coeffs[o..o + t]
+    }
+
     /// Mutable twin of [`ShDataset::texel`]; setting a non-finite value is the caller's
     /// responsibility (file writing rejects it).
     #[inline]
