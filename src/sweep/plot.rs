@@ -53,6 +53,23 @@ fn bounds(vals: impl Iterator<Item = f64>) -> (f64, f64) {
     }
 }
 
+/// Log-axis ticks at 1, 2 and 5 times the powers of ten inside `[lo, hi]` (plotters' own
+/// log ticks leave a one-decade axis nearly unlabelled).
+fn key_points(lo: f64, hi: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut decade = 10f64.powi(lo.log10().floor() as i32);
+    while decade <= hi {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * decade;
+            if v >= lo && v <= hi {
+                out.push(v);
+            }
+        }
+        decade *= 10.0;
+    }
+    out
+}
+
 /// A log-axis tick: at most 3 significant digits, no trailing zeros.
 fn tick(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
@@ -88,7 +105,10 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             .margin(20)
             .x_label_area_size(55)
             .y_label_area_size(80)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .build_cartesian_2d(
+                (x0..x1).log_scale().with_key_points(key_points(x0, x1)),
+                (y0..y1).log_scale().with_key_points(key_points(y0, y1)),
+            )
             .map_err(plot_err(path))?;
         chart
             .configure_mesh()
@@ -173,13 +193,13 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
                     " (dominated)"
                 }
             );
-            // Left of the ring when the point is in the right half of the (log) x range.
-            let right_half = (r.frame_ms / x0).ln() > 0.5 * (x1 / x0).ln();
-            let dx = if right_half {
-                -14 - (label.len() as i32 * 29) / 4
-            } else {
-                14
-            };
+            // Above the ring, starting just right of it, shifted left as far as needed to
+            // stay inside the plot (about 7 px per character at 17 px).
+            let width = label.len() as i32 * 7;
+            let (px, _) = chart.backend_coord(&p);
+            let area = chart.plotting_area().get_pixel_range().0;
+            let start = (px + 14).min(area.end - width - 4).max(area.start + 4);
+            let dx = start - px;
             chart
                 .draw_series(std::iter::once(
                     EmptyElement::at(p)
