@@ -6,6 +6,10 @@ use brdfkit::scene::Scene;
 use brdfkit::shade;
 use criterion::{criterion_group, criterion_main, Criterion};
 
+/// The allocator the `brdfkit` binary uses (src/main.rs), so frames are timed as they run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn frame(c: &mut Criterion) {
     let scene = Scene::default_scene();
     assert_eq!((scene.render.width, scene.render.height), (640, 480));

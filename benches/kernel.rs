@@ -17,6 +17,10 @@ use glam::Vec3;
 use std::hint::black_box;
 use std::path::Path;
 
+/// The allocator the `brdfkit` binary uses (src/main.rs), so frames are timed as they run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Independent fused multiply-add chains on eight lanes ([`F32x8::mul_add`], the kernel's
 /// instruction: FMA on the AVX2+FMA path): the machine's peak for the kernel's mix.
 struct MaddPeak {

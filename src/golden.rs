@@ -295,9 +295,12 @@ pub fn parse_manifest(text: &str) -> std::result::Result<Manifest, String> {
         }
         // The golden set is self-contained: a scene lies in the manifest's directory or below
         // it, so checking never reads (and a report never names) a file outside the set.
-        let inside = Path::new(&e.scene)
-            .components()
-            .all(|c| matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir));
+        let inside = Path::new(&e.scene).components().all(|c| {
+            matches!(
+                c,
+                std::path::Component::Normal(_) | std::path::Component::CurDir
+            )
+        });
         if !inside {
             return Err(format!(
                 "{}: '{}' must be a relative path inside the golden directory (no '..', no root)",

@@ -549,7 +549,11 @@ pub fn shade_reference_f64(scene: &Scene, vis: &VisBuffer) -> Image {
                             if !(d2 > 0.0 && d2.is_finite()) {
                                 continue;
                             }
-                            (d / d2.sqrt(), intensity.as_dvec3() / d2.max(crate::light::MIN_POINT_DISTANCE2 as f64))
+                            (
+                                d / d2.sqrt(),
+                                intensity.as_dvec3()
+                                    / d2.max(crate::light::MIN_POINT_DISTANCE2 as f64),
+                            )
                         }
                     };
                     let wi = local(l);
