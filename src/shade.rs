@@ -22,7 +22,7 @@
 //! camera at silhouettes, and a BRDF is not defined there.
 
 use crate::brdf::{eval_cosine_weighted, Brdf};
-use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
+use crate::conventions::{hemi_texcoord, ShadingFrame};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Dispatch, F32x8, Isa, Kernel, LANES};
 use crate::kernel::models::LaneModel;
@@ -263,7 +263,7 @@ impl<'a> FramePrep<'a> {
                     Vec3::ZERO
                 } else {
                     coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
-                    let (p, a) = local_angles(wo);
+                    let (p, a) = kernel::approx::view_angles(s, wo);
                     let (ts, tt) = hemi_texcoord(p, a);
                     kernel::sh::lookup_coeffs(s, ds, ts, tt, coeff_buf);
                     kernel::sh::sh_sum(s, rec, coeff_buf, scratch)
@@ -319,7 +319,7 @@ impl FramePrep<'_> {
             };
             let frame = ShadingFrame::from_normal(surf.normal);
             let wo = local_view(&frame, surf, self.eye);
-            let (pa, az) = local_angles(wo);
+            let (pa, az) = kernel::approx::view_angles(s, wo);
             let (ts, tt) = hemi_texcoord(pa, az);
             kernel::sh::lookup_coeffs(s, ds, ts, tt, one);
             for (k, &c) in one.iter().enumerate() {
