@@ -16,7 +16,11 @@
 //!    their file format: thesis 2.3.3-2.3.4, 3.1.3-3.1.5).
 //! 3. **Triangles binned to tiles and visibility resolved**: [`raster`] (homogeneous
 //!    clipping, fixed-point edge functions with a top-left rule, binning, per-tile depth).
-//! 4. **Pixels shaded**: [`shade`] (deferred: one shading per visible pixel), [`aov`]
+//! 4. **Pixels shaded**: [`shade`] (deferred: one shading per visible pixel; the frame's
+//!    skips decided once in [`shade::FramePrep`]), [`kernel`] (8 lights per SIMD group from
+//!    structure-of-arrays buffers: SH sums, lane models for the analytic and D-BRDF
+//!    materials; [`kernel::lanes`] is the only SIMD code, [`kernel::skip`] bounds what each
+//!    skip changes, [`kernel::approx`] states the error of each approximation), [`aov`]
 //!    (debug outputs: normal, depth, coverage, view and light angles).
 //! 5. **Images out**: [`image_io`] (linear EXR; PNG via exposure, tone map and sRGB;
 //!    atomic writes), [`golden`] (reference images and their check), [`compare`] (error
@@ -27,7 +31,9 @@
 //! Off the rendering path: [`acquire`] measures any BRDF as an SH data set (projection,
 //! least squares, error and ringing reports) or fits a D-BRDF to it (thesis 2.3.3-2.3.6);
 //! [`materials`] is the library of materials after the thesis's figures 3.9-3.15, each a
-//! source model plus the representation it is rendered with.
+//! source model plus the representation it is rendered with. [`sweep`] renders a grid of
+//! configurations against the converged reference (run time against error, Pareto front);
+//! [`turntable`] renders animated sequences; [`shard`] splits either over machines.
 //!
 //! ## Conventions
 //! Every coordinate convention (world axes, spherical angle names, the shading frame and
@@ -41,7 +47,12 @@
 //! fixed order: vertices and triangle set-up per element (results gathered in source order),
 //! binning in triangle order, visibility per tile (ties keep the earlier triangle), shading
 //! per pixel. No floating-point reduction crosses a task boundary. Seeded samplers use
-//! explicit seeds. There is no fast-math anywhere.
+//! explicit seeds. There is no fast-math anywhere. The kernel's instruction set (AVX2+FMA
+//! or portable) is chosen once per frame from the CPU, never per thread, so a machine gives
+//! the same bits at any thread count; two machines with different instruction sets agree
+//! within the golden tolerance `kernel-dispatch` ([`golden`]). The fast path's polynomial
+//! `acos`/`atan2` and FMA contractions are explicit, with stated error bounds; the scalar
+//! oracle ([`shade::shade_reference`]) and the f64 reference use neither.
 //!
 //! ## Where the thesis is corrected
 //! - The azimuth of the shading frame spans [0, 2 pi) (atan2), not the thesis's acos, which
