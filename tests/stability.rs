@@ -48,15 +48,10 @@ fn config(cases: u32) -> ProptestConfig {
     }
 }
 
-const AOVS: [Aov; 7] = [
-    Aov::Normal,
-    Aov::Depth,
-    Aov::ViewPolar,
-    Aov::ViewAzimuth,
-    Aov::LightPolar,
-    Aov::LightAzimuth,
-    Aov::Coverage,
-];
+/// Every AOV the renderer has (the command line's list), so a new one is checked too.
+fn every_aov() -> &'static [Aov] {
+    <Aov as clap::ValueEnum>::value_variants()
+}
 
 /// Renders the beauty image in f32 and f64 and every AOV; panics on any NaN or Inf.
 /// Returns (f32 image, f64 image).
@@ -72,7 +67,7 @@ fn assert_finite(scene: &Scene, what: &str, aovs: bool) -> (Image, Image) {
         }
     }
     if aovs {
-        for a in AOVS {
+        for &a in every_aov() {
             let img = render(scene, Some(a));
             assert!(
                 img.pixels.iter().all(|p| p.is_finite()),
