@@ -51,6 +51,36 @@
 //! (what the default camera looks at), u = 1/4 faces -x and u = 3/4 faces +x, so the image
 //! reads left to right as a viewer turning clockwise seen from above, like a panorama.
 //! A probe rotation of `r` radians turns the environment about +y by `r` (right-handed).
+//!
+//! # Departures from the thesis, in one place (for a GPU porter)
+//! A GPU build that reproduces the golden images must follow these, not the thesis's text:
+//! 1. **Azimuth** spans [0, 2 pi) through `atan2(d.b, d.t)`; the thesis's `acos` folds
+//!    mirror directions together (see "Shading frame" above).
+//! 2. **Frame at the poles**: for a normal exactly +-y the tangent is the limit from the +z
+//!    side, `t = (0, 0, -n.y)`; the thesis leaves it undefined (see above).
+//! 3. **Probe texel solid angles** are exact, `(2 pi / W)(cos(pi j / H) - cos(pi (j+1) / H))`
+//!    for row `j`; the thesis's MATLAB (`linspace(-pi/2, pi/2, M)`) puts the first and last
+//!    rows on the poles, where its `cos(latitude)` weight is zero, and spaces rows by
+//!    `pi / (M - 1)`, not `pi / M` ([`crate::env::probe`]).
+//! 4. **Luminance** for importance sampling and median cut is Rec. 709 / sRGB,
+//!    `0.2126 R + 0.7152 G + 0.0722 B`; the thesis uses `0.2125 / 0.7154 / 0.0721`
+//!    ([`crate::env::luminance`]: it moves sample positions, never total power).
+//! 5. **Negative probe texels** (lossy DWAB ringing around bright sources) are clamped to 0
+//!    channel by channel on load ([`crate::env::probe`]); the thesis's probes had none.
+//! 6. **Phong and Blinn-Phong are energy-normalised**: `k_s (a + 2) / (2 pi) cos^a` and
+//!    `k_s (a + 8) / (8 pi) (n.h)^a` (with `k_d / pi`), not the thesis's unnormalised lobes
+//!    (Defs. 3, 4; [`crate::brdf::phong`], [`crate::brdf::blinn_phong`]).
+//! 7. **D-BRDF normalisation** of the distribution `p(h)` and the constant `c`, which the
+//!    thesis does not state: derived in [`crate::brdf::dbrdf`].
+//! 8. **View direction lifted above the horizon**: a view direction less than
+//!    [`crate::shade::MIN_VIEW_COS`] above the tangent plane (interpolated normals at
+//!    silhouettes) is moved to that height at the same azimuth before any lookup.
+//! 9. **SH basis**: real, orthonormal over the full sphere, **without** the Condon-Shortley
+//!    phase (`Y_11 = +sqrt(3/(4 pi)) x`), index `k = l^2 + l + m`, in the local shading
+//!    frame ([`crate::sh::basis`]); evaluated by a normalised recurrence instead of the
+//!    thesis's factorials (Def. 11), which overflow f32 near l = 17. Coefficient tables are
+//!    sampled like GL textures (texel centres, azimuth `GL_REPEAT`, polar
+//!    `GL_CLAMP_TO_EDGE`; see above).
 
 use glam::{DVec3, Vec3};
 use std::f32::consts::{PI, TAU};

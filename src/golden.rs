@@ -20,18 +20,32 @@
 //! # written by `golden bless`, never by hand:
 //! config = "..."              # summary of the scene's configuration (checked for staleness)
 //! hash = "fnv1a64:..."        # of the EXR's pixel values
+//! blessed_on = "x86_64-linux/avx2"   # the platform and kernel path that rendered it
 //! fast_vs_reference = { max_abs = .., rel_rmse = .., flip_mean = .. }   # see [`Bound`]
+//! fast_vs_reference_small = { .. }   # the same at 1/BOUND_CHECK_SCALE of the size
 //! ```
 //!
-//! The check compares each entry's render with its stored render (same path, same
-//! precision) at the entry's tolerance; the slow reference render ([`measure`]) is run only
-//! by `bless`, which records the measured fast-vs-reference bound in the manifest.
+//! The check re-renders each entry and compares it with its stored render. On the
+//! platform and kernel path that blessed the entry ([`Entry::blessed_on`], [`blessing_path`])
+//! every bit must agree: the render is deterministic there, so any change at all (a
+//! constant off by 0.05%, one texel, one dropped light) fails. On another platform or path
+//! the entry's tolerance applies. The two kernel paths give the same bits by construction
+//! ([`crate::kernel::lanes`]), which `tests/golden.rs` checks over the whole set, so in
+//! practice the tolerance serves only other platforms (another libm, another instruction
+//! set) and GPU builds.
+//!
+//! The slow reference render ([`measure`]) is run by `bless`, which records the measured
+//! fast-vs-reference bound at full size and at 1/[`BOUND_CHECK_SCALE`] of it; `golden check
+//! --bounds` ([`check_bounds`]) re-measures the small one and holds it to the stored value
+//! within [`BOUND_MARGIN`], so a change of the sampler, the reference path or the light
+//! set that makes the fast path drift from the converged reference is caught in CI.
 
 use crate::aov::Aov;
 use crate::compare::{self, Loaded, Thresholds};
 use crate::env::prepare::SamplerKind;
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image};
+use crate::kernel::lanes::{Dispatch, KernelPath};
 use crate::render;
 use crate::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use crate::sh::dataset::Lookup;
@@ -68,18 +82,16 @@ pub const CROSS_PLATFORM: Tolerance = Tolerance {
     flip: Thresholds::DEFAULT,
 };
 
-/// For shaded images of the f32 fast path: the render may come from another kernel
-/// dispatch path than the stored one (scalar, AVX2, AVX2+FMA, AVX-512, vectorised
-/// transcendental approximations), each of which is held within
-/// [`crate::kernel::SH_KERNEL_TOLERANCE`] (1e-3, relative to the pixel or to 1% of the
-/// image's peak) of the scalar oracle. Measured (tests/golden.rs,
-/// `the_scalar_oracle_passes_every_shaded_f32_entry`): the scalar oracle, a second dispatch
-/// path with another summation order, uses at most 44% of this tolerance against the stored
-/// kernel renders (`fig3-8-full-studio`: 130519 lights summed in f32 in two orders), 20-28%
-/// on the 8-band SH entries (terms of both signs cancel), under 1% elsewhere. The faults
-/// of tests/perturbation.rs (half-texel lookup shift, wrong cosine factor, flipped
+/// For shaded images of the f32 fast path checked off the platform and kernel path that
+/// blessed them (on it, every bit must agree: see the module doc): another platform's libm,
+/// another instruction set, or a GPU build sums the same terms in another order, and each
+/// kernel is held within [`crate::kernel::SH_KERNEL_TOLERANCE`] (relative to the pixel or
+/// to 1% of the image's peak) of the scalar oracle. The scalar oracle, another summation
+/// order, passes every shaded f32 entry at this tolerance (tests/golden.rs,
+/// `the_scalar_oracle_passes_every_shaded_f32_entry`, which prints the share used). The
+/// faults of tests/perturbation.rs (half-texel lookup shift, wrong cosine factor, flipped
 /// azimuth) move pixels by 1e-2 and more, and tests/golden.rs shows a lookup-mode change,
-/// an environment turned by 2 degrees and a 1% pixel change are each caught.
+/// an environment turned by 2 degrees and a 1% pixel change are each caught at it.
 pub const KERNEL_DISPATCH: Tolerance = Tolerance {
     abs: 1e-6,
     rel: crate::kernel::SH_KERNEL_TOLERANCE,
@@ -170,9 +182,18 @@ pub struct Entry {
     pub config: String,
     #[serde(default)]
     pub hash: String,
-    /// Written by bless ([`measure`]); absent for debug outputs (nothing is shaded).
+    /// Where the stored image was rendered ([`blessing_path`]), written by bless: the check
+    /// demands identical bits there and the tolerance elsewhere.
+    #[serde(default)]
+    pub blessed_on: String,
+    /// Written by bless ([`measure`] at full size); absent for debug outputs (nothing is
+    /// shaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fast_vs_reference: Option<Bound>,
+    /// [`measure`] at 1/[`BOUND_CHECK_SCALE`] of the entry's size, written by bless and
+    /// re-measured by [`check_bounds`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fast_vs_reference_small: Option<Bound>,
 }
 
 impl Entry {
@@ -213,6 +234,38 @@ impl Entry {
     }
 }
 
+/// The platform this binary runs on, as recorded in [`Entry::blessed_on`]:
+/// `<arch>-<os>` (the libm that the angles, probe directions and f64 path go through comes
+/// with the OS).
+pub fn platform() -> String {
+    format!("{}-{}", std::env::consts::ARCH, std::env::consts::OS)
+}
+
+/// Whether an entry's image goes through the f32 shading kernels (a shaded f32 entry), so
+/// its bits may depend on the kernel path; debug outputs and the f64 path do not.
+pub fn uses_kernel(entry: &Entry, scene: &Scene) -> bool {
+    entry.aov.is_none() && scene.render.precision == Precision::F32
+}
+
+/// Where an entry is rendered: [`platform`], plus `/<kernel path>` when the image goes
+/// through the kernels ([`uses_kernel`]), e.g. `x86_64-linux/avx2`.
+pub fn blessing_path(entry: &Entry, scene: &Scene) -> String {
+    if uses_kernel(entry, scene) {
+        let d = Dispatch::choose(scene.render.kernel).expect("checked by Scene::resolve");
+        format!("{}/{}", platform(), d.path().name())
+    } else {
+        platform()
+    }
+}
+
+/// Options of [`check`] and [`bless`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CheckOptions {
+    /// The kernel path every entry is rendered on (`--kernel`); a path this CPU lacks is
+    /// an error.
+    pub kernel: KernelPath,
+}
+
 /// The outcome of comparing one entry.
 #[derive(Debug, Serialize)]
 pub struct Outcome {
@@ -220,6 +273,8 @@ pub struct Outcome {
     pub passed: bool,
     pub max_abs_error: f32,
     pub pixels_over_tolerance: usize,
+    /// Pixels whose bits differ from the stored image (any channel).
+    pub pixels_differing: usize,
     pub message: String,
 }
 
@@ -331,10 +386,12 @@ pub fn parse_manifest(text: &str) -> std::result::Result<Manifest, String> {
     Ok(m)
 }
 
-/// Loads and resolves an entry's scene file; errors name the scene file.
-fn load_scene(dir: &Path, entry: &Entry) -> Result<(SceneFile, Scene)> {
+/// Loads and resolves an entry's scene file on the kernel path `kernel`; errors name the
+/// scene file.
+fn load_scene(dir: &Path, entry: &Entry, kernel: KernelPath) -> Result<(SceneFile, Scene)> {
     let scene_path = dir.join(&entry.scene);
-    let file = SceneFile::load(&scene_path)?;
+    let mut file = SceneFile::load(&scene_path)?;
+    file.render.kernel = kernel;
     let scene = resolve_named(&file, dir, &scene_path)?;
     Ok((file, scene))
 }
@@ -349,7 +406,7 @@ fn resolve_named(file: &SceneFile, dir: &Path, scene_path: &Path) -> Result<Scen
 /// Renders an entry: its AOV, or its shaded image at the scene's precision (threads: all
 /// cores; the result does not depend on it).
 pub fn render_entry(dir: &Path, entry: &Entry) -> Result<Image> {
-    let (_, scene) = load_scene(dir, entry)?;
+    let (_, scene) = load_scene(dir, entry, KernelPath::Auto)?;
     Ok(render::render(&scene, entry.aov))
 }
 
@@ -436,22 +493,94 @@ pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
     parts.join(", ")
 }
 
-/// Measures an entry's render `fast` against its reference render: the same scene with
-/// the environment (if any) as the full probe, through [`render::render_reference`].
-/// `None` for debug outputs (nothing is shaded). Slow with an environment (every probe
-/// texel is a light): this is run by bless, never by the check.
-pub fn measure(dir: &Path, entry: &Entry, fast: &Image) -> Result<Option<Bound>> {
+/// Divisor of the width and height at which [`check_bounds`] re-measures the
+/// fast-vs-reference bound: an environment entry's reference shades every probe texel
+/// (131,072 lights for a 512x256 probe) at every pixel, about a minute at 64x48 on two
+/// cores, a few seconds at 1/4 of each side.
+pub const BOUND_CHECK_SCALE: u32 = 4;
+
+/// How far a re-measured bound may exceed the stored one: `stored * (1 + rel) + abs` per
+/// metric. On the platform that blessed the set both sides are deterministic and the
+/// measurement repeats exactly; the margin admits another platform's rounding (another
+/// libm moves light directions by ulps, which moves a sampler's error by far less than
+/// 10%), not a change of the light set or of either render path.
+pub const BOUND_MARGIN: (f64, f64) = (0.1, 1e-6);
+
+/// Measures the fast path against the converged reference on an entry's scene, with both
+/// images at 1/`scale` of the entry's width and height (at least 1 pixel each): the fast
+/// side is the f32 kernel render of the scene (for an f64 entry too, so it is never its own
+/// reference), the reference the same scene with the environment (if any) as the full
+/// probe, through [`render::render_reference`] (f64, every light, no culling). `None` for
+/// debug outputs (nothing is shaded). Slow with an environment at full size (every probe
+/// texel is a light).
+pub fn measure(dir: &Path, entry: &Entry, scale: u32) -> Result<Option<Bound>> {
     if entry.aov.is_some() {
         return Ok(None);
     }
     let scene_path = dir.join(&entry.scene);
     let mut file = SceneFile::load(&scene_path)?;
+    file.render.width = (file.render.width / scale.max(1)).max(1);
+    file.render.height = (file.render.height / scale.max(1)).max(1);
+    file.render.precision = Precision::F32;
+    let fast = render::render(&resolve_named(&file, dir, &scene_path)?, None);
     if let Some(env) = file.env.as_mut() {
         env.sampler = SamplerKind::Full;
     }
     let scene = resolve_named(&file, dir, &scene_path)?;
     let reference = render::render_reference(&scene);
-    Ok(Some(bound(fast, &reference)?))
+    Ok(Some(bound(&fast, &reference)?))
+}
+
+/// Whether a re-measured bound stays within the stored one ([`BOUND_MARGIN`]), per metric.
+pub fn within_bound(measured: &Bound, stored: &Bound) -> bool {
+    let (rel, abs) = BOUND_MARGIN;
+    let ok = |m: f64, s: f64| m <= s * (1.0 + rel) + abs;
+    ok(measured.max_abs, stored.max_abs)
+        && ok(measured.rel_rmse, stored.rel_rmse)
+        && ok(measured.flip_mean, stored.flip_mean)
+}
+
+/// The outcome of re-measuring one entry's small fast-vs-reference bound.
+#[derive(Debug, Serialize)]
+pub struct BoundOutcome {
+    pub name: String,
+    pub passed: bool,
+    pub stored: Bound,
+    pub measured: Bound,
+}
+
+/// Re-measures [`Entry::fast_vs_reference_small`] of the named shaded entries (all if
+/// `names` is empty; debug outputs have none) at 1/[`BOUND_CHECK_SCALE`] of their size and
+/// holds each to the stored bound within [`BOUND_MARGIN`]. A shaded entry without a stored
+/// small bound is an error (run `golden bless`).
+pub fn check_bounds(dir: &Path, names: &[String]) -> Result<Vec<BoundOutcome>> {
+    let manifest = load_manifest(dir)?;
+    for n in names {
+        Entry::find(&manifest, &manifest_path(dir), n)?;
+    }
+    let mut out = Vec::new();
+    for entry in &manifest.entries {
+        if entry.aov.is_some() || (!names.is_empty() && !names.contains(&entry.name)) {
+            continue;
+        }
+        let Some(stored) = entry.fast_vs_reference_small else {
+            return Err(Error::format(
+                manifest_path(dir),
+                format!(
+                    "entry '{}' has no fast_vs_reference_small: run `brdfkit golden bless {}`",
+                    entry.name, entry.name
+                ),
+            ));
+        };
+        let measured = measure(dir, entry, BOUND_CHECK_SCALE)?.expect("a shaded entry");
+        out.push(BoundOutcome {
+            name: entry.name.clone(),
+            passed: within_bound(&measured, &stored),
+            stored,
+            measured,
+        });
+    }
+    Ok(out)
 }
 
 /// The [`Bound`] between two images of one size (a size difference is an error).
@@ -551,12 +680,118 @@ pub fn write_triptych(path: &Path, expected: &Image, actual: &Image) -> Result<(
     image_io::write_png_bytes(path, 3 * w, h, bytes)
 }
 
+/// Judges one entry's render `actual` against its stored image `expected` (whose content
+/// hash is `expected_hash`): identical bits when `rendered_on` is the entry's
+/// [`Entry::blessed_on`], else the entry's tolerance; `config` is the summary of the scene
+/// as it resolves now (a stale manifest fails).
+pub fn judge(
+    entry: &Entry,
+    expected: &Image,
+    expected_hash: &str,
+    actual: &Image,
+    config: &str,
+    rendered_on: &str,
+) -> Outcome {
+    let tol = tolerance_named(&entry.tolerance).expect("checked by parse_manifest");
+    let hash_ok = entry.hash == expected_hash;
+    let exact = !entry.blessed_on.is_empty() && entry.blessed_on == rendered_on;
+    let Some((max_abs, over)) = compare(expected, actual, tol) else {
+        return Outcome {
+            name: entry.name.clone(),
+            passed: false,
+            max_abs_error: f32::INFINITY,
+            pixels_over_tolerance: usize::MAX,
+            pixels_differing: usize::MAX,
+            message: format!(
+                "size differs: golden {}x{}, render {}x{}",
+                expected.width, expected.height, actual.width, actual.height
+            ),
+        };
+    };
+    let differing = expected
+        .pixels
+        .iter()
+        .zip(&actual.pixels)
+        .filter(|(e, a)| e.to_array().map(f32::to_bits) != a.to_array().map(f32::to_bits))
+        .count();
+    let fail = |max_abs_error, pixels_over_tolerance, message| Outcome {
+        name: entry.name.clone(),
+        passed: false,
+        max_abs_error,
+        pixels_over_tolerance,
+        pixels_differing: differing,
+        message,
+    };
+    if exact && differing > 0 {
+        return fail(
+            max_abs,
+            over,
+            format!(
+                "{differing} pixels differ from the stored bits on the path that blessed them \
+                 ({rendered_on}; max abs error {max_abs:e})"
+            ),
+        );
+    }
+    if over > 0 {
+        return fail(
+            max_abs,
+            over,
+            format!(
+                "{over} pixels over tolerance '{}' (max abs error {max_abs:e}; blessed on {}, \
+                 rendered on {rendered_on})",
+                entry.tolerance, entry.blessed_on
+            ),
+        );
+    }
+    if !hash_ok {
+        return fail(
+            max_abs,
+            over,
+            format!(
+                "{}.exr does not match its manifest hash: edited outside `golden bless`?",
+                entry.name
+            ),
+        );
+    }
+    if config != entry.config {
+        return fail(
+            max_abs,
+            over,
+            format!(
+                "manifest config is stale (scene now gives '{config}'): run `brdfkit golden bless {}`",
+                entry.name
+            ),
+        );
+    }
+    Outcome {
+        name: entry.name.clone(),
+        passed: true,
+        max_abs_error: max_abs,
+        pixels_over_tolerance: 0,
+        pixels_differing: differing,
+        message: if exact {
+            format!("ok (identical bits, {rendered_on})")
+        } else {
+            format!(
+                "ok (tolerance '{}': blessed on {}, rendered on {rendered_on}, {differing} pixels differ)",
+                entry.tolerance, entry.blessed_on
+            )
+        },
+    }
+}
+
 /// Checks the named entries of `dir` (all if `names` is empty; an unknown name is an
-/// error): re-renders each, compares it with its stored EXR at its tolerance, and checks
-/// the stored EXR's hash and the manifest's configuration summary. Failures leave
+/// error): re-renders each on `opts.kernel`, and judges it against its stored EXR
+/// ([`judge`]: identical bits on the path that blessed it, its tolerance elsewhere), the
+/// stored EXR's hash and the manifest's configuration summary. Failures leave
 /// `<name>.png` (expected | difference | actual) and `<name>.json` in `report_dir`.
 /// Never writes under `dir`.
-pub fn check(dir: &Path, report_dir: &Path, names: &[String]) -> Result<Vec<Outcome>> {
+pub fn check(
+    dir: &Path,
+    report_dir: &Path,
+    names: &[String],
+    opts: &CheckOptions,
+) -> Result<Vec<Outcome>> {
     let manifest = load_manifest(dir)?;
     for n in names {
         Entry::find(&manifest, &manifest_path(dir), n)?;
@@ -566,74 +801,55 @@ pub fn check(dir: &Path, report_dir: &Path, names: &[String]) -> Result<Vec<Outc
         if !names.is_empty() && !names.contains(&entry.name) {
             continue;
         }
-        let tol = tolerance_named(&entry.tolerance).expect("checked by parse_manifest");
         let image_path = dir.join(format!("{}.exr", entry.name));
         let expected = image_io::read_exr(&image_path)?;
-        let (file, scene) = load_scene(dir, entry)?;
+        let (file, scene) = load_scene(dir, entry, opts.kernel)?;
         let actual = render::render(&scene, entry.aov);
         let config = summarize(&file, &scene, entry.aov);
-        let hash_ok = entry.hash == content_hash(&expected);
-        let outcome = match compare(&expected, &actual, tol) {
-            None => Outcome {
-                name: entry.name.clone(),
-                passed: false,
-                max_abs_error: f32::INFINITY,
-                pixels_over_tolerance: usize::MAX,
-                message: format!(
-                    "size differs: golden {}x{}, render {}x{}",
-                    expected.width, expected.height, actual.width, actual.height
-                ),
-            },
-            Some((max_abs, over)) => Outcome {
-                name: entry.name.clone(),
-                passed: over == 0 && hash_ok && config == entry.config,
-                max_abs_error: max_abs,
-                pixels_over_tolerance: over,
-                message: if over > 0 {
-                    format!(
-                        "{over} pixels over tolerance '{}' (max abs error {max_abs:e})",
-                        entry.tolerance
-                    )
-                } else if !hash_ok {
-                    format!(
-                        "{} does not match its manifest hash: edited outside `golden bless`?",
-                        image_path.display()
-                    )
-                } else if config != entry.config {
-                    format!(
-                        "manifest config is stale (scene now gives '{config}'): run `brdfkit golden bless {}`",
-                        entry.name
-                    )
-                } else {
-                    format!("ok (tolerance '{}')", entry.tolerance)
-                },
-            },
-        };
+        let outcome = judge(
+            entry,
+            &expected,
+            &content_hash(&expected),
+            &actual,
+            &config,
+            &blessing_path(entry, &scene),
+        );
         if !outcome.passed {
-            std::fs::create_dir_all(report_dir)
-                .map_err(|e| Error::io(report_dir, "cannot create report directory", e))?;
-            write_triptych(
-                &report_dir.join(format!("{}.png", entry.name)),
-                &expected,
-                &actual,
-            )?;
-            let json = serde_json::to_string_pretty(&outcome).expect("serialisable");
-            let jp = report_dir.join(format!("{}.json", entry.name));
-            image_io::write_atomically(&jp, |tmp| {
-                std::fs::write(tmp, &json).map_err(|e| Error::io(&jp, "cannot write report", e))
-            })?;
+            write_report(report_dir, &outcome, &expected, &actual)?;
         }
         out.push(outcome);
     }
     Ok(out)
 }
 
+/// Writes a failed entry's `expected | difference | actual` PNG and JSON report.
+fn write_report(
+    report_dir: &Path,
+    outcome: &Outcome,
+    expected: &Image,
+    actual: &Image,
+) -> Result<()> {
+    std::fs::create_dir_all(report_dir)
+        .map_err(|e| Error::io(report_dir, "cannot create report directory", e))?;
+    write_triptych(
+        &report_dir.join(format!("{}.png", outcome.name)),
+        expected,
+        actual,
+    )?;
+    let json = serde_json::to_string_pretty(outcome).expect("serialisable");
+    let jp = report_dir.join(format!("{}.json", outcome.name));
+    image_io::write_atomically(&jp, |tmp| {
+        std::fs::write(tmp, &json).map_err(|e| Error::io(&jp, "cannot write report", e))
+    })
+}
+
 /// Re-renders and rewrites the named entries (all if `names` is empty): EXR, PNG preview
 /// (AOVs in their linear encoding, [`crate::aov::png_bytes`]), hash, configuration summary
-/// and the measured fast-vs-reference bound ([`measure`]); then the manifest and the table
-/// in `README.md` ([`readme_table`]). Every entry is rendered before anything is written,
-/// so a failing entry leaves golden/ as it was.
-pub fn bless(dir: &Path, names: &[String]) -> Result<Vec<PathBuf>> {
+/// the platform and kernel path ([`Entry::blessed_on`]) and the measured fast-vs-reference
+/// bounds ([`measure`], full size and 1/[`BOUND_CHECK_SCALE`]); then the manifest and the
+/// table in `README.md` ([`readme_table`]). Every entry is rendered before anything is
+/// written, so a failing entry leaves golden/ as it was.
+pub fn bless(dir: &Path, names: &[String], opts: &CheckOptions) -> Result<Vec<PathBuf>> {
     let mut manifest = load_manifest(dir)?;
     for n in names {
         Entry::find(&manifest, &manifest_path(dir), n)?;
@@ -643,10 +859,12 @@ pub fn bless(dir: &Path, names: &[String]) -> Result<Vec<PathBuf>> {
         if !names.is_empty() && !names.contains(&entry.name) {
             continue;
         }
-        let (file, scene) = load_scene(dir, entry)?;
+        let (file, scene) = load_scene(dir, entry, opts.kernel)?;
         let img = render::render(&scene, entry.aov);
         entry.config = summarize(&file, &scene, entry.aov);
-        entry.fast_vs_reference = measure(dir, entry, &img)?;
+        entry.blessed_on = blessing_path(entry, &scene);
+        entry.fast_vs_reference = measure(dir, entry, 1)?;
+        entry.fast_vs_reference_small = measure(dir, entry, BOUND_CHECK_SCALE)?;
         rendered.push((i, img));
     }
     let mut written = Vec::new();
@@ -669,8 +887,8 @@ pub fn bless(dir: &Path, names: &[String]) -> Result<Vec<PathBuf>> {
     }
     let mpath = manifest_path(dir);
     let text = format!(
-        "# Golden images: see README.md. config, hash and fast_vs_reference are written by\n\
-         # `brdfkit golden bless`; everything else by hand.\n\n{}",
+        "# Golden images: see README.md. config, hash, blessed_on and fast_vs_reference(_small)\n\
+         # are written by `brdfkit golden bless`; everything else by hand.\n\n{}",
         toml::to_string_pretty(&manifest).expect("serialisable")
     );
     image_io::write_atomically(&mpath, |tmp| {

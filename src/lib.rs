@@ -46,19 +46,22 @@
 //! is split so that each output value is computed by exactly one task from inputs in a
 //! fixed order: vertices and triangle set-up per element (results gathered in source order),
 //! binning in triangle order, visibility per tile (ties keep the earlier triangle), shading
-//! per pixel. No floating-point reduction crosses a task boundary. Seeded samplers use
-//! explicit seeds. There is no fast-math anywhere. The kernel's instruction set (AVX2+FMA
-//! or portable) is chosen once per frame from the CPU, never per thread, so a machine gives
-//! the same bits at any thread count; two machines with different instruction sets agree
-//! within the golden tolerance `kernel-dispatch` ([`golden`]). The fast path's polynomial
-//! `acos`/`atan2` and FMA contractions are explicit, with stated error bounds; the scalar
-//! oracle ([`shade::shade_reference`]) and the f64 reference use neither.
+//! per pixel. No floating-point reduction crosses a task boundary (sums over parallel work
+//! are collected and added in index order). Seeded samplers use explicit seeds. There is
+//! no fast-math anywhere. The kernel's instruction set is chosen once per frame from the
+//! scene's `render.kernel` ([`kernel::lanes::KernelPath`]: `auto`, `portable`, `avx2`;
+//! there is no other path), never per thread, and both paths give the same bits: every
+//! multiply-add is fused on both, every lane sum has one order. The golden check demands
+//! identical bits on the platform and path that blessed an entry and applies the entry's
+//! tolerance elsewhere ([`golden`]). The fast path's polynomial `acos`/`atan2` and FMA
+//! contractions are explicit, with stated error bounds; the scalar oracle
+//! ([`shade::shade_reference`]) and the f64 reference use neither.
 //!
 //! ## Where the thesis is corrected
-//! - The azimuth of the shading frame spans [0, 2 pi) (atan2), not the thesis's acos, which
-//!   folds mirror directions together (see [`conventions`]).
-//! - Probe texels are weighted by their exact solid angle: the thesis's linspace gives the
-//!   pole rows zero weight.
+//! Every departure from the thesis a GPU port must follow (azimuth range, pole frame, probe
+//! solid angles, luminance weights, negative texels, normalised Phong and Blinn-Phong, the
+//! D-BRDF normalisation, the view lift, the SH convention) is listed in one place, in the
+//! doc of [`conventions`].
 
 pub mod acquire;
 pub mod aov;

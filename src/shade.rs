@@ -158,15 +158,19 @@ pub struct FramePrep<'a> {
     /// Whether point lights go through the kernel with the directional ones (all but SH
     /// data sets with a basis table; see [`FramePrep::shade_surface`]).
     pub points_in_kernel: bool,
-    /// The instruction set of the kernels, detected once per frame
-    /// ([`Dispatch::detect`]); the same for every tile and thread, so the image does not
-    /// depend on the thread count. Tests set [`Dispatch::portable`] to compare the paths.
+    /// The instruction set of the kernels, chosen once per frame from the scene's
+    /// `render.kernel` ([`Dispatch::choose`]); the same for every tile and thread, so the
+    /// image does not depend on the thread count.
     pub dispatch: Dispatch,
 }
 
 impl<'a> FramePrep<'a> {
     /// Prepares a frame of `scene`, applying the scene's skips (`render.drop_lights`,
-    /// `render.band_skip`; see [`crate::kernel::skip`]). Never fails.
+    /// `render.band_skip`; see [`crate::kernel::skip`]).
+    ///
+    /// # Panics
+    /// If the scene's `render.kernel` names a path this CPU cannot run: [`Scene::resolve`]
+    /// refuses such a scene, so only a scene built in code can get here.
     pub fn new(scene: &'a Scene) -> FramePrep<'a> {
         let brdf = scene.material.as_ref();
         let fraction = match brdf.max_cosine_weighted() {
@@ -211,7 +215,12 @@ impl<'a> FramePrep<'a> {
                 .collect(),
             points_in_kernel: brdf.as_sh().is_none_or(|ds| ds.basis_table().is_none()),
             model: LaneModel::of(brdf),
-            dispatch: Dispatch::detect(),
+            dispatch: Dispatch::choose(scene.render.kernel).unwrap_or_else(|| {
+                panic!(
+                    "render.kernel = {}: not available on this CPU",
+                    scene.render.kernel.name()
+                )
+            }),
             sh,
             eye: scene.camera.position,
             cull_lights: true,

@@ -3,8 +3,9 @@
 
 use brdfkit::aov::Aov;
 use brdfkit::env::prepare::SamplerKind;
-use brdfkit::golden::{self, CROSS_PLATFORM, KERNEL_DISPATCH};
+use brdfkit::golden::{self, CheckOptions, CROSS_PLATFORM, KERNEL_DISPATCH};
 use brdfkit::image_io;
+use brdfkit::kernel::lanes::KernelPath;
 use brdfkit::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use brdfkit::sh::Lookup;
 use std::collections::BTreeSet;
@@ -43,21 +44,47 @@ fn golden_copy(edits: &[(&str, &str, &str)]) -> tempfile::TempDir {
 }
 
 #[test]
-fn golden_set_matches() {
+fn golden_set_matches_on_every_kernel_path() {
+    // Every path this CPU runs: identical bits on the path that blessed an entry, the
+    // entry's tolerance on the others; and since both kernel paths are built to give the
+    // same bits (fused multiply-add on both, one lane-sum order), no pixel may differ on
+    // any path of the blessing platform.
     let report = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/golden-failures");
-    let outcomes = golden::check(&golden_dir(), &report, &[]).expect("golden check runs");
-    assert!(!outcomes.is_empty());
-    let failed: Vec<String> = outcomes
-        .iter()
-        .filter(|o| !o.passed)
-        .map(|o| format!("{}: {}", o.name, o.message))
-        .collect();
-    assert!(
-        failed.is_empty(),
-        "golden failures (see {}):\n{}",
-        report.display(),
-        failed.join("\n")
-    );
+    let paths = KernelPath::available();
+    assert!(paths.contains(&KernelPath::Portable));
+    for kernel in paths {
+        let opts = CheckOptions { kernel };
+        let outcomes =
+            golden::check(&golden_dir(), &report, &[], &opts).expect("golden check runs");
+        assert!(!outcomes.is_empty());
+        let failed: Vec<String> = outcomes
+            .iter()
+            .filter(|o| !o.passed)
+            .map(|o| format!("{}: {}", o.name, o.message))
+            .collect();
+        assert!(
+            failed.is_empty(),
+            "golden failures on the {} path (see {}):\n{}",
+            kernel.name(),
+            report.display(),
+            failed.join("\n")
+        );
+        let manifest = golden::load_manifest(&golden_dir()).unwrap();
+        for (o, e) in outcomes.iter().zip(&manifest.entries) {
+            assert_eq!(o.name, e.name);
+            eprintln!("{} [{}]: {}", o.name, kernel.name(), o.message);
+            if e.blessed_on.starts_with(&golden::platform()) {
+                assert_eq!(
+                    o.pixels_differing,
+                    0,
+                    "{} on the {} path: {}",
+                    o.name,
+                    kernel.name(),
+                    o.message
+                );
+            }
+        }
+    }
 }
 
 #[test]
@@ -80,7 +107,13 @@ fn a_perturbed_reference_is_caught() {
     let text = text.replace(&entry.hash, &golden::content_hash(&img));
     std::fs::write(tmp.path().join("manifest.toml"), text).unwrap();
     let report = tmp.path().join("report");
-    let outcomes = golden::check(tmp.path(), &report, std::slice::from_ref(&entry.name)).unwrap();
+    let outcomes = golden::check(
+        tmp.path(),
+        &report,
+        std::slice::from_ref(&entry.name),
+        &CheckOptions::default(),
+    )
+    .unwrap();
     assert_eq!(outcomes.len(), 1);
     assert!(
         !outcomes[0].passed,
@@ -129,11 +162,8 @@ fn a_test_run_never_writes_golden_files() {
             (e.path(), e.metadata().unwrap().modified().unwrap())
         })
         .collect();
-    let _ = golden::check(
-        &golden_dir(),
-        &std::env::temp_dir().join("brdfkit-golden-probe"),
-        &[],
-    );
+    let reports = tempfile::tempdir().unwrap();
+    let _ = golden::check(&golden_dir(), reports.path(), &[], &CheckOptions::default());
     for (p, t) in before {
         assert_eq!(
             std::fs::metadata(&p).unwrap().modified().unwrap(),
@@ -167,7 +197,7 @@ fn scene_perturbations_of_shaded_entries_are_caught() {
     ]);
     let report = tmp.path().join("report");
     let names = [silk.to_string(), city.to_string()];
-    let outcomes = golden::check(tmp.path(), &report, &names).unwrap();
+    let outcomes = golden::check(tmp.path(), &report, &names, &CheckOptions::default()).unwrap();
     assert_eq!(outcomes.len(), 2);
     for o in &outcomes {
         eprintln!("{}: {}", o.name, o.message);
@@ -188,6 +218,17 @@ fn every_entry_is_blessed_and_states_its_fast_vs_reference_bound() {
         assert!(e.hash.starts_with("fnv1a64:"), "{}: not blessed", e.name);
         assert!(!e.config.is_empty(), "{}: no configuration summary", e.name);
         assert!(!e.shows.is_empty(), "{}: no description", e.name);
+        assert!(
+            e.blessed_on.contains('-'),
+            "{}: no blessed_on (platform and kernel path)",
+            e.name
+        );
+        assert_eq!(
+            e.aov.is_none(),
+            e.fast_vs_reference_small.is_some(),
+            "{}: a shaded entry (only) has a small bound",
+            e.name
+        );
         match (e.aov, e.fast_vs_reference) {
             (None, Some(b)) => assert!(
                 b.max_abs.is_finite() && b.rel_rmse.is_finite() && b.flip_mean.is_finite(),
@@ -425,7 +466,13 @@ fn a_stale_manifest_is_caught() {
     let stale = text.replacen(&e.config, "teapot/8 80x60, lambert", 1);
     std::fs::write(tmp.path().join("manifest.toml"), &stale).unwrap();
     let names = [e.name.clone()];
-    let o = &golden::check(tmp.path(), &tmp.path().join("r"), &names).unwrap()[0];
+    let o = &golden::check(
+        tmp.path(),
+        &tmp.path().join("r"),
+        &names,
+        &CheckOptions::default(),
+    )
+    .unwrap()[0];
     assert!(
         !o.passed && o.message.contains("config is stale"),
         "{}",
@@ -433,16 +480,27 @@ fn a_stale_manifest_is_caught() {
     );
     let rehashed = text.replacen(&e.hash, "fnv1a64:0000000000000000", 1);
     std::fs::write(tmp.path().join("manifest.toml"), &rehashed).unwrap();
-    let o = &golden::check(tmp.path(), &tmp.path().join("r"), &names).unwrap()[0];
+    let o = &golden::check(
+        tmp.path(),
+        &tmp.path().join("r"),
+        &names,
+        &CheckOptions::default(),
+    )
+    .unwrap()[0];
     assert!(
         !o.passed && o.message.contains("manifest hash"),
         "{}",
         o.message
     );
     // An unknown name is an error naming the manifest.
-    let err = golden::check(tmp.path(), &tmp.path().join("r"), &["nope".into()])
-        .unwrap_err()
-        .to_string();
+    let err = golden::check(
+        tmp.path(),
+        &tmp.path().join("r"),
+        &["nope".into()],
+        &CheckOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
     assert!(
         err.contains("manifest.toml") && err.contains("'nope'"),
         "{err}"
@@ -497,4 +555,150 @@ fn the_scalar_oracle_passes_every_shaded_f32_entry() {
         checked += 1;
     }
     assert!(checked >= 15, "only {checked} shaded f32 entries");
+}
+
+/// Whether this machine renders on the platform and kernel path that blessed `name`; the
+/// exact-bits faults below are only meaningful there.
+fn on_blessing_path(name: &str) -> bool {
+    let manifest = golden::load_manifest(&golden_dir()).unwrap();
+    let e = manifest.entries.iter().find(|e| e.name == name).unwrap();
+    let here = format!(
+        "{}/{}",
+        golden::platform(),
+        brdfkit::kernel::lanes::Dispatch::detect().path().name()
+    );
+    e.blessed_on == here
+}
+
+#[test]
+fn regressions_within_the_tolerance_fail_on_the_blessing_path() {
+    // Three faults that move pixels by far less than the kernel-dispatch tolerance (1e-3 of
+    // the pixel), each of which the old tolerance-only check passed: the environment's
+    // radiance 0.05% too bright, the dimmest lights of the full studio probe dropped, and
+    // one texel on the probe's u = 0 seam lost. On the path that blessed the entries every
+    // bit must agree, so each fails there.
+    let city = "fig3-8-median-cut-city";
+    let full = "fig3-8-full-studio";
+    if !(on_blessing_path(city) && on_blessing_path(full)) {
+        eprintln!("skipped: this machine is not the platform and kernel path that blessed the set");
+        return;
+    }
+    let report = tempfile::tempdir().unwrap();
+    let faults: [(&str, &str, Vec<(&str, &str, &str)>); 3] = [
+        (
+            "0.05% constant",
+            city,
+            vec![(
+                "fig3-8-median-cut-city.toml",
+                "seed = 1",
+                "seed = 1\nintensity = 1.0005",
+            )],
+        ),
+        (
+            "dimmest lights dropped",
+            full,
+            vec![(
+                "fig3-8-full-studio.toml",
+                "drop_lights = 0.0",
+                "drop_lights = 0.00001",
+            )],
+        ),
+        (
+            "one seam texel lost",
+            full,
+            vec![(
+                "fig3-8-full-studio.toml",
+                "assets/probes/studio.exr\"",
+                "SEAM\"",
+            )],
+        ),
+    ];
+    for (what, name, edits) in faults {
+        let tmp = golden_copy(&edits);
+        // The seam fault's probe: studio.exr with texel (0, h/2) black.
+        let toml = tmp.path().join("fig3-8-full-studio.toml");
+        let text = std::fs::read_to_string(&toml).unwrap();
+        if text.contains("SEAM\"") {
+            let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/studio.exr");
+            let mut probe = image_io::read_exr(&src).unwrap();
+            let (w, h) = (probe.width, probe.height);
+            assert!(probe.get(0, h / 2).max_element() > 0.0);
+            probe.pixels[(h / 2 * w) as usize] = glam::Vec3::ZERO;
+            let seam = tmp.path().join("studio-seam.exr");
+            image_io::write_exr(&seam, &probe).unwrap();
+            let start = text.find("file = \"").unwrap() + "file = \"".len();
+            let end = text.find("SEAM\"").unwrap() + "SEAM".len();
+            let fixed = format!("{}{}{}", &text[..start], seam.display(), &text[end..]);
+            std::fs::write(&toml, fixed).unwrap();
+        }
+        let o = golden::check(
+            tmp.path(),
+            report.path(),
+            &[name.to_string()],
+            &CheckOptions::default(),
+        )
+        .unwrap()
+        .remove(0);
+        eprintln!(
+            "{what} ({name}): {} pixels differ, {} over the tolerance, max abs {:.3e}: {}",
+            o.pixels_differing, o.pixels_over_tolerance, o.max_abs_error, o.message
+        );
+        assert!(!o.passed, "{what}: passed the check");
+        assert!(o.pixels_differing > 0, "{what}: changed no bit");
+        assert_eq!(
+            o.pixels_over_tolerance, 0,
+            "{what}: the tolerance alone catches it; pick a smaller fault"
+        );
+    }
+}
+
+#[test]
+fn fast_vs_reference_bounds_hold_for_every_shaded_entry() {
+    // Re-measures each shaded entry's fast-vs-reference bound at 1/4 of its size (the f64
+    // reference with every probe texel a light) and holds it to the stored one.
+    let out = golden::check_bounds(&golden_dir(), &[]).expect("bounds measured");
+    let manifest = golden::load_manifest(&golden_dir()).unwrap();
+    let shaded = manifest.entries.iter().filter(|e| e.aov.is_none()).count();
+    assert_eq!(out.len(), shaded);
+    for b in &out {
+        eprintln!(
+            "{}: measured {:?}, stored {:?}",
+            b.name, b.measured, b.stored
+        );
+    }
+    let failed: Vec<&str> = out
+        .iter()
+        .filter(|b| !b.passed)
+        .map(|b| b.name.as_str())
+        .collect();
+    assert!(failed.is_empty(), "bounds exceeded: {failed:?}");
+}
+
+#[test]
+fn a_sampler_that_drifts_from_the_reference_fails_the_bound_check() {
+    // The same entry with a quarter of its lights: its error against the converged
+    // reference grows past the stored bound.
+    let name = "fig3-8-lloyd-studio";
+    let tmp = golden_copy(&[("fig3-8-lloyd-studio.toml", "count = 64", "count = 16")]);
+    let out = golden::check_bounds(tmp.path(), &[name.to_string()]).unwrap();
+    eprintln!(
+        "{name} with 16 lights: {:?} vs stored {:?}",
+        out[0].measured, out[0].stored
+    );
+    assert!(!out[0].passed);
+}
+
+#[test]
+fn an_f64_entry_is_measured_against_the_fast_path_not_itself() {
+    let manifest = golden::load_manifest(&golden_dir()).unwrap();
+    let e = manifest
+        .entries
+        .iter()
+        .find(|e| e.name == "fig3-13-teal-paint-f64")
+        .unwrap();
+    let b = golden::measure(&golden_dir(), e, golden::BOUND_CHECK_SCALE)
+        .unwrap()
+        .unwrap();
+    eprintln!("{}: f32 fast path vs f64 reference at 1/4: {b:?}", e.name);
+    assert!(b.max_abs > 0.0, "the fast side is the reference itself");
 }

@@ -229,6 +229,9 @@ pub struct RenderArgs {
     /// Shade SH data sets with every stored band, ignoring the band energy threshold the data set declares (brdfkit.band_threshold).
     #[arg(long)]
     pub no_band_skip: bool,
+    /// Kernel path of the f32 shading: auto (the best this CPU runs), portable, or avx2 (an error where the CPU lacks AVX2+FMA). Every path gives the same bits; only speed differs.
+    #[arg(long, value_enum)]
+    pub kernel: Option<crate::kernel::lanes::KernelPath>,
     /// Print the work counters (tiles shaded/skipped, pixels, pixel x light pairs, lights dropped, SH bands used) to stderr.
     #[arg(long)]
     pub stats: bool,
@@ -331,13 +334,22 @@ pub enum CullArg {
 
 #[derive(Subcommand, Debug)]
 pub enum GoldenAction {
-    /// Re-render golden entries (all, or the named ones) and compare each with its stored image at its tolerance (exit 1 if any differs). Never writes golden/.
+    /// Re-render golden entries (all, or the named ones) and compare each with its stored image: identical bits on the platform and kernel path that blessed it (the manifest's blessed_on), the entry's tolerance elsewhere (exit 1 if any fails). Never writes golden/.
+    #[command(
+        after_help = "Examples:\n  brdfkit golden check                      # every entry, on the best kernel path\n  brdfkit golden check --kernel portable     # the same on the portable path\n  brdfkit golden check --bounds fig3-8-lloyd-studio   # also re-measure fast vs reference (small)"
+    )]
     Check {
         /// Entries to check (default: every entry of the manifest).
         names: Vec<String>,
         /// Golden directory.
         #[arg(long, default_value = "golden")]
         dir: PathBuf,
+        /// Kernel path to render on: auto (the best this CPU runs), portable or avx2.
+        #[arg(long, value_enum, default_value = "auto")]
+        kernel: crate::kernel::lanes::KernelPath,
+        /// Also re-measure each shaded entry's fast-vs-reference bound at 1/4 of its size (f64 reference with every probe texel a light: seconds per environment entry) and hold it to the stored bound (10% + 1e-6 margin).
+        #[arg(long)]
+        bounds: bool,
     },
     /// Re-render and overwrite golden images (all, or the named entries), their hashes, configuration summaries and measured fast-vs-reference bounds (the reference render with the full probe is slow), and the table in golden/README.md. The only command that writes golden/.
     Bless {
@@ -345,6 +357,9 @@ pub enum GoldenAction {
         names: Vec<String>,
         #[arg(long, default_value = "golden")]
         dir: PathBuf,
+        /// Kernel path to render on (recorded in the manifest's blessed_on).
+        #[arg(long, value_enum, default_value = "auto")]
+        kernel: crate::kernel::lanes::KernelPath,
     },
 }
 

@@ -72,6 +72,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if a.no_band_skip {
         file.render.band_skip = false;
     }
+    if let Some(k) = a.kernel {
+        if crate::kernel::lanes::Dispatch::choose(k).is_none() {
+            return Err(Error::field(
+                "--kernel",
+                format!("'{}' is not available on this CPU", k.name()),
+            ));
+        }
+        file.render.kernel = k;
+    }
     if let Some(e) = a.exposure {
         file.output.exposure = e;
     }

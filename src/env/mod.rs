@@ -218,7 +218,9 @@ pub fn reference_lambert(probe: &Probe, n: DVec3, albedo: DVec3) -> DVec3 {
 /// norm over RGB. Returns 0 when the reference is all zero and the lights are too.
 pub fn irradiance_error(lights: &LightSet, normals: &[DVec3], reference: &[DVec3]) -> f64 {
     assert_eq!(normals.len(), reference.len());
-    let (num, den) = normals
+    // Terms in parallel, summed in index order: a reduction across rayon tasks would
+    // group the sum by the thread count's split, and so change its last bits.
+    let terms: Vec<(f64, f64)> = normals
         .par_iter()
         .zip(reference.par_iter())
         .map(|(&n, &r)| {
@@ -227,7 +229,8 @@ pub fn irradiance_error(lights: &LightSet, normals: &[DVec3], reference: &[DVec3
                 r.length_squared(),
             )
         })
-        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+        .collect();
+    let (num, den) = terms.iter().fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
     if den == 0.0 {
         return if num == 0.0 { 0.0 } else { f64::INFINITY };
     }

@@ -1,21 +1,26 @@
 //! The one SIMD wrapper: eight f32 lanes ([`F32x8`]) on an instruction set chosen once
-//! ([`Dispatch::detect`], once per frame), never per pixel or per call.
+//! per frame ([`Dispatch::choose`] from a [`KernelPath`]), never per pixel or per call.
 //!
-//! Two implementations of the same small interface:
+//! Two implementations of the same small interface, and no others (there is no AVX-512
+//! path yet):
 //! - [`Avx2Fma`]: `core::arch` AVX2 + FMA intrinsics on `__m256` (x86_64 only). A value of
 //!   its vector type can only come from a token, and the only way to make the token is
-//!   [`Dispatch::detect`] after `is_x86_feature_detected!("avx2")` and `("fma")`: holding a
+//!   [`Dispatch::choose`] after `is_x86_feature_detected!("avx2")` and `("fma")`: holding a
 //!   vector proves the CPU runs its instructions, which makes the safe operators sound.
 //!   [`Dispatch::run`] calls the kernel inside a `#[target_feature(enable = "avx2,fma")]`
 //!   function, so the `#[inline(always)]` kernel code is compiled for AVX2 there.
-//! - [`Portable`]: `[f32; 8]` with per-lane loops, for any other CPU.
+//! - [`Portable`]: `[f32; 8]` with per-lane loops, for any CPU.
 //!
-//! Arithmetic is the IEEE operation per lane, except [`F32x8::mul_add`], which is fused
-//! (one rounding) on [`Avx2Fma`] and a multiply then an add on [`Portable`]. The two paths
-//! therefore differ by rounding; each is held within the kernel tolerance of the scalar
-//! oracle ([`crate::kernel::SH_KERNEL_TOLERANCE`], [`crate::kernel::KERNEL_TOLERANCE`]).
-//! A given machine always takes the same path, whatever the thread count, so images stay
-//! bit-identical across thread counts and tile sizes.
+//! Every operation is the IEEE operation per lane, and the two paths give the same bits:
+//! [`F32x8::mul_add`] is fused (one rounding) on both, `vfmadd` on [`Avx2Fma`] and
+//! [`f32::mul_add`] per lane on [`Portable`] (a hardware FMA where the target has one, else
+//! libm's correctly rounded `fmaf`, slower but exact); lane sums, gathers (clamped and
+//! truncated indices, NaN to 0), `min`/`max` (the second operand for NaN) and masks follow
+//! one rule on both. `tests/golden.rs` renders every golden entry on both paths and
+//! requires identical bits; the scalar oracle, another summation order, is held within the
+//! kernel tolerances ([`crate::kernel::SH_KERNEL_TOLERANCE`],
+//! [`crate::kernel::KERNEL_TOLERANCE`]). A frame takes one path for every tile and thread,
+//! so images stay bit-identical across thread counts and tile sizes.
 
 use std::ops::{Add, AddAssign, Mul, Sub};
 
@@ -26,9 +31,9 @@ pub const LANES: usize = 8;
 pub trait F32x8:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + AddAssign + Send + Sync
 {
-    /// `self * b + c`, fused where the instruction set has FMA (see the module doc).
+    /// `self * b + c` with one rounding, on every path (see the module doc).
     fn mul_add(self, b: Self, c: Self) -> Self;
-    /// `c - self * b`, fused where the instruction set has FMA.
+    /// `c - self * b` with one rounding, on every path.
     fn neg_mul_add(self, b: Self, c: Self) -> Self;
     fn div(self, o: Self) -> Self;
     fn sqrt(self) -> Self;
@@ -88,6 +93,53 @@ pub trait Kernel {
     fn run<S: Isa>(self, s: S) -> Self::Out;
 }
 
+/// Which kernel path a frame should take: the user's (or a test's) choice, resolved to a
+/// [`Dispatch`] by [`Dispatch::choose`]. In scene files `render.kernel`, on the command
+/// line `--kernel`.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Deserialize,
+    serde::Serialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum KernelPath {
+    /// The best path this CPU runs: AVX2 + FMA where detected, else portable.
+    #[default]
+    Auto,
+    /// `[f32; 8]` per-lane loops, on any CPU.
+    Portable,
+    /// AVX2 + FMA intrinsics (x86_64 CPUs that have both).
+    Avx2,
+}
+
+impl KernelPath {
+    /// Every explicit path, in order.
+    pub const EXPLICIT: [KernelPath; 2] = [KernelPath::Portable, KernelPath::Avx2];
+
+    /// The name used in scene files, on the command line and in golden manifests.
+    pub fn name(self) -> &'static str {
+        match self {
+            KernelPath::Auto => "auto",
+            KernelPath::Portable => "portable",
+            KernelPath::Avx2 => "avx2",
+        }
+    }
+
+    /// The explicit paths this CPU runs, in [`KernelPath::EXPLICIT`] order.
+    pub fn available() -> Vec<KernelPath> {
+        KernelPath::EXPLICIT
+            .into_iter()
+            .filter(|p| Dispatch::choose(*p).is_some())
+            .collect()
+    }
+}
+
 /// The instruction set chosen for a frame.
 #[derive(Clone, Copy, Debug)]
 pub enum Dispatch {
@@ -97,19 +149,42 @@ pub enum Dispatch {
 }
 
 impl Dispatch {
-    /// The best instruction set of this CPU (AVX2 + FMA, else portable). Cheap, but call it
-    /// once per frame, not per pixel.
+    /// The best instruction set of this CPU (AVX2 + FMA, else portable):
+    /// `choose(KernelPath::Auto)`. Cheap, but call it once per frame, not per pixel.
     pub fn detect() -> Dispatch {
+        Dispatch::choose(KernelPath::Auto).expect("auto always has a path")
+    }
+
+    /// The instruction set of `path`; `None` when this CPU cannot run it (AVX2 without
+    /// AVX2 and FMA detected, or on another architecture). Never `None` for
+    /// [`KernelPath::Auto`] or [`KernelPath::Portable`].
+    pub fn choose(path: KernelPath) -> Option<Dispatch> {
         #[cfg(target_arch = "x86_64")]
-        if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
-            return Dispatch::Avx2Fma(Avx2Fma(()));
+        let avx2 = || {
+            (is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"))
+                .then_some(Dispatch::Avx2Fma(Avx2Fma(())))
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = || None;
+        match path {
+            KernelPath::Auto => Some(avx2().unwrap_or(Dispatch::Portable(Portable))),
+            KernelPath::Portable => Some(Dispatch::Portable(Portable)),
+            KernelPath::Avx2 => avx2(),
         }
-        Dispatch::Portable(Portable)
     }
 
     /// The portable path, on any CPU (tests compare it with the detected one).
     pub fn portable() -> Dispatch {
         Dispatch::Portable(Portable)
+    }
+
+    /// The explicit path this dispatch runs.
+    pub fn path(self) -> KernelPath {
+        match self {
+            #[cfg(target_arch = "x86_64")]
+            Dispatch::Avx2Fma(_) => KernelPath::Avx2,
+            Dispatch::Portable(_) => KernelPath::Portable,
+        }
     }
 
     pub fn name(self) -> &'static str {
@@ -255,11 +330,20 @@ impl F32x8 for P8 {
     }
     #[inline(always)]
     fn mul_add(self, b: P8, c: P8) -> P8 {
-        self * b + c
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = self.0[i].mul_add(b.0[i], c.0[i]);
+        }
+        P8(r)
     }
     #[inline(always)]
     fn neg_mul_add(self, b: P8, c: P8) -> P8 {
-        c - self * b
+        // `-(a b) + c` with one rounding, as `vfnmadd`: negating `a` is exact.
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = (-self.0[i]).mul_add(b.0[i], c.0[i]);
+        }
+        P8(r)
     }
     #[inline(always)]
     fn div(self, o: P8) -> P8 {
@@ -327,7 +411,7 @@ mod avx {
     use super::*;
     use std::arch::x86_64::*;
 
-    /// The AVX2 + FMA instruction set. Only [`Dispatch::detect`] makes one (module doc).
+    /// The AVX2 + FMA instruction set. Only [`Dispatch::choose`] makes one (module doc).
     #[derive(Clone, Copy, Debug)]
     pub struct Avx2Fma(pub(super) ());
 
@@ -516,5 +600,42 @@ mod tests {
         assert_eq!(want.1, 16.0);
         assert_eq!(want.2, 0b1010_1010);
         assert_eq!(want.3, vec![1.0, 3.0, 5.0, 7.0, 3.5]);
+    }
+
+    struct Fused(f32, f32, f32);
+    impl Kernel for Fused {
+        type Out = (f32, f32);
+        #[inline(always)]
+        fn run<S: Isa>(self, s: S) -> (f32, f32) {
+            let (a, b, c) = (s.splat(self.0), s.splat(self.1), s.splat(self.2));
+            (a.mul_add(b, c).lane(3), a.neg_mul_add(b, c).lane(5))
+        }
+    }
+
+    #[test]
+    fn mul_add_rounds_once_on_every_path() {
+        // (1 + 2^-12)^2 = 1 + 2^-11 + 2^-24: the 2^-24 is lost if the product is rounded
+        // before the add.
+        let a = 1.0 + f32::powi(2.0, -12);
+        let c = -(1.0 + f32::powi(2.0, -11));
+        let want = (f32::powi(2.0, -24), -f32::powi(2.0, -24));
+        assert_ne!(a * a + c, want.0, "the case must tell fused from unfused");
+        for path in KernelPath::available() {
+            let d = Dispatch::choose(path).unwrap();
+            let got = d.run(Fused(a, a, c));
+            assert_eq!(got.0, want.0, "{}: mul_add", path.name());
+            let got = d.run(Fused(a, a, -c));
+            assert_eq!(got.1, want.1, "{}: neg_mul_add", path.name());
+        }
+    }
+
+    #[test]
+    fn auto_and_portable_always_have_a_path() {
+        assert!(Dispatch::choose(KernelPath::Auto).is_some());
+        assert_eq!(
+            Dispatch::choose(KernelPath::Portable).map(Dispatch::path),
+            Some(KernelPath::Portable)
+        );
+        assert!(KernelPath::available().contains(&KernelPath::Portable));
     }
 }

@@ -16,11 +16,12 @@
 //!   colour ([`sh`], monomorphised per band count 1..=10), the analytic models and the
 //!   D-BRDF by their lane forms ([`models`]).
 //! - **Dispatch.** SIMD lives only in [`lanes`]: [`lanes::F32x8`] on AVX2 + FMA
-//!   (`core::arch`) or portable `[f32; 8]`, chosen once per frame
-//!   ([`lanes::Dispatch::detect`], stored in [`crate::shade::FramePrep`]); the tile loop
-//!   runs inside the chosen path's `target_feature` function. Every tile and thread takes
-//!   the same path, so the image does not depend on the thread count.
-//! - **Tolerance.** The f32 paths sum in another order than the scalar oracle
+//!   (`core::arch`) or portable `[f32; 8]`, chosen once per frame from the scene's
+//!   `render.kernel` ([`lanes::Dispatch::choose`], stored in [`crate::shade::FramePrep`]);
+//!   the tile loop runs inside the chosen path's `target_feature` function. Every tile and
+//!   thread takes the same path, and the two paths give the same bits (fused multiply-add
+//!   on both), so the image depends neither on the thread count nor on the path.
+//! - **Tolerance.** The kernel paths sum in another order than the scalar oracle
 //!   ([`crate::shade::shade_reference`], and the f64 reference, neither of which uses any
 //!   of this), use FMA, and the D-BRDF's `acos`/`atan2` are polynomials with stated,
 //!   tested maximum errors ([`approx`]). Each path is held within [`KERNEL_TOLERANCE`]

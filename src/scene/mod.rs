@@ -55,6 +55,8 @@
 //!                           # irradiance (0: off; bound in kernel::skip)
 //! band_skip = true          # shade an SH data set with the bands its declared
 //!                           # band_threshold needs (false: every stored band)
+//! kernel = "auto"           # kernel path of the f32 shading: "auto" (the best this CPU
+//!                           # runs), "portable" or "avx2" (an error where the CPU lacks it)
 //!
 //! [output]
 //! path = "out.png"          # omit: out.png and out.exr
@@ -68,6 +70,7 @@ use crate::brdf::{BlinnPhong, Brdf, Lambert};
 use crate::env::prepare::{self, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::Tonemap;
+use crate::kernel::lanes::KernelPath;
 use crate::light::Light;
 use crate::mesh::{self, Mesh};
 use crate::raster::Cull;
@@ -275,6 +278,10 @@ pub struct RenderSpec {
     pub drop_lights: f32,
     /// Whether SH data sets are shaded with only the bands their declared threshold needs.
     pub band_skip: bool,
+    /// The kernel path of the f32 shading ([`crate::kernel::lanes`]); every path gives the
+    /// same bits, so this changes only speed. [`Scene::resolve`] refuses a path this CPU
+    /// cannot run.
+    pub kernel: KernelPath,
 }
 
 /// Arithmetic of the shading stage.
@@ -301,6 +308,7 @@ impl Default for RenderSpec {
             precision: Precision::F32,
             drop_lights: crate::kernel::skip::DEFAULT_DROP_LIGHTS,
             band_skip: true,
+            kernel: KernelPath::Auto,
         }
     }
 }
@@ -441,6 +449,20 @@ impl Scene {
             return Err(Error::field(
                 "render.drop_lights",
                 format!("{} is out of range (0 <= fraction < 1)", r.drop_lights),
+            ));
+        }
+        if crate::kernel::lanes::Dispatch::choose(r.kernel).is_none() {
+            return Err(Error::field(
+                "render.kernel",
+                format!(
+                    "'{}' is not available on this CPU (available: auto, {})",
+                    r.kernel.name(),
+                    KernelPath::available()
+                        .iter()
+                        .map(|p| p.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
             ));
         }
         if !file.output.exposure.is_finite() || file.output.exposure.abs() > 64.0 {
