@@ -76,7 +76,8 @@ fn blinn_phong_slope(alpha: f64) -> f64 {
 }
 
 /// Renders `scene` through the three paths and checks each at the renderer's surfaces and,
-/// when `slope` is given, against the exact sphere within [`tessellation_bound`].
+/// when `slope` is given, against the exact sphere within [`tessellation_bound`] (the scene
+/// must then be tessellated with [`SEGMENTS`]).
 fn check_paths(name: &str, scene: &Scene, expected: &dyn Fn(&Hit) -> DVec3, slope: Option<f64>) {
     let surfaces = renderer_surfaces(scene);
     let exact = common_hits(&analytic_sphere(scene), &surfaces);
@@ -93,7 +94,7 @@ fn check_paths(name: &str, scene: &Scene, expected: &dyn Fn(&Hit) -> DVec3, slop
             "{name} [{path}]: {at} exceeds {AT_SURFACE:e} at the renderer's own surfaces"
         );
         let Some(slope) = slope else { continue };
-        let bound = tessellation_bound(scene, scene.mesh_segments(), MIN_VIEW, slope);
+        let bound = tessellation_bound(scene, SEGMENTS, MIN_VIEW, slope);
         let an = compare(&img, &exact, |h| view_cos(h) >= MIN_VIEW, expected);
         eprintln!(
             "{name} [{path}] against the exact sphere (n.v >= {MIN_VIEW}): {an} (bound |d|/peak {bound:.3e})"
@@ -102,17 +103,6 @@ fn check_paths(name: &str, scene: &Scene, expected: &dyn Fn(&Hit) -> DVec3, slop
             an.max_abs_over_peak <= bound,
             "{name} [{path}]: {an} exceeds the tessellation bound {bound:.3e}"
         );
-    }
-}
-
-/// The mesh's segment count, recovered from its vertex count (`2 + (s-1) 2s` vertices).
-trait Segments {
-    fn mesh_segments(&self) -> u32;
-}
-impl Segments for brdfkit::scene::Scene {
-    fn mesh_segments(&self) -> u32 {
-        let v = self.mesh.positions.len();
-        (2..=256).find(|&s| 2 + (s - 1) * 2 * s == v).unwrap() as u32
     }
 }
 
@@ -315,7 +305,7 @@ fn dbrdf_constant_table_sphere_directional_light() {
         &brdfkit::render::render(&old, None),
         &surfaces,
         |_| true,
-        &expected,
+        expected,
     );
     eprintln!("d-brdf with the midpoint normalisation (seeded): {err}");
     assert!(

@@ -67,7 +67,7 @@ pub fn render_paths(scene: &Scene) -> Vec<(&'static str, Image)> {
     ]
 }
 
-/// A visible surface point in f64: position, unit normal, and the eye.
+/// A visible surface point in f64: world position and unit normal.
 #[derive(Clone, Copy, Debug)]
 pub struct Hit {
     pub position: DVec3,
@@ -169,10 +169,9 @@ impl std::fmt::Display for Errors {
     }
 }
 
-/// Compares `img` with `expected(hit)` at the hits `hits` (row-major), on pixels where the
-/// hit exists and `keep(hit)` holds. Pixels where the image has no surface but `hits` has
-/// one count as compared against 0 only if `img` is non-zero there (the caller picks hits
-/// that match the image's coverage).
+/// Compares `img` with `expected(hit)` on the pixels (row-major) where `hits` has a hit and
+/// `keep(hit)` holds; other pixels are not looked at (the caller picks hits that match the
+/// image's coverage, see [`common_hits`]). Panics if the expected image is black.
 pub fn compare(
     img: &Image,
     hits: &[Option<Hit>],
