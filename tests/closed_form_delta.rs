@@ -94,6 +94,9 @@ fn check_paths(name: &str, scene: &Scene, expected: &dyn Fn(&Hit) -> DVec3, slop
             "{name} [{path}]: {at} exceeds {AT_SURFACE:e} at the renderer's own surfaces"
         );
         let Some(slope) = slope else { continue };
+        // For the record: every pixel both cover, silhouette included (no bound there).
+        let all = compare(&img, &exact, |_| true, expected);
+        eprintln!("{name} [{path}] against the exact sphere, every common pixel: {all}");
         let bound = tessellation_bound(scene, SEGMENTS, MIN_VIEW, slope);
         let an = compare(&img, &exact, |h| view_cos(h) >= MIN_VIEW, expected);
         eprintln!(
