@@ -138,6 +138,14 @@ impl Brdf for Velvet {
         "velvet"
     }
 
+    /// `rd / pi` plus the D-BRDF part's f64 evaluation.
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return glam::DVec3::ZERO;
+        }
+        self.rd.as_dvec3() * std::f64::consts::FRAC_1_PI + self.sheen.eval_f64(wi, wo)
+    }
+
     /// `rd / pi` plus the D-BRDF part's bound ([`DBrdf`]'s `max_cosine_weighted`).
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.rd * std::f32::consts::FRAC_1_PI + self.sheen.max_cosine_weighted()?)
@@ -185,6 +193,14 @@ impl Brdf for LambertDbrdf {
 
     fn name(&self) -> &str {
         "lambert-dbrdf"
+    }
+
+    /// `rd / pi` plus the D-BRDF part's f64 evaluation.
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return glam::DVec3::ZERO;
+        }
+        self.rd.as_dvec3() * std::f64::consts::FRAC_1_PI + self.lobe.eval_f64(wi, wo)
     }
 
     /// `rd / pi` plus the D-BRDF part's bound ([`DBrdf`]'s `max_cosine_weighted`).

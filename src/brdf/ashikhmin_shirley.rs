@@ -71,4 +71,38 @@ impl Brdf for AshikhminShirley {
     fn name(&self) -> &str {
         "ashikhmin-shirley"
     }
+
+    /// The same formula (module doc) in f64, with the same guards.
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        use glam::DVec3;
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let pi = std::f64::consts::PI;
+        let (rs, rd) = (self.rs.as_dvec3(), self.rd.as_dvec3());
+        let (nu, nv) = (self.nu as f64, self.nv as f64);
+        let (n1, n2) = (wi.z.min(1.0), wo.z.min(1.0));
+        let d = (28.0 / (23.0 * pi))
+            * rd
+            * (DVec3::ONE - rs)
+            * (1.0 - (1.0 - 0.5 * n1).powi(5))
+            * (1.0 - (1.0 - 0.5 * n2).powi(5));
+        let sum = wi + wo;
+        let len = sum.length();
+        if len <= 1e-6 {
+            return d;
+        }
+        let h = sum / len;
+        let kh = (0.5 * len).clamp(1e-6, 1.0);
+        let s2 = h.x * h.x + h.y * h.y;
+        let e = if s2 > 0.0 {
+            (nu * h.x * h.x + nv * h.y * h.y) / s2
+        } else {
+            0.0
+        };
+        let norm = ((nu + 1.0) * (nv + 1.0)).sqrt() / (8.0 * pi);
+        let spec = norm * h.z.max(0.0).powf(e) / (kh * n1.max(n2));
+        let fresnel = rs + (DVec3::ONE - rs) * (1.0 - kh).powi(5);
+        d + spec * fresnel
+    }
 }

@@ -35,6 +35,19 @@ impl Brdf for BlinnPhong {
         "blinn-phong"
     }
 
+    /// The same formula in f64 (half vector, `powf`, normalisation).
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return glam::DVec3::ZERO;
+        }
+        let pi = std::f64::consts::PI;
+        let a = self.exponent as f64;
+        let h = (wi + wo).normalize_or_zero();
+        let nh = h.z.max(0.0);
+        let spec = (a + 8.0) / (8.0 * pi) * nh.powf(a);
+        self.kd.as_dvec3() / pi + self.ks.as_dvec3() * spec
+    }
+
     /// `k_d / pi + k_s (alpha + 8) / (8 pi)`: `(n.h)^alpha <= 1` and `cos(polar_i) <= 1`
     /// (reached at `wi = wo = n`).
     fn max_cosine_weighted(&self) -> Option<Vec3> {

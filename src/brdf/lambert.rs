@@ -23,6 +23,14 @@ impl Brdf for Lambert {
         "lambert"
     }
 
+    /// `albedo / pi` in f64 (zero below either horizon).
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return glam::DVec3::ZERO;
+        }
+        self.albedo.as_dvec3() * std::f64::consts::FRAC_1_PI
+    }
+
     /// `albedo / pi`: `f_r` is constant and `cos(polar_i) <= 1`.
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.albedo * FRAC_1_PI)

@@ -342,6 +342,14 @@ impl Brdf for MerlBrdf {
     fn name(&self) -> &str {
         &self.name
     }
+
+    /// [`MerlBrdf::eval_f64`]: the angles and bins in f64 from the f64 directions (the
+    /// table holds f64 samples). Not expected to agree with [`Brdf::eval`] to f32 rounding
+    /// everywhere: the reference reader's lookup is nearest-bin, so directions within f32
+    /// rounding of a bin edge may fall into neighbouring bins in f32 and f64.
+    fn eval_f64(&self, wi: DVec3, wo: DVec3) -> DVec3 {
+        MerlBrdf::eval_f64(self, wi, wo)
+    }
 }
 
 #[cfg(test)]

@@ -57,8 +57,11 @@ pub trait Brdf: Send + Sync {
     /// A short human-readable name ("lambert", "blinn-phong", ...).
     fn name(&self) -> &str;
 
-    /// [`Brdf::eval`] in f64, for reference renders. The default promotes the f32 result;
-    /// models with a meaningful f64 evaluation (SH data sets) override it.
+    /// [`Brdf::eval`] in f64, for reference renders (`render.precision = "f64"`). The
+    /// default promotes the f32 result; every model of this crate overrides it with an f64
+    /// evaluation (Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley, the D-BRDF except its f32
+    /// table lookup, MERL, SH data sets, the library's source models), so an f64 render is
+    /// an f64 reference of the formula; `tests_analytic` checks each against its f32 `eval`.
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
         self.eval(wi.as_vec3(), wo.as_vec3()).as_dvec3()
     }

@@ -38,6 +38,19 @@ impl Brdf for Phong {
         "phong"
     }
 
+    /// The same formula in f64 (mirror direction, `powf`, normalisation).
+    fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return glam::DVec3::ZERO;
+        }
+        let pi = std::f64::consts::PI;
+        let a = self.exponent as f64;
+        let r = glam::DVec3::new(-wi.x, -wi.y, wi.z);
+        let rv = r.dot(wo).max(0.0);
+        let spec = (a + 2.0) / (2.0 * pi) * rv.powf(a);
+        self.kd.as_dvec3() / pi + self.ks.as_dvec3() * spec
+    }
+
     /// `k_d / pi + k_s (alpha + 2) / (2 pi)`: `max(0, r.wo)^alpha <= 1`, `cos(polar_i) <= 1`.
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.kd / PI + self.ks * ((self.exponent + 2.0) / (2.0 * PI)))
