@@ -70,8 +70,10 @@
 //! 6. **Phong and Blinn-Phong are energy-normalised**: `k_s (a + 2) / (2 pi) cos^a` and
 //!    `k_s (a + 8) / (8 pi) (n.h)^a` (with `k_d / pi`), not the thesis's unnormalised lobes
 //!    (Defs. 3, 4; [`crate::brdf::phong`], [`crate::brdf::blinn_phong`]).
-//! 7. **D-BRDF normalisation** of the distribution `p(h)` and the constant `c`, which the
-//!    thesis does not state: derived in [`crate::brdf::dbrdf`].
+//! 7. **D-BRDF normalisation**, which the thesis does not state: read as a microfacet BRDF
+//!    with shadowing `G = ab / (a + b - ab)`, the model has `c = 1/4` and `p(h)` normalised
+//!    over projected area, `integral p(h) (h.n) dω_h = 1`, enforced exactly for the bilinear
+//!    lookup the renderer evaluates (derivation in [`crate::brdf::dbrdf`]).
 //! 8. **View direction lifted above the horizon**: a view direction less than
 //!    [`crate::shade::MIN_VIEW_COS`] above the tangent plane (interpolated normals at
 //!    silhouettes) is moved to that height at the same azimuth before any lookup.
