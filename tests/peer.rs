@@ -634,7 +634,27 @@ fn peer_records_say_how_they_were_made() {
         let noisy = peer.stderr.pixels.iter().any(|p| p.max_element() > 0.0);
         // Environment scenes carry a measured noise; directional ones are noise-free.
         match m["light"]["kind"].as_str().unwrap() {
-            "env" => assert!(noisy && passes >= 2, "{name}: no measured noise"),
+            "env" => {
+                assert!(noisy && passes >= 2, "{name}: no measured noise");
+                // brdfkit loads the radiance Mitsuba was given: the probe's total power
+                // (radiance x solid angle), computed by the script in f64 from the values
+                // it handed Mitsuba, equals brdfkit's; and the downsampling kept the
+                // shipped probe's power (after clamping negatives) up to f32 storage.
+                let path = data_dir().join(m["light"]["probe"].as_str().unwrap());
+                let (p, report) = Probe::load(&path, &LoadOptions::default()).unwrap();
+                assert_eq!(report.negative_texels, 0, "{name}: stored probe is clean");
+                let ours = p.total_power();
+                let theirs = v3(&m["light"]["total_power_rgb"]).as_dvec3();
+                let source = v3(&m["light"]["total_power_rgb_source"]).as_dvec3();
+                for c in 0..3 {
+                    let rel = |a: f64, b: f64| (a - b).abs() / b;
+                    assert!(rel(ours[c], theirs[c]) < 1e-6, "{name}: {ours} vs {theirs}");
+                    assert!(
+                        rel(theirs[c], source[c]) < 1e-6,
+                        "{name}: {theirs} vs {source}"
+                    );
+                }
+            }
             _ => assert!(
                 !noisy,
                 "{name}: a delta light through pixel centres is noise-free"
