@@ -164,8 +164,9 @@ pub struct FramePrep<'a> {
     /// **Test only**: a seeded fault of the SH kernel path ([`KernelFault`]), for the
     /// mutation tests that show [`kernel::SH_KERNEL_TOLERANCE`] catches real faults
     /// (tests/kernel_mutation.rs). Always `None` from [`FramePrep::new`]; no scene setting or
-    /// command-line option reaches it. Read once per pixel (per batch of eight pixels on the
-    /// packed path), never per light or term, so it costs nothing measurable when `None`.
+    /// command-line option reaches it. Tested once per pixel (a predictable branch beside
+    /// the pixel's lights x `bands^2` x 3 FMAs; on the packed path, twice per pixel and once
+    /// per batch), never per light or term.
     #[doc(hidden)]
     pub fault: Option<KernelFault>,
 }
