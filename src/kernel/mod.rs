@@ -64,7 +64,7 @@ use lanes::LANES;
 /// 1024 lights x 100 terms in a different (lane-grouped) order differ by a few ulps per
 /// term, far below 1e-4 of the result; a wrong term, a wrong cosine or a missed light moves
 /// the result by much more. Measured (tests/kernel_mutation.rs, every golden scene without
-/// an SH data set, both instruction-set paths): at most 7.3e-6 against the oracle. Beyond
+/// an SH data set, both instruction-set paths): at most 7.2e-6 against the oracle. Beyond
 /// about a thousand lights the oracle's own plain f32 running sum drifts (golden
 /// `fig3-8-full-studio`, 130519 lights: 4.0e-4 off the f64 reference of the same light set,
 /// while the kernel's eight lane sums stay within 1.7e-5 of it), so there the kernel is
@@ -75,8 +75,9 @@ pub const KERNEL_TOLERANCE: f32 = 1e-4;
 /// set at 8 bands cancels heavily (terms of opposite sign, each far larger than the sum),
 /// so two f32 summation orders differ by more. Measured against the oracle
 /// (tests/kernel_mutation.rs, every golden scene with an SH data set, both instruction-set
-/// paths): at most 4.4e-4 (`fig3-12-gold-dust-paint-median-cut`, 129 lights, portable path
-/// with unfused `mul_add`; 1.9e-4 on AVX2 + FMA), so 1e-3 leaves a margin of 2.3. Seeded
+/// paths, which give the same bits): at most 1.94e-4 (`fig3-10-blue-silk-nearest`; 1.87e-4
+/// on `fig3-12-gold-dust-paint-median-cut`, 129 lights), so 1e-3 leaves a margin of 5.
+/// (With the portable path's `mul_add` unfused, as before, gold-dust reached 4.4e-4.) Seeded
 /// kernel faults exceed it by far (same test, 8-band blue-silk and teal-paint under a
 /// 64-light environment set and under one point light, both paths): the last band dropped
 /// 5.1e0 and more, one lane of each group dropped 7.8e-1 and more, the last padded group
