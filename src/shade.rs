@@ -9,7 +9,9 @@
 //! Lights go through the kernels of [`crate::kernel`] (structure of arrays, eight lanes on
 //! the instruction set dispatched once per frame, per-tile normal-cone culling that
 //! provably changes no bit): per pixel, the lights above its horizon, one per lane; for SH
-//! data sets under point lights only, eight pixels per group, one per lane. The image is
+//! data sets under point lights only, eight pixels per group, one per lane. Every light
+//! kind goes through the same kernel with the same (analytic) SH basis, basis table or not
+//! (the data set's definition: [`crate::sh::dataset`], "Which basis defines a data set"). The image is
 //! written tile by tile in place (parallel over bands of one tile row). [`shade_point`],
 //! the plain per-light loop over [`Brdf::eval`], is the scalar oracle the kernels are
 //! tested against.
@@ -155,13 +157,40 @@ pub struct FramePrep<'a> {
     pub sh_bands: (usize, usize),
     /// The material's lane form ([`LaneModel::of`]), used when it is not an SH data set.
     pub model: LaneModel<'a>,
-    /// Whether point lights go through the kernel with the directional ones (all but SH
-    /// data sets with a basis table; see [`FramePrep::shade_surface`]).
-    pub points_in_kernel: bool,
     /// The instruction set of the kernels, chosen once per frame from the scene's
     /// `render.kernel` ([`Dispatch::choose`]); the same for every tile and thread, so the
     /// image does not depend on the thread count.
     pub dispatch: Dispatch,
+    /// **Test only**: a seeded fault of the SH kernel path ([`KernelFault`]), for the
+    /// mutation tests that show [`kernel::SH_KERNEL_TOLERANCE`] catches real faults
+    /// (tests/kernel_mutation.rs). Always `None` from [`FramePrep::new`]; no scene setting or
+    /// command-line option reaches it. Tested once per pixel (a predictable branch beside
+    /// the pixel's lights x `bands^2` x 3 FMAs; on the packed path, twice per pixel and once
+    /// per batch), never per light or term.
+    #[doc(hidden)]
+    pub fault: Option<KernelFault>,
+}
+
+/// **Test only**: a fault seeded into the SH path of [`FramePrep`] (its `fault` field), each
+/// with exactly the effect a bug in the kernel's loops or basis would have. Applied to the
+/// kernel's inputs per pixel (or per batch on the pixel-packed path), so the kernel itself
+/// stays as shipped: a zero coefficient or a zero weight adds an exact 0 to an FMA sum,
+/// which is what leaving the term or lane out of the loop gives.
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KernelFault {
+    /// The terms of the last SH band left out (a band loop one short).
+    DropLastBand,
+    /// Lane `.0` of every group of [`LANES`] left out: one light per group on the
+    /// per-pixel path, one pixel per batch on the packed path (a wrong lane mask).
+    DropLane(usize),
+    /// The last group left out: the last (padded) group of lights on the per-pixel path,
+    /// the last light on the packed path (a group loop one short).
+    SkipLastGroup,
+    /// The basis read from the data set's basis table
+    /// ([`ShDataset::reconstruct_tabulated`]) instead of the analytic basis that defines it
+    /// (what earlier versions did for point lights).
+    TableBasis,
 }
 
 impl<'a> FramePrep<'a> {
@@ -213,7 +242,6 @@ impl<'a> FramePrep<'a> {
                 .copied()
                 .filter(|l| matches!(l, Light::Point { .. }))
                 .collect(),
-            points_in_kernel: brdf.as_sh().is_none_or(|ds| ds.basis_table().is_none()),
             model: LaneModel::of(brdf),
             dispatch: Dispatch::choose(scene.render.kernel).unwrap_or_else(|| {
                 panic!(
@@ -221,6 +249,7 @@ impl<'a> FramePrep<'a> {
                     scene.render.kernel.name()
                 )
             }),
+            fault: None,
             sh,
             eye: scene.camera.position,
             cull_lights: true,
@@ -238,10 +267,9 @@ impl<'a> FramePrep<'a> {
     /// and by every point light, on the instruction set `s` (called from the tile loop,
     /// which [`FramePrep::dispatch`] runs once per tile).
     ///
-    /// The lights above the horizon go into `scratch` (local direction, weight `E cos`)
-    /// and from there through the SH kernel or the material's lane model. Point lights join
-    /// the list too, except for SH data sets with a basis table (their point lights keep
-    /// the table lookup of [`Brdf::eval`], as a GPU build does).
+    /// The lights above the horizon, directional and point alike, go into `scratch` (local
+    /// direction, weight `E cos`) and from there through the SH kernel or the material's
+    /// lane model.
     #[inline(always)]
     pub fn shade_surface<S: Isa>(
         &self,
@@ -256,17 +284,14 @@ impl<'a> FramePrep<'a> {
         scratch.clear();
         let includes_cosine = self.brdf.includes_cosine();
         kernel::sh::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
-        let points_in_kernel = self.points_in_kernel;
-        if points_in_kernel {
-            for light in &self.points {
-                let (l, e) = light.at(surf.position);
-                let wi = frame.to_local(l);
-                if wi.z > 0.0 {
-                    scratch.push(wi, if includes_cosine { e } else { e * wi.z });
-                }
+        for light in &self.points {
+            let (l, e) = light.at(surf.position);
+            let wi = frame.to_local(l);
+            if wi.z > 0.0 {
+                scratch.push(wi, if includes_cosine { e } else { e * wi.z });
             }
         }
-        let mut sum = match &self.sh {
+        match &self.sh {
             Some((ds, rec)) => {
                 if scratch.n == 0 {
                     Vec3::ZERO
@@ -275,21 +300,55 @@ impl<'a> FramePrep<'a> {
                     let (p, a) = kernel::approx::view_angles(s, wo);
                     let (ts, tt) = hemi_texcoord(p, a);
                     kernel::sh::lookup_coeffs(s, ds, ts, tt, coeff_buf);
+                    if let Some(fault) = self.fault {
+                        if let Some(sum) = seed_fault(fault, ds, wo, coeff_buf, scratch) {
+                            return sum;
+                        }
+                    }
                     kernel::sh::sh_sum(s, rec, coeff_buf, scratch)
                 }
             }
             None => self.model.sum(s, wo, scratch),
-        };
-        if !points_in_kernel {
-            for light in &self.points {
-                let (l, e) = light.at(surf.position);
-                let wi = frame.to_local(l);
-                if wi.z > 0.0 {
-                    sum += eval_cosine_weighted(self.brdf, wi, wo) * e;
-                }
+        }
+    }
+}
+
+/// Applies a seeded [`KernelFault`] to one pixel's kernel inputs (its coefficients `c`,
+/// `[R.., G.., B..]`, and its light list `sc`); returns the pixel's result when the fault
+/// replaces the kernel sum ([`KernelFault::TableBasis`]).
+#[cold]
+fn seed_fault(
+    fault: KernelFault,
+    ds: &ShDataset,
+    wo: Vec3,
+    c: &mut [f32],
+    sc: &mut kernel::sh::Scratch,
+) -> Option<Vec3> {
+    match fault {
+        KernelFault::DropLastBand => drop_last_band(c, ds.bands()),
+        KernelFault::DropLane(lane) => {
+            let end = sc.pad();
+            for o in (0..end).step_by(LANES) {
+                (sc.wr[o + lane], sc.wg[o + lane], sc.wb[o + lane]) = (0.0, 0.0, 0.0);
             }
         }
-        sum
+        KernelFault::SkipLastGroup => sc.n = (sc.n.div_ceil(LANES) - 1) * LANES,
+        KernelFault::TableBasis => {
+            return Some((0..sc.n).fold(Vec3::ZERO, |sum, i| {
+                let wi = Vec3::new(sc.x[i], sc.y[i], sc.z[i]);
+                let w = Vec3::new(sc.wr[i], sc.wg[i], sc.wb[i]);
+                sum + ds.reconstruct_tabulated(wi, wo) * w
+            }));
+        }
+    }
+    None
+}
+
+/// Zeroes the terms of band `bands - 1` in coefficients `[R.., G.., B..]` ([`KernelFault`]).
+fn drop_last_band(c: &mut [f32], bands: usize) {
+    let t = bands * bands;
+    for colour in c.chunks_exact_mut(t) {
+        colour[(bands - 1) * (bands - 1)..].fill(0.0);
     }
 }
 
@@ -314,6 +373,7 @@ impl FramePrep<'_> {
         let (ct, one) = buf.split_at_mut(t3 * LANES);
         let includes_cosine = self.brdf.includes_cosine();
         let np = self.points.len();
+        let mut table_basis = [None; LANES];
         for p in 0..LANES {
             let Some((_, surf)) = batch.get(p) else {
                 for k in 0..t3 {
@@ -331,6 +391,17 @@ impl FramePrep<'_> {
             let (pa, az) = kernel::approx::view_angles(s, wo);
             let (ts, tt) = hemi_texcoord(pa, az);
             kernel::sh::lookup_coeffs(s, ds, ts, tt, one);
+            if self.fault == Some(KernelFault::DropLastBand) {
+                drop_last_band(one, ds.bands());
+            }
+            if self.fault == Some(KernelFault::TableBasis) {
+                table_basis[p] = Some(self.points.iter().fold(Vec3::ZERO, |sum, light| {
+                    let (l, e) = light.at(surf.position);
+                    let wi = frame.to_local(l);
+                    let w = if includes_cosine { e } else { e * wi.z };
+                    sum + ds.reconstruct_tabulated(wi, wo) * w
+                }));
+            }
             for (k, &c) in one.iter().enumerate() {
                 ct[k * LANES + p] = c;
             }
@@ -349,12 +420,23 @@ impl FramePrep<'_> {
                 (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);
             }
         }
-        let (r, g, b) = kernel::sh::sh_sum_packed(s, rec, ct, np, sc);
+        let mut lights = np;
+        match self.fault {
+            Some(KernelFault::DropLane(lane)) => {
+                for i in 0..np {
+                    let o = i * LANES + lane;
+                    (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
+                }
+            }
+            Some(KernelFault::SkipLastGroup) => lights = np.saturating_sub(1),
+            _ => {}
+        }
+        let (r, g, b) = kernel::sh::sh_sum_packed(s, rec, ct, lights, sc);
         let (mut ar, mut ag, mut ab) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
         r.store(&mut ar);
         g.store(&mut ag);
         b.store(&mut ab);
-        std::array::from_fn(|p| Vec3::new(ar[p], ag[p], ab[p]))
+        std::array::from_fn(|p| table_basis[p].unwrap_or(Vec3::new(ar[p], ag[p], ab[p])))
     }
 }
 
@@ -482,7 +564,7 @@ impl Kernel for ShadeTile<'_, '_, '_> {
         };
         let chunks = prep.dir.chunks_for(cone);
         match &prep.sh {
-            Some((ds, rec)) if prep.dir.is_empty() && prep.points_in_kernel => {
+            Some((ds, rec)) if prep.dir.is_empty() => {
                 for batch in surfaces.chunks(LANES) {
                     let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
                     for (k, (at, _)) in batch.iter().enumerate() {

@@ -23,11 +23,41 @@
 //!
 //! # Evaluation (thesis Def. 12, Code 4)
 //! `f(wi, wo) = sum_k c_k(wo) Y_k(wi)` per colour, with `c_k(wo)` filtered from the
-//! coefficient table and `Y_k(wi)` either filtered from the basis table (as a GPU build does)
-//! or evaluated analytically with [`eval_sh_f32`]. Values are **not** clamped: SH ringing
-//! can give negative values above the horizon, exactly as the thesis's shader does; below
-//! the horizon (`wi.z <= 0` or `wo.z <= 0`) the result is zero (the thesis's backface test,
-//! 3.1.2). Whether the table includes `cos(polar_i)` is recorded in `includes_cosine`.
+//! coefficient table and `Y_k(wi)` the analytic real SH of [`crate::sh::basis`] (see the next
+//! section for the basis table). Values are **not** clamped: SH ringing can give negative
+//! values above the horizon, exactly as the thesis's shader does; below the horizon
+//! (`wi.z <= 0` or `wo.z <= 0`) the result is zero (the thesis's backface test, 3.1.2).
+//! Whether the table includes `cos(polar_i)` is recorded in `includes_cosine`.
+//!
+//! # Which basis defines a data set: the analytic one, always
+//! A data set may carry a basis table ([`ShBasisTable`]: `Y_k` at the texel centres of a
+//! light grid, thesis 3.1.4-3.1.5, the `shTexture` of Code 4). It is **not** part of the data
+//! set's definition, and no renderer path reads it:
+//! - the coefficients are projections onto the continuous basis: the acquisition device
+//!   illuminates the sample with the SH functions themselves (basis illumination, thesis
+//!   2.3.3 and its reference [7]), and [`crate::acquire`] projects with [`eval_sh_f64`] at
+//!   quadrature nodes. The function the coefficients describe is `sum_k c_k Y_k` with the
+//!   analytic `Y_k`;
+//! - the thesis stores the basis in a texture only because its fragment shader cannot
+//!   evaluate it (3.1.4: "the fourth component stores the basis value for the spherical
+//!   harmonics function", sampled with `GL_NEAREST` on its hardware). A table is the same
+//!   functions sampled at texel centres; a nearest or bilinear lookup between centres is a
+//!   discretisation error of that GPU build (at 8 bands on a 16 x 8 grid, far larger than
+//!   any rounding), which an oracle must expose, not reproduce;
+//! - one definition is what makes every light kind agree: a directional light and the same
+//!   light as a distant point light must give the same image, whichever kernel path, the
+//!   scalar oracle or the f64 reference shades it, with or without the band skip
+//!   (tests/sh_basis.rs). Earlier versions used the table for point lights only and so
+//!   rendered the two differently (FLIP mean 0.053).
+//!
+//! So [`ShDataset::reconstruct`], [`Brdf::eval`], [`Brdf::eval_f64`] and the kernels all use
+//! the analytic basis. The table is kept (files round-trip it, [`ShDataset::truncated`]
+//! truncates it with the coefficients) for GPU builds to upload, and
+//! [`ShDataset::set_basis_table`] accepts only a table that *is* this basis at its texel
+//! centres (within [`BASIS_TABLE_TOLERANCE`]), so a file cannot carry a table in another
+//! convention that the CPU would silently disagree with. What a GPU build computes with its
+//! table is [`ShDataset::reconstruct_tabulated`], for measuring that build's discretisation
+//! error; nothing in the renderer calls it.
 
 use super::basis::{eval_sh_f32, eval_sh_f64, num_terms};
 use crate::brdf::Brdf;
@@ -45,6 +75,15 @@ pub const MAX_BANDS: usize = 32;
 /// `brdfkit.band_threshold`): 0, every stored band is shaded, so files written before the
 /// attribute existed render exactly as before.
 pub const DEFAULT_BAND_THRESHOLD: f32 = 0.0;
+
+/// Largest absolute difference between a basis table value and the analytic basis
+/// ([`eval_sh_f64`]) at the texel's centre that [`ShDataset::set_basis_table`] accepts:
+/// 1e-4. Basis values are O(1) (band peaks 0.28 at l = 0 to about 2.2 at l = 31); a table
+/// tabulated in f64 and stored as f32 is within 1.2e-7 of it, one evaluated by the f32
+/// recurrence within about 5e-6 for l < 10 (`sh::basis` tests); a table in another
+/// convention (Condon-Shortley phase, another normalisation or ordering, another frame)
+/// differs by O(0.1) or more.
+pub const BASIS_TABLE_TOLERANCE: f32 = 1e-4;
 
 /// Texture filter used for a table lookup. In scene files: `"nearest"` or `"bilinear"`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
@@ -69,6 +108,17 @@ pub enum ShDataError {
     NonFinite(usize),
     #[error("band energy threshold {0} out of range (0 <= threshold < 1)")]
     BandThreshold(f32),
+    #[error(
+        "basis table texel ({i}, {j}) term {k} is {got}, the SH basis there is {expected} \
+         (the table must be the analytic basis of sh::basis at its texel centres)"
+    )]
+    BasisTable {
+        i: usize,
+        j: usize,
+        k: usize,
+        got: f32,
+        expected: f64,
+    },
 }
 
 fn check_grid(nu: usize, nv: usize, bands: usize) -> Result<(), ShDataError> {
@@ -154,6 +204,52 @@ impl ShBasisTable {
         self.bands
     }
 
+    /// The same table keeping the terms of the first `bands` bands. Err (`Bands`) unless
+    /// `1 <= bands <= self.bands()`.
+    pub fn truncated(&self, bands: usize) -> Result<Self, ShDataError> {
+        if bands == 0 || bands > self.bands {
+            return Err(ShDataError::Bands(bands));
+        }
+        let (old, new) = (num_terms(self.bands), num_terms(bands));
+        let values = self
+            .values
+            .chunks_exact(old)
+            .flat_map(|b| b[..new].iter().copied())
+            .collect();
+        Ok(ShBasisTable {
+            nu: self.nu,
+            nv: self.nv,
+            bands,
+            values,
+        })
+    }
+
+    /// Ok if every value is the analytic basis ([`eval_sh_f64`]) at its texel centre within
+    /// [`BASIS_TABLE_TOLERANCE`]; else the first texel and term that is not
+    /// (`BasisTable`).
+    pub fn check_is_analytic_basis(&self) -> Result<(), ShDataError> {
+        let t = num_terms(self.bands);
+        let mut y = vec![0.0f64; t];
+        for j in 0..self.nv {
+            for i in 0..self.nu {
+                let (p, a) = hemi_texel_angles_f64(i, j, self.nu, self.nv);
+                eval_sh_f64(local_direction_f64(p, a), &mut y);
+                for (k, (&got, &expected)) in self.texel(i, j).iter().zip(&y).enumerate() {
+                    if (got as f64 - expected).abs() > BASIS_TABLE_TOLERANCE as f64 {
+                        return Err(ShDataError::BasisTable {
+                            i,
+                            j,
+                            k,
+                            got,
+                            expected,
+                        });
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Raw values (layout in the module doc).
     pub fn values(&self) -> &[f32] {
         &self.values
@@ -203,7 +299,8 @@ pub struct ShDataset {
     /// Filter for the coefficient table (view direction). Default `Nearest` (thesis 3.1.4:
     /// float textures required `GL_NEAREST` on the thesis's hardware).
     pub coeff_lookup: Lookup,
-    /// Filter for the basis table (light direction), used only when a basis table is set.
+    /// Filter for the basis table (light direction), used only by
+    /// [`ShDataset::reconstruct_tabulated`] (never by rendering, see the module doc).
     pub basis_lookup: Lookup,
 }
 
@@ -257,9 +354,10 @@ impl ShDataset {
     }
 
     /// The same data set keeping only the first `bands` bands (terms `l < bands`): the
-    /// truncated SH expansion, as a lower-order acquisition would store it. The basis table
-    /// is dropped (it has the old band count); lookups and provenance are kept, the
-    /// provenance noting the truncation. Err (`Bands`) unless `1 <= bands <= self.bands()`.
+    /// truncated SH expansion, as a lower-order acquisition would store it. A basis table is
+    /// truncated to the same bands ([`ShBasisTable::truncated`]; it plays no part in
+    /// rendering, see the module doc); lookups and provenance are kept, the provenance
+    /// noting the truncation. Err (`Bands`) unless `1 <= bands <= self.bands()`.
     pub fn truncated(&self, bands: usize) -> Result<Self, ShDataError> {
         if bands == 0 || bands > self.bands {
             return Err(ShDataError::Bands(bands));
@@ -280,6 +378,11 @@ impl ShDataset {
         out.coeff_lookup = self.coeff_lookup;
         out.basis_lookup = self.basis_lookup;
         out.band_threshold = self.band_threshold;
+        out.basis = self
+            .basis
+            .as_ref()
+            .map(|tb| tb.truncated(bands))
+            .transpose()?;
         Ok(out)
     }
 
@@ -350,19 +453,22 @@ impl ShDataset {
         Vec3::new(m[0] as f32, m[1] as f32, m[2] as f32)
     }
 
-    /// Uses `table` for the basis (as a GPU build does) instead of analytic evaluation.
-    /// Err (`Bands`) if its band count differs from the data set's.
+    /// Attaches a basis table for GPU builds to upload (thesis 3.1.4-3.1.5); rendering keeps
+    /// the analytic basis (module doc). Err (`Bands`) if its band count differs from the
+    /// data set's, (`BasisTable`) if it is not the analytic basis at its texel centres
+    /// ([`ShBasisTable::check_is_analytic_basis`]).
     pub fn set_basis_table(&mut self, table: Option<ShBasisTable>) -> Result<(), ShDataError> {
         if let Some(tb) = &table {
             if tb.bands != self.bands {
                 return Err(ShDataError::Bands(tb.bands));
             }
+            tb.check_is_analytic_basis()?;
         }
         self.basis = table;
         Ok(())
     }
 
-    /// The basis table, if one is set.
+    /// The basis table, if one is set (not used for rendering, see the module doc).
     pub fn basis_table(&self) -> Option<&ShBasisTable> {
         self.basis.as_ref()
     }
@@ -444,16 +550,29 @@ impl ShDataset {
         }
     }
 
-    /// `sum_k c_k(wo) Y_k(wi)` (RGB) for local directions, with the data set's filters; zero
-    /// below the horizon. Not clamped (see the module doc).
+    /// `sum_k c_k(wo) Y_k(wi)` (RGB) for local directions, with the analytic basis (the data
+    /// set's definition, module doc) and the coefficient filter; zero below the horizon. Not
+    /// clamped (see the module doc).
     pub fn reconstruct(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        self.reconstruct_with(wi, wo, false)
+    }
+
+    /// What a GPU build that samples the basis table computes (thesis Code 4): as
+    /// [`ShDataset::reconstruct`], with `Y_k(wi)` filtered from the basis table
+    /// ([`ShDataset::basis_lookup`]) when one is set. Not the data set's value: for
+    /// measuring a table's discretisation error (module doc); the renderer never calls it.
+    pub fn reconstruct_tabulated(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        self.reconstruct_with(wi, wo, true)
+    }
+
+    fn reconstruct_with(&self, wi: Vec3, wo: Vec3, tabulated: bool) -> Vec3 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return Vec3::ZERO;
         }
         let nt = num_terms(self.bands);
         let mut ybuf = [0.0f32; MAX_BANDS * MAX_BANDS];
         let y = &mut ybuf[..nt];
-        match &self.basis {
+        match self.basis.as_ref().filter(|_| tabulated) {
             Some(tb) => {
                 let (p, a) = local_angles(wi);
                 let (s, t) = hemi_texcoord(p, a);
@@ -520,7 +639,7 @@ impl Brdf for ShDataset {
 
     /// `sum_k c_k(wo) Y_k(wi)` with the basis evaluated and the sum accumulated in f64 (the
     /// coefficients are the stored f32 values, filtered as in [`ShDataset::reconstruct`]);
-    /// a basis table, if set, is ignored: the reference uses the exact basis.
+    /// the analytic basis, like every path (a basis table is never read, module doc).
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return glam::DVec3::ZERO;
@@ -755,13 +874,72 @@ mod tests {
             for i in 0..32 {
                 let (p, a) = hemi_texel_angles_f64(i, j, 32, 16);
                 let wi = local_direction(p as f32, a as f32);
-                let (x, y) = (ds.eval(wi, wo), analytic.eval(wi, wo));
+                let (x, y) = (ds.reconstruct_tabulated(wi, wo), analytic.eval(wi, wo));
                 assert!((x - y).abs().max_element() < 1e-4, "{x} vs {y}");
             }
         }
         assert!(ds
             .set_basis_table(Some(ShBasisTable::tabulate(4, 4, 2).unwrap()))
             .is_err());
+    }
+
+    /// The analytic basis defines the data set (module doc): a table changes no value of
+    /// `eval` or `eval_f64`, even between texel centres, where a nearest lookup of a coarse
+    /// table is far off (checked, so the table is not trivially equal to the basis there).
+    #[test]
+    fn a_basis_table_changes_no_evaluation() {
+        let (nu, nv, bands) = (8, 4, 6);
+        let analytic = random_dataset(nu, nv, bands, 5);
+        let mut ds = analytic.clone();
+        ds.set_basis_table(Some(ShBasisTable::tabulate(8, 4, bands).unwrap()))
+            .unwrap();
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(6);
+        let mut table_error = 0.0f32;
+        for _ in 0..500 {
+            let tau = std::f32::consts::TAU;
+            let wi = local_direction(rng.gen_range(0.0..1.5), rng.gen_range(0.0..tau));
+            let wo = local_direction(rng.gen_range(0.0..1.5), rng.gen_range(0.0..tau));
+            assert_eq!(ds.eval(wi, wo), analytic.eval(wi, wo));
+            let (a, b) = (wi.as_dvec3(), wo.as_dvec3());
+            assert_eq!(ds.eval_f64(a, b), analytic.eval_f64(a, b));
+            let d = ds.reconstruct_tabulated(wi, wo) - analytic.eval(wi, wo);
+            table_error = table_error.max(d.abs().max_element());
+        }
+        assert!(table_error > 0.1, "coarse table error only {table_error}");
+    }
+
+    #[test]
+    fn a_table_in_another_convention_is_rejected_and_truncation_keeps_the_table() {
+        let bands = 4;
+        let mut ds = random_dataset(8, 4, bands, 7);
+        let tb = ShBasisTable::tabulate(10, 5, bands).unwrap();
+        // Condon-Shortley phase: (-1)^m on every term with odd |m|.
+        let t = num_terms(bands);
+        let cs: Vec<f32> = tb
+            .values()
+            .iter()
+            .enumerate()
+            .map(|(n, &v)| {
+                let (_, m) = crate::sh::basis::sh_lm(n % t);
+                if m % 2 != 0 {
+                    -v
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let cs = ShBasisTable::from_raw(10, 5, bands, cs).unwrap();
+        assert!(matches!(
+            ds.set_basis_table(Some(cs)),
+            Err(ShDataError::BasisTable { .. })
+        ));
+        assert!(ds.basis_table().is_none());
+        ds.set_basis_table(Some(tb)).unwrap();
+        let tr = ds.truncated(2).unwrap();
+        assert_eq!(
+            tr.basis_table(),
+            Some(&ShBasisTable::tabulate(10, 5, 2).unwrap())
+        );
     }
 
     #[test]
