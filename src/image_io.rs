@@ -3,13 +3,14 @@
 //! Design rule: the renderer's result is linear RGB radiance in f32; display encoding
 //! happens only here, in one documented order: `x * 2^exposure`, then the tone map, then
 //! the sRGB transfer curve (IEC 61966-2-1), then rounding to 8 bits. Every file is written
-//! to a temporary name in the target directory and renamed into place, so a failed or
-//! interrupted write never leaves a half-written file under the requested name.
+//! to a unique temporary name in the target directory, synced and renamed into place
+//! ([`replace_via_temp`]), so a failed or interrupted write never leaves a half-written
+//! file under the requested name.
 
 use crate::error::{Error, FileError, Result};
 use glam::Vec3;
 use serde::Deserialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// A row-major RGB f32 image (row 0 at the top).
 #[derive(Clone, Debug, PartialEq)]
@@ -90,30 +91,52 @@ pub fn display_u8(x: f32, exposure: f32, tonemap: Tonemap) -> u8 {
     to_u8(srgb_encode(tonemap.apply(x * exposure.exp2())))
 }
 
-/// A temporary path beside `path` (same directory, so the rename stays on one filesystem).
-fn temp_path(path: &Path) -> PathBuf {
+/// Runs `write` on a new temporary file beside `path`, syncs it to disk and renames it to
+/// `path`; on any failure (or a panic in `write`) the temporary file is removed and nothing
+/// appears under `path`. The one implementation of "write to a temporary name, then
+/// rename" for every writer in the crate, whatever its error type: `io_err` turns a failure
+/// to create, sync or rename the temporary file into that type.
+///
+/// The temporary file is created by [`tempfile::Builder`] in `path`'s directory (so the
+/// rename stays on one filesystem) as `.<name>.<random>.tmp`, exclusively (`O_EXCL`): two
+/// threads or processes writing the same `path` never share a temporary file, and the
+/// last rename wins. Unix permissions are those of [`std::fs::File::create`] (0666 less
+/// the umask). `write` may reopen the path (`File::create` truncates the same file).
+///
+/// Sync policy (every writer): the file's data is synced (`fsync`) before the rename, so
+/// after a crash `path` holds the old or the new contents, never a part. The directory is
+/// not synced: after a power loss the rename itself may be lost (the old file remains).
+pub fn replace_via_temp<E>(
+    path: &Path,
+    write: impl FnOnce(&Path) -> std::result::Result<(), E>,
+    io_err: impl Fn(std::io::Error) -> E,
+) -> std::result::Result<(), E> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
-}
-
-/// Runs `write` on a temporary file beside `path`, then renames it to `path`; on any
-/// failure the temporary file is removed and nothing appears under `path`. The one
-/// implementation of "write to a temporary name, then rename" for every writer in the
-/// crate, whatever its error type: `rename_err` turns a failed rename into that type.
-pub fn replace_via_temp<E>(
-    path: &Path,
-    write: impl FnOnce(&Path) -> std::result::Result<(), E>,
-    rename_err: impl FnOnce(std::io::Error) -> E,
-) -> std::result::Result<(), E> {
-    let tmp = temp_path(path);
-    let result = write(&tmp).and_then(|_| std::fs::rename(&tmp, path).map_err(rename_err));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    result
+    // Dropped (and so removed) on every early return below.
+    let tmp = builder.tempfile_in(dir).map_err(&io_err)?;
+    write(tmp.path())?;
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(tmp.path())
+        .and_then(|f| f.sync_all())
+        .map_err(&io_err)?;
+    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    Ok(())
 }
 
 /// [`replace_via_temp`] with the crate's [`Error`].

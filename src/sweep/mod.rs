@@ -17,9 +17,15 @@
 //! `brdfkit render --reference`. It renders the material as the scene stores it (every
 //! band, its own lookup), so a row with fewer orders or the other lookup measures that
 //! difference too: for SH materials the truncation, not the light count, dominates the error
-//! at low orders. It takes minutes for the default scene, so it is cached as
-//! a linear EXR named by [`reference_key`] (a hash of the scene's configuration and input
-//! files; not of the renderer's code: after changing the f64 path, delete the cache).
+//! at low orders. It takes minutes for the default scene, so it is cached (`--cache DIR`,
+//! default `target/brdfkit-cache`; `--no-cache`: not at all) as a linear EXR
+//! `reference-<key>.exr` named by [`reference_key`]: a hash of the scene's configuration and
+//! input files, the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
+//! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]. Beside it,
+//! `reference-<key>.exr.fnv1a` holds [`image_checksum`] of its pixels; an entry is used only
+//! when both files exist, its size is the scene's, every value is finite, and
+//! the checksum matches ([`read_cached_reference`]); otherwise it is rendered again and
+//! rewritten. This is the only cache a sweep reads: its light sets are computed.
 //!
 //! # The measurements of a row
 //! Deterministic (the same bits on every machine and thread count, so shards merge exactly):
@@ -434,14 +440,28 @@ pub fn merge(inputs: &[PathBuf]) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-/// Cache key of a reference render: FNV-1a of a version tag, the crate version, the scene
-/// description (as parsed, with the output section and thread count cleared, and the
-/// environment's sampler set to `full`), the base directory, and the bytes of the probe and
-/// of a material file.
+/// Version of the algorithm behind a cached reference render: [`crate::render::render_reference`]
+/// (rasterization, the f64 shading path, [`crate::brdf::Brdf::eval_f64`] of every model,
+/// the SH and D-BRDF evaluation). Part of [`reference_key`].
+///
+/// Bump when the output of `render_reference` changes for the same scene, so no reference
+/// rendered by older code is read. (Light-set changes are covered by
+/// [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`], also in the key.)
+pub const REFERENCE_ALGORITHM_VERSION: u32 = 1;
+
+/// Cache key of a reference render: FNV-1a of a version tag, the crate version,
+/// [`REFERENCE_ALGORITHM_VERSION`], [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`],
+/// the scene description (as parsed, with the output section and thread count cleared, and
+/// the environment's sampler set to `full`), the base directory, and the bytes of the probe
+/// and of a material file.
 pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
     let mut h = Fnv1a::default();
-    h.write(b"brdfkit-sweep-reference-v1");
-    h.write(env!("CARGO_PKG_VERSION").as_bytes());
+    h.write(b"brdfkit-sweep-reference-v2");
+    let version = env!("CARGO_PKG_VERSION");
+    h.write_u64(version.len() as u64);
+    h.write(version.as_bytes());
+    h.write_u64(REFERENCE_ALGORITHM_VERSION as u64);
+    h.write_u64(crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION as u64);
     h.write(format!("{file:?}").as_bytes());
     h.write(base.to_string_lossy().as_bytes());
     let mut files = Vec::new();
@@ -460,6 +480,76 @@ pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
         h.write(&bytes);
     }
     Ok(h.finish())
+}
+
+/// FNV-1a checksum of an image: width, height, then every pixel's RGB f32 bits
+/// (little-endian, row-major). Written beside a cached reference and checked on read.
+pub fn image_checksum(img: &Image) -> u64 {
+    let mut h = Fnv1a::default();
+    h.write_u64(img.width as u64);
+    h.write_u64(img.height as u64);
+    for p in &img.pixels {
+        for c in p.to_array() {
+            h.write(&c.to_le_bytes());
+        }
+    }
+    h.finish()
+}
+
+/// The checksum file of a cached reference: `<file>.fnv1a`.
+fn checksum_path(file: &Path) -> PathBuf {
+    let mut name = file.as_os_str().to_owned();
+    name.push(".fnv1a");
+    PathBuf::from(name)
+}
+
+/// Reads the cached reference `file` of a `width` x `height` scene if it is usable (module
+/// doc): `Ok(None)` when absent, `Err(why)` when present but not used.
+pub fn read_cached_reference(
+    file: &Path,
+    width: u32,
+    height: u32,
+) -> std::result::Result<Option<Image>, String> {
+    if !file.exists() {
+        return Ok(None);
+    }
+    let img = image_io::read_exr(file).map_err(|e| e.to_string())?;
+    if (img.width, img.height) != (width, height) {
+        return Err(format!(
+            "{}x{}, the scene is {width}x{height}",
+            img.width, img.height
+        ));
+    }
+    // Only finiteness: an SH material's truncated expansion can shade below zero.
+    if let Some(p) = img.pixels.iter().find(|p| !p.is_finite()) {
+        return Err(format!("pixel {p} is not finite"));
+    }
+    let sum_file = checksum_path(file);
+    let stored =
+        std::fs::read_to_string(&sum_file).map_err(|e| format!("{}: {e}", sum_file.display()))?;
+    let sum = format!("fnv1a64:{:016x}", image_checksum(&img));
+    if stored.trim() != sum {
+        return Err(format!(
+            "checksum {} does not match its pixels ({sum}): edited or damaged",
+            stored.trim()
+        ));
+    }
+    Ok(Some(img))
+}
+
+/// Writes a reference and its checksum file (each atomically; the EXR first, so a crash
+/// between leaves an entry [`read_cached_reference`] refuses).
+fn write_cached_reference(file: &Path, img: &Image) -> Result<()> {
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::io(dir, "cannot create cache directory", e))?;
+    }
+    image_io::write_exr(file, img)?;
+    let sum_file = checksum_path(file);
+    let text = format!("fnv1a64:{:016x}\n", image_checksum(img));
+    image_io::write_atomically(&sum_file, |tmp| {
+        std::fs::write(tmp, &text).map_err(|e| Error::io(&sum_file, "cannot write", e))
+    })
 }
 
 /// The scene a sweep renders: the default is the teapot in `blue-silk` (library SH
@@ -506,8 +596,10 @@ pub struct Sweep {
     covered: Vec<bool>,
     pub grid: Grid,
     pub default: DefaultConfig,
-    /// Where the reference came from (the cache file) and whether it was rendered now.
-    pub reference_file: PathBuf,
+    /// The reference's cache file (`None` without a cache) and whether it was rendered now.
+    pub reference_file: Option<PathBuf>,
+    /// Why a cached reference was present but not used (damaged, edited, another size).
+    pub reference_rejected: Option<String>,
     pub reference_rendered: bool,
     /// Renders per row whose median is `frame_ms` (>= 1).
     pub frames: usize,
@@ -517,14 +609,15 @@ pub struct Sweep {
 impl Sweep {
     /// Loads the scene (`base`: directory its relative paths resolve against), fits the
     /// grid to its material, and loads the reference from `cache_dir` or renders and caches
-    /// it (`on_reference` is called before a render starts). The scene must have an `[env]`.
+    /// it (`on_reference` is called with the cache file before a render starts; no cache
+    /// with `None`). The scene must have an `[env]`.
     pub fn prepare(
         mut file: SceneFile,
         base: &Path,
         mut grid: Grid,
-        cache_dir: &Path,
+        cache_dir: Option<&Path>,
         frames: usize,
-        on_reference: impl FnOnce(&Path),
+        on_reference: impl FnOnce(Option<&Path>),
     ) -> Result<Sweep> {
         let Some(env) = file.env.clone() else {
             return Err(Error::field(
@@ -540,7 +633,8 @@ impl Sweep {
             e.sampler = SamplerKind::Full;
         }
         let key = reference_key(&file, base)?;
-        // Resolve with the full probe: the reference's light set (cached by env::prepare).
+        // Resolve with the full probe: the reference's light set (computed: no light-set
+        // cache; collapsing a probe into one light per texel is cheaper than reading one).
         let full = Scene::resolve(&file, base)?;
         let env_lights = full.env.as_ref().map_or(0, |e| e.lights);
         let explicit = full.lights[..full.lights.len() - env_lights].to_vec();
@@ -564,17 +658,23 @@ impl Sweep {
             .num_threads(threads)
             .build()
             .expect("thread pool");
-        let reference_file = cache_dir.join(format!("reference-{key:016x}.exr"));
-        let (reference, rendered) = match image_io::read_exr(&reference_file) {
-            Ok(img) if (img.width, img.height) == (full.render.width, full.render.height) => {
-                (img, false)
-            }
-            _ => {
-                on_reference(&reference_file);
+        let reference_file = cache_dir.map(|d| d.join(format!("reference-{key:016x}.exr")));
+        let (w, h) = (full.render.width, full.render.height);
+        let (cached, reference_rejected) = match reference_file.as_deref() {
+            None => (None, None),
+            Some(f) => match read_cached_reference(f, w, h) {
+                Ok(img) => (img, None),
+                Err(why) => (None, Some(why)),
+            },
+        };
+        let (reference, rendered) = match cached {
+            Some(img) => (img, false),
+            None => {
+                on_reference(reference_file.as_deref());
                 let img = pool.install(|| crate::render::render_reference(&full));
-                std::fs::create_dir_all(cache_dir)
-                    .map_err(|e| Error::io(cache_dir, "cannot create cache directory", e))?;
-                image_io::write_exr(&reference_file, &img)?;
+                if let Some(f) = &reference_file {
+                    write_cached_reference(f, &img)?;
+                }
                 (img, true)
             }
         };
@@ -605,6 +705,7 @@ impl Sweep {
             grid,
             default,
             reference_file,
+            reference_rejected,
             reference_rendered: rendered,
             frames: frames.max(1),
             pool,
