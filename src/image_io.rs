@@ -369,3 +369,97 @@ pub fn format_of(path: &Path) -> Result<Format> {
         )),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn interleaved_writers_of_one_path_never_share_a_temporary_file() {
+        // A second write of the same path starts and finishes while the first is between
+        // its write and its rename (what two threads of one process can do). With a
+        // name made of the PID alone both would use one temporary file: the inner rename
+        // would take the outer's file away and the outer rename would fail.
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out.txt");
+        replace_via_temp(
+            &target,
+            |outer| {
+                std::fs::write(outer, "outer")?;
+                replace_via_temp(
+                    &target,
+                    |inner| {
+                        assert_ne!(inner, outer);
+                        std::fs::write(inner, "inner")
+                    },
+                    |e| e,
+                )?;
+                assert_eq!(std::fs::read_to_string(&target)?, "inner");
+                assert_eq!(std::fs::read_to_string(outer)?, "outer");
+                Ok(())
+            },
+            |e| e,
+        )
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "outer");
+        assert_eq!(listing(dir.path()), ["out.txt"]);
+    }
+
+    #[test]
+    fn concurrent_threads_each_write_a_whole_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("t.bin");
+        let contents: Vec<Vec<u8>> = (0..8u8).map(|t| vec![t; 4096 + t as usize]).collect();
+        std::thread::scope(|s| {
+            for c in &contents {
+                let target = &target;
+                s.spawn(move || {
+                    for _ in 0..20 {
+                        replace_via_temp(target, |tmp| std::fs::write(tmp, c), |e| e).unwrap();
+                    }
+                });
+            }
+        });
+        let got = std::fs::read(&target).unwrap();
+        assert!(
+            contents.contains(&got),
+            "a mixed file of {} bytes",
+            got.len()
+        );
+        assert_eq!(listing(dir.path()), ["t.bin"]);
+    }
+
+    #[test]
+    fn a_failed_write_leaves_nothing_and_permissions_follow_file_create() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("x.exr");
+        let r = replace_via_temp(
+            &target,
+            |tmp| {
+                std::fs::write(tmp, "partial")?;
+                Err(std::io::Error::other("seeded failure"))
+            },
+            |e| e,
+        );
+        assert!(r.is_err());
+        assert!(listing(dir.path()).is_empty(), "{:?}", listing(dir.path()));
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            replace_via_temp(&target, |tmp| std::fs::write(tmp, "x"), |e| e).unwrap();
+            let plain = dir.path().join("plain");
+            std::fs::File::create(&plain).unwrap();
+            let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode(&target), mode(&plain));
+        }
+    }
+}
