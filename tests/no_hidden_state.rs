@@ -116,6 +116,25 @@ fn golden_check_ignores_cold_and_corrupted_caches_alike() {
         snapshot(&cold).keys()
     );
 
+    // `render --no-cache` neither writes nor reads the cache either.
+    let scene = golden.join(format!("{}.toml", ENTRIES[0]));
+    let o = brdfkit(
+        tmp.path(),
+        &cold,
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "--no-cache",
+            "-o",
+            "nc.exr",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        snapshot(&cold).is_empty(),
+        "render --no-cache wrote a cache"
+    );
+
     // 2. Fill a cache the way a user's fills: `brdfkit render` of each entry's scene.
     //    Renders through it match the stored images (0 pixels over the tolerance).
     let mut entries = Vec::new();
