@@ -43,8 +43,9 @@ pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Format tag of a light-set cache entry.
 pub const CACHE_FORMAT: &str = "brdfkit-lightset-cache";
 
-/// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light sets.
-/// There is no implicit default: the caller says which.
+/// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light
+/// sets. No code path picks the user's directory by itself: the caller passes one
+/// ([`CacheDir::user`]) or gets none (`Default`).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum CacheDir {
     /// No disk cache: every light set is computed. The library's default, used by tests,
