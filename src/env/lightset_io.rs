@@ -310,7 +310,7 @@ mod tests {
         write_csv(&d.join("a.csv"), &ls).unwrap();
         assert_eq!(read_csv(&d.join("a.csv")).unwrap(), ls);
         // No temporary files left behind.
-        let names: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
+        let names: Vec<_> = std::fs::read_dir(d).unwrap().collect();
         assert_eq!(names.len(), 2);
     }
 

@@ -788,7 +788,7 @@ mod tests {
             "{e}"
         );
         // no temporary file is left behind after a successful write
-        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        let left: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
         assert_eq!(left.len(), 1);
     }
 }
