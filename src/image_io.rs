@@ -3,13 +3,18 @@
 //! Design rule: the renderer's result is linear RGB radiance in f32; display encoding
 //! happens only here, in one documented order: `x * 2^exposure`, then the tone map, then
 //! the sRGB transfer curve (IEC 61966-2-1), then rounding to 8 bits. Every file is written
-//! to a temporary name in the target directory and renamed into place, so a failed or
-//! interrupted write never leaves a half-written file under the requested name.
+//! to a unique temporary name in the target directory, synced and renamed into place
+//! ([`replace_via_temp`]), so a failed or interrupted write never leaves a half-written
+//! file under the requested name.
+
+mod atomic;
+
+pub use atomic::replace_via_temp;
 
 use crate::error::{Error, FileError, Result};
 use glam::Vec3;
 use serde::Deserialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// A row-major RGB f32 image (row 0 at the top).
 #[derive(Clone, Debug, PartialEq)]
@@ -88,32 +93,6 @@ pub fn to_u8(x: f32) -> u8 {
 #[inline]
 pub fn display_u8(x: f32, exposure: f32, tonemap: Tonemap) -> u8 {
     to_u8(srgb_encode(tonemap.apply(x * exposure.exp2())))
-}
-
-/// A temporary path beside `path` (same directory, so the rename stays on one filesystem).
-fn temp_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
-}
-
-/// Runs `write` on a temporary file beside `path`, then renames it to `path`; on any
-/// failure the temporary file is removed and nothing appears under `path`. The one
-/// implementation of "write to a temporary name, then rename" for every writer in the
-/// crate, whatever its error type: `rename_err` turns a failed rename into that type.
-pub fn replace_via_temp<E>(
-    path: &Path,
-    write: impl FnOnce(&Path) -> std::result::Result<(), E>,
-    rename_err: impl FnOnce(std::io::Error) -> E,
-) -> std::result::Result<(), E> {
-    let tmp = temp_path(path);
-    let result = write(&tmp).and_then(|_| std::fs::rename(&tmp, path).map_err(rename_err));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }
 
 /// [`replace_via_temp`] with the crate's [`Error`].

@@ -16,6 +16,9 @@ fn brdfkit(dir: &Path, args: &[&str]) -> Run {
         .args(["-s", "KILL", "60", env!("CARGO_BIN_EXE_brdfkit")])
         .args(args)
         .current_dir(dir)
+        // Never the user's light-set cache (`render --env` looks an entry up before it
+        // decodes the probe); nothing is written there by a failing run.
+        .env("BRDFKIT_CACHE_DIR", dir.join(".brdfkit-cache"))
         .output()
         .expect("run brdfkit under timeout (coreutils)");
     assert_ne!(

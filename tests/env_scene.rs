@@ -1,8 +1,9 @@
 //! Environment lighting through the whole renderer: white furnace per sampler, the
 //! teapot under real probes with every sampler against the full-probe reference, and the
-//! light-set cache.
+//! light-set cache (keys, validation on read). Scenes resolve without a cache
+//! ([`Scene::resolve`]); only the cache test uses one, in a temporary directory.
 
-use brdfkit::env::prepare::{prepare, EnvSpec, SamplerKind};
+use brdfkit::env::prepare::{prepare, CacheEntry, EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::render::render;
 use brdfkit::scene::{Scene, SceneFile};
@@ -47,7 +48,6 @@ fn white_furnace_lambert_sphere_per_sampler() {
     // Constant radiance L = 2 and albedo 0.5: every visible point reflects 0.5 * 2 = 1,
     // whatever its normal. The delta-light approximation converges to it as N grows.
     let tmp = tempfile::tempdir().unwrap();
-    std::env::set_var("BRDFKIT_CACHE_DIR", tmp.path().join("cache"));
     let probe = constant_probe(tmp.path(), 64, 32, 2.0);
     for sampler in SAMPLERS {
         let mut errs = Vec::new();
@@ -91,8 +91,6 @@ fn serde_plain(s: SamplerKind) -> &'static str {
 fn teapot_under_real_probes_with_every_sampler() {
     // Each sampler's render at N = 256 is within a few percent of the full-probe reference
     // (every texel a light), on a Lambertian teapot where the error is only the lighting's.
-    let tmp = tempfile::tempdir().unwrap();
-    std::env::set_var("BRDFKIT_CACHE_DIR", tmp.path());
     for probe in ["city.exr", "studio.exr"] {
         let file = assets().join(probe);
         let toml = |sampler: &str, n: usize| {
@@ -135,15 +133,16 @@ fn teapot_under_real_probes_with_every_sampler() {
 #[test]
 fn light_sets_are_cached_by_contents_and_parameters() {
     let tmp = tempfile::tempdir().unwrap();
-    let cache = tmp.path().join("cache");
+    let cache_dir = tmp.path().join("cache");
+    let cache = Some(cache_dir.as_path());
     let probe = tmp.path().join("p.exr");
     std::fs::copy(assets().join("city.exr"), &probe).unwrap();
     let mut spec = EnvSpec::new(probe.clone());
     spec.sampler = SamplerKind::Lloyd;
     spec.count = 32;
-    let first = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
+    let first = prepare(&spec, tmp.path(), cache).unwrap();
     assert!(!first.cache_hit && first.report.is_some());
-    let second = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
+    let second = prepare(&spec, tmp.path(), cache).unwrap();
     assert!(second.cache_hit, "a re-render must skip preprocessing");
     assert!(
         second.report.is_none(),
@@ -152,23 +151,102 @@ fn light_sets_are_cached_by_contents_and_parameters() {
     assert_eq!(first.lights, second.lights);
     // Another parameter: another entry.
     spec.count = 16;
-    assert!(!prepare(&spec, tmp.path(), Some(&cache)).unwrap().cache_hit);
+    assert!(!prepare(&spec, tmp.path(), cache).unwrap().cache_hit);
     spec.count = 32;
     spec.rotation = 90.0;
-    assert!(!prepare(&spec, tmp.path(), Some(&cache)).unwrap().cache_hit);
+    assert!(!prepare(&spec, tmp.path(), cache).unwrap().cache_hit);
     spec.rotation = 0.0;
     // Other contents under the same name: another entry.
     std::fs::copy(assets().join("studio.exr"), &probe).unwrap();
-    let other = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
+    let other = prepare(&spec, tmp.path(), cache).unwrap();
     assert!(!other.cache_hit);
     assert_ne!(other.lights, first.lights);
     // A damaged cache entry is ignored and rewritten, never trusted.
     let cf = other.cache_file.clone().unwrap();
     std::fs::write(&cf, "{ not json").unwrap();
-    let again = prepare(&spec, tmp.path(), Some(&cache)).unwrap();
-    assert!(!again.cache_hit);
+    let again = prepare(&spec, tmp.path(), cache).unwrap();
+    assert!(!again.cache_hit && again.cache_rejected.is_some());
     assert_eq!(again.lights, other.lights);
-    assert!(prepare(&spec, tmp.path(), Some(&cache)).unwrap().cache_hit);
+    assert!(prepare(&spec, tmp.path(), cache).unwrap().cache_hit);
+    // No cache: nothing read or written.
+    let none = prepare(&spec, tmp.path(), None).unwrap();
+    assert!(!none.cache_hit && none.cache_file.is_none());
+    assert_eq!(none.lights, other.lights);
+}
+
+/// Rewrites the cache entry `cf` after `edit` changed it (keeping everything else).
+fn rewrite_entry(cf: &Path, edit: impl FnOnce(&mut CacheEntry)) {
+    let mut e: CacheEntry = serde_json::from_slice(&std::fs::read(cf).unwrap()).unwrap();
+    edit(&mut e);
+    std::fs::write(cf, serde_json::to_vec(&e).unwrap()).unwrap();
+}
+
+#[test]
+fn edited_truncated_or_foreign_cache_entries_are_never_used() {
+    // Each seeded corruption of a valid entry must be rejected (with a reason), the light
+    // set recomputed bit for bit, and the entry rewritten so the next read hits.
+    let tmp = tempfile::tempdir().unwrap();
+    let cache_dir = tmp.path().join("cache");
+    let cache = Some(cache_dir.as_path());
+    let mut spec = EnvSpec::new(assets().join("city.exr"));
+    spec.sampler = SamplerKind::MedianCut;
+    spec.count = 16;
+    let fresh = prepare(&spec, tmp.path(), cache).unwrap();
+    let cf = fresh.cache_file.clone().unwrap();
+    assert!(prepare(&spec, tmp.path(), cache).unwrap().cache_hit);
+    type Edit = Box<dyn Fn(&Path)>;
+    let cases: Vec<(&str, &str, Edit)> = vec![
+        (
+            "every power +1% (valid JSON, valid lights)",
+            "checksum",
+            Box::new(|cf| {
+                rewrite_entry(cf, |e| {
+                    for p in e.lights.power_r.iter_mut().chain(&mut e.lights.power_g) {
+                        *p *= 1.01;
+                    }
+                })
+            }),
+        ),
+        (
+            "one power +1%",
+            "checksum",
+            Box::new(|cf| rewrite_entry(cf, |e| e.lights.power_b[3] *= 1.01)),
+        ),
+        (
+            "truncated to half",
+            "not a cache entry",
+            Box::new(|cf| {
+                let b = std::fs::read(cf).unwrap();
+                std::fs::write(cf, &b[..b.len() / 2]).unwrap();
+            }),
+        ),
+        (
+            "written by another crate version",
+            "crate version",
+            Box::new(|cf| rewrite_entry(cf, |e| e.crate_version = "0.0.1".into())),
+        ),
+        (
+            "written by another light-set algorithm",
+            "algorithm version",
+            Box::new(|cf| rewrite_entry(cf, |e| e.algorithm_version += 1)),
+        ),
+        (
+            "another key's entry under this name",
+            "key",
+            Box::new(|cf| rewrite_entry(cf, |e| e.key = "0123456789abcdef".into())),
+        ),
+    ];
+    for (what, reason, edit) in cases {
+        edit(&cf);
+        let p = prepare(&spec, tmp.path(), cache).unwrap();
+        assert!(!p.cache_hit, "{what}: the corrupted entry was used");
+        let why = p.cache_rejected.unwrap_or_default();
+        assert!(why.contains(reason), "{what}: rejected for {why:?}");
+        assert_eq!(p.lights, fresh.lights, "{what}: recomputed set differs");
+        let p = prepare(&spec, tmp.path(), cache).unwrap();
+        assert!(p.cache_hit, "{what}: entry not rewritten");
+        assert_eq!(p.lights, fresh.lights);
+    }
 }
 
 #[test]

@@ -119,6 +119,41 @@ fn shards_merge_into_the_single_run() {
         assert_eq!(deterministic(&dir.join("merged.csv")), all, "{n} shards");
     }
 
+    // The cached reference is checked on read: an edited one (every pixel +1%, still a
+    // valid EXR) is refused, rendered again and rewritten, with the same rows.
+    let cached: Vec<PathBuf> = std::fs::read_dir(dir.join("ref-cache"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "exr"))
+        .collect();
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    let mut img = brdfkit::image_io::read_exr(&cached[0]).unwrap();
+    for p in &mut img.pixels {
+        *p *= 1.01;
+    }
+    brdfkit::image_io::write_exr(&cached[0], &img).unwrap();
+    let err = run(&["-o", "edited.csv"]);
+    assert!(
+        err.contains("cached reference ignored") && err.contains("rendering the reference"),
+        "an edited reference was used: {err}"
+    );
+    assert_eq!(deterministic(&dir.join("edited.csv")), all);
+    assert!(
+        run(&["-o", "edited.csv"]).contains("(cached)"),
+        "not rewritten"
+    );
+    // --no-cache: the same rows, and no cache directory is created.
+    let mut args = vec!["sweep", "--scene", "scene.toml"];
+    args.extend_from_slice(&GRID[..GRID.len() - 2]);
+    args.extend(["--no-cache", "-o", "nocache.csv"]);
+    let err = brdfkit(dir, &args);
+    assert!(err.contains("--no-cache: not stored"), "{err}");
+    assert_eq!(deterministic(&dir.join("nocache.csv")), all);
+    assert!(
+        !dir.join("target").exists(),
+        "--no-cache wrote the default cache"
+    );
+
     // Merging is exact on every column: one run's CSV merged alone is itself.
     brdfkit(dir, &["sweep", "--merge", "all.csv", "-o", "again.csv"]);
     assert_eq!(

@@ -104,7 +104,8 @@ fn exr_err(path: &Path, e: exr::error::Error) -> DbrdfFileError {
     }
 }
 
-/// Writes `d` to `path` (module doc), through `.<name>.tmp-<pid>` and a rename. Fails with
+/// Writes `d` to `path` (module doc), through a unique temporary file beside it, synced,
+/// and a rename ([`crate::image_io::replace_via_temp`]). Fails with
 /// [`DbrdfFileError::Io`] or [`DbrdfFileError::Exr`]; the temporary file is removed.
 pub fn write_dbrdf(path: &Path, d: &DBrdf, provenance: &str) -> Result<(), DbrdfFileError> {
     let (nu, nv) = d.grid();
@@ -266,8 +267,8 @@ mod tests {
 
     #[test]
     fn round_trip_and_clear_errors() {
-        let dir = std::env::temp_dir().join(format!("brdfkit-dbrdf-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
         let mut d = DBrdf::from_fn(8, 4, Vec3::new(0.1, 0.5, 0.9), |h| h.z.powi(8) + h.x.abs());
         d.c = 0.31;
         let path = dir.join("a.exr");
@@ -290,6 +291,5 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("missing.exr"), "{e}");
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

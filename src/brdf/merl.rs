@@ -292,25 +292,18 @@ impl MerlBrdf {
         out
     }
 
-    /// Writes a `.binary` file via a temporary file in the same directory and a rename.
+    /// Writes a `.binary` file via a unique temporary file in the same directory, synced,
+    /// and a rename ([`crate::image_io::replace_via_temp`]).
     pub fn write(&self, path: &Path) -> Result<(), MerlError> {
         let io = |source| MerlError::Io {
             path: path.to_owned(),
             source,
         };
-        let fname = path
-            .file_name()
-            .map(|f| f.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp = path.with_file_name(format!(".{fname}.tmp-{}", std::process::id()));
-        std::fs::write(&tmp, self.to_bytes()).map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            io(e)
-        })?;
-        std::fs::rename(&tmp, path).map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            io(e)
-        })
+        crate::image_io::replace_via_temp(
+            path,
+            |tmp| std::fs::write(tmp, self.to_bytes()).map_err(io),
+            io,
+        )
     }
 
     /// Scaled RGB sample at flat index `k` (negative stored values give zero).
@@ -358,10 +351,6 @@ mod tests {
     use crate::brdf::{Lambert, Phong};
     use rand::{Rng, SeedableRng};
 
-    fn tmp(name: &str) -> PathBuf {
-        std::env::temp_dir().join(format!("brdfkit-merl-{}-{name}", std::process::id()))
-    }
-
     #[test]
     fn half_diff_round_trip_and_guards() {
         let mut rng = rand_pcg::Pcg64::seed_from_u64(1);
@@ -393,7 +382,8 @@ mod tests {
             ks: Vec3::new(0.3, 0.4, 0.5),
             exponent: 4.0,
         };
-        let p = tmp("rt.binary");
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("rt.binary");
         MerlBrdf::tabulate(&src).write(&p).unwrap();
         assert_eq!(
             std::fs::metadata(&p).unwrap().len() as usize,
@@ -428,7 +418,8 @@ mod tests {
 
     #[test]
     fn malformed_files_are_rejected_with_sizes() {
-        let p = tmp("bad.binary");
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("bad.binary");
         let good = MerlBrdf::tabulate(&Lambert { albedo: Vec3::ONE }).to_bytes();
         std::fs::write(&p, b"").unwrap();
         let e = MerlBrdf::read(&p).unwrap_err();
@@ -457,7 +448,7 @@ mod tests {
         let e = MerlBrdf::read(&p).unwrap_err();
         assert!(matches!(e, MerlError::Size { .. }), "{e}");
         std::fs::remove_file(&p).unwrap();
-        let e = MerlBrdf::read(&tmp("absent.binary")).unwrap_err();
+        let e = MerlBrdf::read(&dir.path().join("absent.binary")).unwrap_err();
         assert!(
             matches!(
                 e,

@@ -34,7 +34,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (the built-in default scene when no file is given).
     #[command(
-        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n  brdfkit render --env city.exr --material blue-silk --turntable 60 -o spin.png   # spin_0000.png ... spin.gif\n  brdfkit render --env city.exr --turntable 60 --turntable-env -o env.png         # the probe turns instead\n  brdfkit render --turntable 60 --shard 0/2 -o spin.png; ... --shard 1/2 ...; brdfkit render --turntable 60 --assemble -o spin.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file."
+        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n  brdfkit render --env city.exr --material blue-silk --turntable 60 -o spin.png   # spin_0000.png ... spin.gif\n  brdfkit render --env city.exr --turntable 60 --turntable-env -o env.png         # the probe turns instead\n  brdfkit render --turntable 60 --shard 0/2 -o spin.png; ... --shard 1/2 ...; brdfkit render --turntable 60 --assemble -o spin.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file.\n\nLight-set cache (environment lights only): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else\n~/.cache/brdfkit; one file lights-KEY.json per probe bytes x loader options x sampler settings x\nbrdfkit version x light-set algorithm version, checked (checksum, versions) on every read.\n--no-cache neither reads nor writes it. Only `render` uses this cache."
     )]
     Render(RenderArgs),
     /// Collapse a light probe into directional lights; write them and draw them over the probe.
@@ -80,7 +80,9 @@ images), default (1 for the scene's own configuration): deterministic, the same 
 then prep_ms (light-set preparation), frame_ms (median frame time), pareto (1 if no other row is \
 both faster and more accurate, over frame_ms and rel_rmse): measured, they vary run to run.\n\n\
 The reference is rendered once (minutes for the default scene) and cached as EXR in --cache, keyed \
-by a hash of the scene and its input files.",
+by a hash of the scene, its input files, the brdfkit version and the reference algorithm version, \
+and checked on read (size, finite pixels, a checksum file beside it); --no-cache \
+renders it without the cache. The sweep reads no other cache (light sets are computed).",
         after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (880 rows)\n  brdfkit sweep --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
     )]
     Sweep(SweepArgs),
@@ -127,9 +129,12 @@ pub struct SweepArgs {
     /// Only rows with index % N == I (0-based I/N), for array jobs; merge with --merge.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
-    /// Directory of the cached reference renders. Default target/brdfkit-cache.
-    #[arg(long, value_name = "DIR")]
+    /// Directory of the cached reference renders (reference-KEY.exr, KEY a hash of the scene, its input files, the brdfkit version and the reference algorithm version; checked on read). Default target/brdfkit-cache.
+    #[arg(long, value_name = "DIR", conflicts_with = "no_cache")]
     pub cache: Option<PathBuf>,
+    /// Neither read nor write the reference cache: render the reference now and keep it only in memory.
+    #[arg(long)]
+    pub no_cache: bool,
     /// Merge these shard CSVs into -o (and --plot) instead of rendering.
     #[arg(long, num_args = 1.., value_name = "CSV")]
     pub merge: Vec<PathBuf>,
@@ -250,6 +255,9 @@ pub struct RenderArgs {
     /// With --turntable: GIF frame rate (frames per second; GIF stores delays in 1/100 s).
     #[arg(long, default_value_t = 25, requires = "turntable")]
     pub fps: u32,
+    /// Neither read nor write the light-set cache: compute the environment's light set (see the cache note below).
+    #[arg(long)]
+    pub no_cache: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -334,7 +342,7 @@ pub enum CullArg {
 
 #[derive(Subcommand, Debug)]
 pub enum GoldenAction {
-    /// Re-render golden entries (all, or the named ones) and compare each with its stored image: identical bits on the platform and kernel path that blessed it (the manifest's blessed_on), the entry's tolerance elsewhere (exit 1 if any fails). Never writes golden/.
+    /// Re-render golden entries (all, or the named ones) and compare each with its stored image: identical bits on the platform and kernel path that blessed it (the manifest's blessed_on), the entry's tolerance elsewhere (exit 1 if any fails). Never writes golden/. Reads and writes no cache: every light set is computed from its probe.
     #[command(
         after_help = "Examples:\n  brdfkit golden check                      # every entry, on the best kernel path\n  brdfkit golden check --kernel portable     # the same on the portable path\n  brdfkit golden check --bounds fig3-8-lloyd-studio   # also re-measure fast vs reference (small)"
     )]
@@ -351,7 +359,7 @@ pub enum GoldenAction {
         #[arg(long)]
         bounds: bool,
     },
-    /// Re-render and overwrite golden images (all, or the named entries), their hashes, configuration summaries and measured fast-vs-reference bounds (the reference render with the full probe is slow), and the table in golden/README.md. The only command that writes golden/.
+    /// Re-render and overwrite golden images (all, or the named entries), their hashes, configuration summaries and measured fast-vs-reference bounds (the reference render with the full probe is slow), and the table in golden/README.md. The only command that writes golden/. Reads and writes no cache.
     Bless {
         /// Entries to bless (default: every entry of the manifest).
         names: Vec<String>,

@@ -2,7 +2,7 @@
 
 use super::{CullArg, RenderArgs};
 use crate::aov;
-use crate::env::prepare::EnvSpec;
+use crate::env::prepare::{CacheDir, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::raster::Cull;
@@ -129,14 +129,19 @@ pub fn run(a: RenderArgs) -> Result<()> {
         .iter()
         .map(|p| image_io::format_of(p))
         .collect::<Result<Vec<_>>>()?;
+    // The user's light-set cache (crate::env::prepare), unless --no-cache.
+    let cache = if a.no_cache {
+        CacheDir::None
+    } else {
+        CacheDir::user()
+    };
+    let resolve_base = cli_mesh_base.as_deref().unwrap_or(&base);
     let scene = match &a.scene {
-        Some(p) => Scene::resolve(&file, cli_mesh_base.as_deref().unwrap_or(&base)).map_err(
-            |e| match e {
-                Error::Field { .. } => Error::format(p, e.to_string()),
-                other => other,
-            },
-        )?,
-        None => Scene::resolve(&file, cli_mesh_base.as_deref().unwrap_or(&base))?,
+        Some(p) => Scene::resolve_with_cache(&file, resolve_base, &cache).map_err(|e| match e {
+            Error::Field { .. } => Error::format(p, e.to_string()),
+            other => other,
+        })?,
+        None => Scene::resolve_with_cache(&file, resolve_base, &cache)?,
     };
     if let Some(e) = &scene.env {
         if e.negative_texels > 0 {
@@ -145,6 +150,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 e.file.display(),
                 e.negative_texels
             );
+        }
+        if let Some(why) = &e.cache_rejected {
+            eprintln!("warning: light-set cache entry ignored and rewritten: {why}");
         }
         eprintln!(
             "environment: {} lights from {}{}",

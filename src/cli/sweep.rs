@@ -118,24 +118,33 @@ pub fn run(a: SweepArgs) -> Result<()> {
     if let Some(t) = a.threads {
         file.render.threads = t;
     }
-    let cache = a
-        .cache
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("target").join("brdfkit-cache"));
+    let cache = if a.no_cache {
+        None
+    } else {
+        Some(
+            a.cache
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("target").join("brdfkit-cache")),
+        )
+    };
     let start = std::time::Instant::now();
     let spin = std::cell::RefCell::new(None);
-    let sw = sweep::Sweep::prepare(file, &base, grid, &cache, a.frames, |f| {
+    let sw = sweep::Sweep::prepare(file, &base, grid, cache.as_deref(), a.frames, |f| {
         eprintln!(
-            "rendering the reference (full probe, f64; minutes for large probes) into {}",
-            f.display()
+            "rendering the reference (full probe, f64; minutes for large probes){}",
+            f.map(|f| format!(" into {}", f.display()))
+                .unwrap_or_else(|| " (--no-cache: not stored)".into())
         );
         *spin.borrow_mut() = Some(super::spinner("reference"));
     })?;
     if let Some(s) = spin.borrow_mut().take() {
         s.finish_and_clear();
     }
-    if !sw.reference_rendered {
-        eprintln!("reference: {} (cached)", sw.reference_file.display());
+    if let Some(why) = &sw.reference_rejected {
+        eprintln!("warning: cached reference ignored and rewritten: {why}");
+    }
+    if let (false, Some(f)) = (sw.reference_rendered, &sw.reference_file) {
+        eprintln!("reference: {} (cached)", f.display());
     }
     let configs = sw.configs(shard);
     eprintln!(

@@ -95,17 +95,13 @@ struct JsonFile {
     lights: LightSet,
 }
 
-/// Writes `bytes` to `path` atomically: a temporary sibling file, flushed and synced, then
-/// renamed over `path`. Fails with the I/O error (naming the path); the temporary file is
-/// removed on failure.
+/// Writes `bytes` to `path` atomically: a unique temporary sibling file, synced, then
+/// renamed over `path` ([`crate::image_io::replace_via_temp`]). Fails with the I/O error;
+/// the temporary file is removed on failure.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), std::io::Error> {
     crate::image_io::replace_via_temp(
         path,
-        |tmp| {
-            let mut f = std::fs::File::create(tmp)?;
-            f.write_all(bytes)?;
-            f.sync_all()
-        },
+        |tmp| std::fs::File::create(tmp)?.write_all(bytes),
         |e| e,
     )
 }
@@ -293,12 +289,6 @@ mod tests {
     use super::*;
     use crate::env::{Probe, SamplerConfig};
 
-    fn tmpdir(tag: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("brdfkit-io-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d
-    }
-
     fn sample_set() -> LightSet {
         let t: Vec<[f32; 3]> = (0..32)
             .map(|i| [i as f32 * 0.37, 1.0 / (1.0 + i as f32), 0.1])
@@ -309,7 +299,8 @@ mod tests {
 
     #[test]
     fn json_and_csv_round_trip_bit_exact() {
-        let d = tmpdir("rt");
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path();
         let ls = sample_set();
         let cfg = SamplerConfig::MedianCut { n: 7 };
         let h = LightSetHeader::new(&cfg, Some("io.exr"), &ls);
@@ -319,14 +310,14 @@ mod tests {
         write_csv(&d.join("a.csv"), &ls).unwrap();
         assert_eq!(read_csv(&d.join("a.csv")).unwrap(), ls);
         // No temporary files left behind.
-        let names: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
+        let names: Vec<_> = std::fs::read_dir(d).unwrap().collect();
         assert_eq!(names.len(), 2);
-        let _ = std::fs::remove_dir_all(&d);
     }
 
     #[test]
     fn csv_errors_name_file_line_and_field() {
-        let d = tmpdir("err");
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path();
         let p = d.join("bad.csv");
         std::fs::write(&p, format!("{CSV_HEADER}\n0,1,0,1,1,1\n0,1,0,1,x,1\n")).unwrap();
         let e = read_csv(&p).unwrap_err().to_string();
@@ -348,6 +339,5 @@ mod tests {
         std::fs::write(&j, "{\"format\": 3").unwrap();
         let e = read_json(&j).unwrap_err().to_string();
         assert!(e.contains("bad.json") && e.contains("line"), "{e}");
-        let _ = std::fs::remove_dir_all(&d);
     }
 }

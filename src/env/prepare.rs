@@ -1,17 +1,21 @@
 //! Environment light preparation for a scene: probe file + sampler settings in, a light set
-//! out, cached on disk so a re-render skips decoding and sampling.
+//! out, optionally cached on disk ([`cache`]) so a re-render skips decoding and sampling.
 //!
-//! Design rule: preprocessing runs only when a scene has an environment light, and its
-//! result is keyed by *what determines it*: the probe file's bytes, the rotation, the
-//! loader options and the sampler configuration (FNV-1a, [`super::Fnv1a`]). A cache hit
-//! reads one small JSON file and never decodes the probe. A cache entry that cannot be read
-//! (truncated, edited, from another version) is ignored and rewritten, never trusted.
-//!
-//! Cache directory: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else
-//! `$HOME/.cache/brdfkit`; with none of them set, nothing is cached.
+//! Design rule: preprocessing runs only when a scene has an environment light, and a cached
+//! result is keyed by *what determines it*, versions of the code included
+//! ([`file_cache_key`]), and validated on every read ([`read_cache_entry`]). Nothing here
+//! reads the environment to find a cache: the caller passes the directory (or none); see
+//! [`cache`] for which callers use which.
 
-use super::lightset_io::{read_json, write_json, LightSetHeader};
-use super::{Fnv1a, LightSet, LoadOptions, LoadReport, Probe, SamplerConfig};
+pub mod cache;
+
+pub use cache::{
+    cache_file_name, file_cache_key, lights_checksum, read_cache_entry, CacheDir, CacheEntry,
+    CACHE_FORMAT, CRATE_VERSION, LIGHT_SET_ALGORITHM_VERSION,
+};
+
+use super::lightset_io::{write_atomic, LightSetHeader};
+use super::{LightSet, LoadOptions, LoadReport, Probe, SamplerConfig};
 use crate::error::{Error, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -163,40 +167,19 @@ pub struct Prepared {
     pub report: Option<LoadReport>,
     /// The cache file used, if any.
     pub cache_file: Option<PathBuf>,
+    /// Why an existing cache entry was not used (corrupt, another version, ...); `None`
+    /// when there was no entry, no cache, or the entry was used.
+    pub cache_rejected: Option<String>,
 }
 
-/// The default cache directory (see the module doc), or `None`.
-pub fn default_cache_dir() -> Option<PathBuf> {
-    let var = |k: &str| {
-        std::env::var_os(k)
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-    };
-    var("BRDFKIT_CACHE_DIR")
-        .or_else(|| var("XDG_CACHE_HOME").map(|p| p.join("brdfkit")))
-        .or_else(|| var("HOME").map(|p| p.join(".cache").join("brdfkit")))
-}
-
-/// Cache key of a light set: FNV-1a of a version tag, the probe file's bytes, the loader
-/// options and the sampler configuration.
-pub fn file_cache_key(bytes: &[u8], opts: &LoadOptions, config: &SamplerConfig) -> u64 {
-    let mut h = Fnv1a::default();
-    h.write(b"brdfkit-env-file-v1");
-    h.write_u64(bytes.len() as u64);
-    h.write(bytes);
-    h.write_u64(opts.rotation.to_bits());
-    h.write_u64(opts.zero_non_finite as u64);
-    h.write_u64(opts.max_texels as u64);
-    config.hash_into(&mut h);
-    h.finish()
-}
-
-/// Loads (or fetches from `cache_dir`) the light set of an environment spec; `base` is
+/// Loads (or fetches from `cache_dir`, none with `None`) the light set of an environment
+/// spec ([`CacheDir::path`] gives the directory of a [`CacheDir`]); `base` is
 /// the directory relative probe paths resolve against. Errors name the probe file: missing
 /// or unreadable, not a regular file (a device such as `/dev/zero` never ends), over
 /// [`MAX_PROBE_FILE_BYTES`],
 /// undecodable (see [`Probe::load`]), or fields out of range ([`EnvSpec::check`]).
-/// The light powers are scaled by `spec.intensity`.
+/// The light powers are scaled by `spec.intensity` (after the cache: entries hold the
+/// unscaled set).
 pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<Prepared> {
     spec.check()?;
     let path = base.join(&spec.file);
@@ -206,11 +189,13 @@ pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<
     let opts = spec.load_options();
     let config = spec.sampler_config();
     let key = file_cache_key(&bytes, &opts, &config);
-    let cache_file = cache_dir.map(|d| d.join(format!("lights-{key:016x}.json")));
+    let cache_file = cache_dir.map(|d| cache_file_name(d, key));
     let mut lights = None;
+    let mut cache_rejected = None;
     if let Some(cf) = &cache_file {
-        if let Ok((_, ls)) = read_json(cf) {
-            lights = Some(ls);
+        match read_cache_entry(cf, key) {
+            Ok(ls) => lights = ls,
+            Err(why) => cache_rejected = Some(why),
         }
     }
     let cache_hit = lights.is_some();
@@ -227,7 +212,10 @@ pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<
                 // A cache that cannot be written only costs time: ignore the error.
                 if std::fs::create_dir_all(cf.parent().unwrap_or(Path::new("."))).is_ok() {
                     let header = LightSetHeader::new(&config, path.to_str(), &ls);
-                    let _ = write_json(cf, &header, &ls);
+                    let entry = CacheEntry::new(key, header, ls.clone());
+                    if let Ok(json) = serde_json::to_vec(&entry) {
+                        let _ = write_atomic(cf, &json);
+                    }
                 }
             }
             ls
@@ -248,6 +236,7 @@ pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<
         cache_hit,
         report,
         cache_file,
+        cache_rejected,
     })
 }
 

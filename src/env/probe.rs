@@ -552,9 +552,8 @@ mod tests {
         let data: Vec<image::Rgb<f32>> = (0..w * h)
             .map(|i| image::Rgb([i as f32, 0.5, 1.0 / (1.0 + i as f32)]))
             .collect();
-        let dir = std::env::temp_dir().join(format!("brdfkit-probe-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("t.hdr");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.hdr");
         let f = std::fs::File::create(&path).unwrap();
         image::codecs::hdr::HdrEncoder::new(f)
             .encode(&data, w, h)
@@ -569,7 +568,6 @@ mod tests {
                 "{i} {t:?}"
             );
         }
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -67,7 +67,7 @@
 pub mod camera;
 
 use crate::brdf::{BlinnPhong, Brdf, Lambert};
-use crate::env::prepare::{self, EnvSpec};
+use crate::env::prepare::{self, CacheDir, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::Tonemap;
 use crate::kernel::lanes::KernelPath;
@@ -350,6 +350,8 @@ pub struct EnvSummary {
     pub file: PathBuf,
     pub lights: usize,
     pub cache_hit: bool,
+    /// Why an existing cache entry was ignored ([`prepare::Prepared::cache_rejected`]).
+    pub cache_rejected: Option<String>,
     pub negative_texels: usize,
 }
 
@@ -422,8 +424,16 @@ pub fn load_mesh(source: &str, segments: u32, base: &Path) -> Result<Mesh> {
 
 impl Scene {
     /// Checks and loads a scene description; `base` is the directory relative paths in it
-    /// resolve against. Field errors name the field (e.g. `render.width`).
+    /// resolve against. Field errors name the field (e.g. `render.width`). An environment
+    /// light set is computed, never read from or written to a disk cache
+    /// ([`CacheDir::None`]); [`Scene::resolve_with_cache`] takes a cache.
     pub fn resolve(file: &SceneFile, base: &Path) -> Result<Scene> {
+        Scene::resolve_with_cache(file, base, &CacheDir::None)
+    }
+
+    /// [`Scene::resolve`] with the light-set cache `cache` ([`prepare::prepare`]): the
+    /// command line passes the user's ([`CacheDir::user`]), everything else none.
+    pub fn resolve_with_cache(file: &SceneFile, base: &Path, cache: &CacheDir) -> Result<Scene> {
         let r = &file.render;
         for (name, v) in [("render.width", r.width), ("render.height", r.height)] {
             if v == 0 || v > MAX_SIDE {
@@ -561,12 +571,13 @@ impl Scene {
 
         let mut env = None;
         if let Some(spec) = &file.env {
-            let prepared = prepare::prepare(spec, base, prepare::default_cache_dir().as_deref())?;
+            let prepared = prepare::prepare(spec, base, cache.path())?;
             lights.extend(prepare::to_scene_lights(&prepared.lights));
             env = Some(EnvSummary {
                 file: base.join(&spec.file),
                 lights: prepared.lights.len(),
                 cache_hit: prepared.cache_hit,
+                cache_rejected: prepared.cache_rejected,
                 negative_texels: prepared.report.map_or(0, |r| r.negative_texels),
             });
         }

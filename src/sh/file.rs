@@ -204,7 +204,8 @@ fn common_attrs(layer: &str, content: &str, bands: usize, nu: usize, nv: usize) 
 }
 
 /// Writes `ds` (and its basis table, if set) to `path` in the format of the module doc.
-/// Writes to `<path>.tmp-<pid>` first and renames it over `path`.
+/// Writes to a unique temporary file beside `path` first, syncs it and renames it over
+/// `path` ([`crate::image_io::replace_via_temp`]).
 /// Fails with [`ShFileError::Io`] / [`ShFileError::Exr`] (the temporary file is removed).
 pub fn write_sh_dataset(path: &Path, ds: &ShDataset) -> Result<(), ShFileError> {
     let (nu, nv) = ds.grid();
@@ -551,10 +552,9 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
-    fn tmpdir(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("brdfkit-shfile-{}-{name}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d
+    /// A fresh directory, removed when dropped (unique per test thread and process).
+    fn tmpdir() -> tempfile::TempDir {
+        tempfile::tempdir().unwrap()
     }
 
     fn sample(bands: usize, with_basis: bool) -> ShDataset {
@@ -572,7 +572,8 @@ mod tests {
 
     #[test]
     fn round_trip_is_exact_with_and_without_basis() {
-        let dir = tmpdir("rt");
+        let tmp = tmpdir();
+        let dir = tmp.path();
         for with_basis in [false, true] {
             let ds = sample(3, with_basis);
             let p = dir.join(format!("a{with_basis}.exr"));
@@ -602,12 +603,12 @@ mod tests {
                 _ => panic!("not f32"),
             }
         }
-        std::fs::remove_dir_all(dir).unwrap();
     }
 
     #[test]
     fn band_threshold_round_trips_defaults_when_absent_and_rejects_bad_values() {
-        let dir = tmpdir("thr");
+        let tmp = tmpdir();
+        let dir = tmp.path();
         let mut ds = sample(3, false);
         let p = dir.join("none.exr");
         write_sh_dataset(&p, &ds).unwrap();
@@ -621,13 +622,12 @@ mod tests {
         let back = read_sh_dataset(&p).unwrap();
         assert_eq!(back.band_threshold(), 0.02);
         assert_eq!(back, ds);
-        std::fs::remove_dir_all(dir).unwrap();
         for bad in [
             AttributeValue::F32(1.0),
             AttributeValue::F32(-0.1),
             AttributeValue::I32(0),
         ] {
-            let p = corrupted("thr-bad", |l| set_attr(l, "brdfkit.band_threshold", bad));
+            let (_dir, p) = corrupted(|l| set_attr(l, "brdfkit.band_threshold", bad));
             let e = read_sh_dataset(&p).unwrap_err();
             assert!(
                 matches!(
@@ -642,10 +642,11 @@ mod tests {
         }
     }
 
-    /// Writes a valid file, lets `edit` corrupt the decoded image, writes it back raw.
-    fn corrupted(name: &str, edit: impl FnOnce(&mut AnyLayer)) -> PathBuf {
-        let dir = tmpdir(name);
-        let p = dir.join("bad.exr");
+    /// Writes a valid file, lets `edit` corrupt the decoded image, writes it back raw;
+    /// returns the directory (the caller keeps it alive) and the file.
+    fn corrupted(edit: impl FnOnce(&mut AnyLayer)) -> (tempfile::TempDir, PathBuf) {
+        let dir = tmpdir();
+        let p = dir.path().join("bad.exr");
         write_sh_dataset(&p, &sample(2, false)).unwrap();
         let mut img = read()
             .no_deep_data()
@@ -657,7 +658,7 @@ mod tests {
             .unwrap();
         edit(&mut img.layer_data[0]);
         img.write().to_file(&p).unwrap();
-        p
+        (dir, p)
     }
 
     fn set_attr(l: &mut AnyLayer, name: &str, v: AttributeValue) {
@@ -666,22 +667,17 @@ mod tests {
 
     #[test]
     fn malformed_files_give_named_errors() {
-        let p = corrupted("ver", |l| {
-            set_attr(l, "brdfkit.version", AttributeValue::I32(2))
-        });
+        let (_dir, p) = corrupted(|l| set_attr(l, "brdfkit.version", AttributeValue::I32(2)));
         let e = read_sh_dataset(&p).unwrap_err();
         assert!(matches!(e, ShFileError::Version { version: 2, .. }), "{e}");
         assert!(e.to_string().contains("bad.exr"), "{e}");
 
-        let p = corrupted("bands", |l| {
-            set_attr(l, "brdfkit.bands", AttributeValue::I32(100000))
-        });
+        let (_dir, p) = corrupted(|l| set_attr(l, "brdfkit.bands", AttributeValue::I32(100000)));
         let e = read_sh_dataset(&p).unwrap_err();
         assert!(matches!(e, ShFileError::Bands { bands: 100000, .. }), "{e}");
 
-        let p = corrupted("conv", |l| {
-            set_attr(l, "brdfkit.sh", AttributeValue::Text(text("complex")))
-        });
+        let (_dir, p) =
+            corrupted(|l| set_attr(l, "brdfkit.sh", AttributeValue::Text(text("complex"))));
         let e = read_sh_dataset(&p).unwrap_err();
         assert!(
             matches!(
@@ -694,9 +690,7 @@ mod tests {
             "{e}"
         );
 
-        let p = corrupted("type", |l| {
-            set_attr(l, "brdfkit.bands", AttributeValue::F32(2.0))
-        });
+        let (_dir, p) = corrupted(|l| set_attr(l, "brdfkit.bands", AttributeValue::F32(2.0)));
         let e = read_sh_dataset(&p).unwrap_err();
         assert!(
             matches!(
@@ -709,7 +703,7 @@ mod tests {
             "{e}"
         );
 
-        let p = corrupted("cos", |l| {
+        let (_dir, p) = corrupted(|l| {
             l.attributes.other.remove(&text("brdfkit.cosine"));
         });
         let e = read_sh_dataset(&p).unwrap_err();
@@ -724,13 +718,11 @@ mod tests {
             "{e}"
         );
 
-        let p = corrupted("grid", |l| {
-            set_attr(l, "brdfkit.nu", AttributeValue::I32(7))
-        });
+        let (_dir, p) = corrupted(|l| set_attr(l, "brdfkit.nu", AttributeValue::I32(7)));
         let e = read_sh_dataset(&p).unwrap_err();
         assert!(matches!(e, ShFileError::GridMismatch { nu: 7, .. }), "{e}");
 
-        let p = corrupted("missing", |l| {
+        let (_dir, p) = corrupted(|l| {
             l.channel_data.list.retain(|c| !c.name.eq("c.l1.m0.B"));
         });
         let e = read_sh_dataset(&p).unwrap_err();
@@ -746,7 +738,7 @@ mod tests {
             "{e}"
         );
 
-        let p = corrupted("renamed", |l| {
+        let (_dir, p) = corrupted(|l| {
             for c in l.channel_data.list.iter_mut() {
                 if c.name.eq("c.l1.m0.B") {
                     c.name = text("c.l1.m0.A");
@@ -759,7 +751,7 @@ mod tests {
             _ => panic!("{e}"),
         }
 
-        let p = corrupted("nan", |l| {
+        let (_dir, p) = corrupted(|l| {
             for c in l.channel_data.list.iter_mut() {
                 if c.name.eq("c.l1.m1.R") {
                     if let FlatSamples::F32(v) = &mut c.sample_data {
@@ -773,16 +765,12 @@ mod tests {
             matches!(e, ShFileError::NonFinite { i: 5, j: 2, .. }),
             "{e}"
         );
-        for name in [
-            "ver", "bands", "conv", "type", "cos", "grid", "missing", "renamed", "nan",
-        ] {
-            std::fs::remove_dir_all(tmpdir(name)).unwrap();
-        }
     }
 
     #[test]
     fn truncated_empty_and_absent_files_fail_cleanly() {
-        let dir = tmpdir("trunc");
+        let tmp = tmpdir();
+        let dir = tmp.path();
         let p = dir.join("t.exr");
         write_sh_dataset(&p, &sample(2, true)).unwrap();
         let bytes = std::fs::read(&p).unwrap();
@@ -800,8 +788,7 @@ mod tests {
             "{e}"
         );
         // no temporary file is left behind after a successful write
-        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        let left: Vec<_> = std::fs::read_dir(dir).unwrap().collect();
         assert_eq!(left.len(), 1);
-        std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -17,9 +17,15 @@
 //! `brdfkit render --reference`. It renders the material as the scene stores it (every
 //! band, its own lookup), so a row with fewer orders or the other lookup measures that
 //! difference too: for SH materials the truncation, not the light count, dominates the error
-//! at low orders. It takes minutes for the default scene, so it is cached as
-//! a linear EXR named by [`reference_key`] (a hash of the scene's configuration and input
-//! files; not of the renderer's code: after changing the f64 path, delete the cache).
+//! at low orders. It takes minutes for the default scene, so it is cached (`--cache DIR`,
+//! default `target/brdfkit-cache`; `--no-cache`: not at all) as a linear EXR
+//! `reference-<key>.exr` named by [`reference_key`]: a hash of the scene's configuration and
+//! input files, the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
+//! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]. Beside it,
+//! `reference-<key>.exr.fnv1a` holds [`image_checksum`] of its pixels; an entry is used only
+//! when both files exist, its size is the scene's, every value is finite, and
+//! the checksum matches ([`read_cached_reference`]); otherwise it is rendered again and
+//! rewritten. This is the only cache a sweep reads: its light sets are computed.
 //!
 //! # The measurements of a row
 //! Deterministic (the same bits on every machine and thread count, so shards merge exactly):
@@ -43,11 +49,17 @@
 //! same text. [`merge`] reads shard CSVs and writes what one run writes, the `pareto`
 //! column recomputed over the union.
 
+pub mod cache;
 pub mod plot;
+
+use cache::write_cached_reference;
+pub use cache::{
+    image_checksum, read_cached_reference, reference_key, REFERENCE_ALGORITHM_VERSION,
+};
 
 use crate::compare::{self, Loaded, Thresholds};
 use crate::env::prepare::{EnvSpec, SamplerKind};
-use crate::env::{Fnv1a, LightSet, Probe};
+use crate::env::{LightSet, Probe};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image};
 use crate::light::Light;
@@ -434,34 +446,6 @@ pub fn merge(inputs: &[PathBuf]) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-/// Cache key of a reference render: FNV-1a of a version tag, the crate version, the scene
-/// description (as parsed, with the output section and thread count cleared, and the
-/// environment's sampler set to `full`), the base directory, and the bytes of the probe and
-/// of a material file.
-pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
-    let mut h = Fnv1a::default();
-    h.write(b"brdfkit-sweep-reference-v1");
-    h.write(env!("CARGO_PKG_VERSION").as_bytes());
-    h.write(format!("{file:?}").as_bytes());
-    h.write(base.to_string_lossy().as_bytes());
-    let mut files = Vec::new();
-    if let Some(env) = &file.env {
-        files.push(base.join(&env.file));
-    }
-    match &file.material {
-        MaterialSpec::ShFile { path, .. } | MaterialSpec::DbrdfFile { path } => {
-            files.push(base.join(path))
-        }
-        _ => {}
-    }
-    for f in files {
-        let bytes = std::fs::read(&f).map_err(|e| Error::io(&f, "cannot read", e))?;
-        h.write_u64(bytes.len() as u64);
-        h.write(&bytes);
-    }
-    Ok(h.finish())
-}
-
 /// The scene a sweep renders: the default is the teapot in `blue-silk` (library SH
 /// material, 8 bands, its own bilinear lookup) under `assets/probes/city.exr`, 160x120,
 /// environment sampler and count at their defaults (the render defaults).
@@ -506,8 +490,10 @@ pub struct Sweep {
     covered: Vec<bool>,
     pub grid: Grid,
     pub default: DefaultConfig,
-    /// Where the reference came from (the cache file) and whether it was rendered now.
-    pub reference_file: PathBuf,
+    /// The reference's cache file (`None` without a cache) and whether it was rendered now.
+    pub reference_file: Option<PathBuf>,
+    /// Why a cached reference was present but not used (damaged, edited, another size).
+    pub reference_rejected: Option<String>,
     pub reference_rendered: bool,
     /// Renders per row whose median is `frame_ms` (>= 1).
     pub frames: usize,
@@ -517,14 +503,15 @@ pub struct Sweep {
 impl Sweep {
     /// Loads the scene (`base`: directory its relative paths resolve against), fits the
     /// grid to its material, and loads the reference from `cache_dir` or renders and caches
-    /// it (`on_reference` is called before a render starts). The scene must have an `[env]`.
+    /// it (`on_reference` is called with the cache file before a render starts; no cache
+    /// with `None`). The scene must have an `[env]`.
     pub fn prepare(
         mut file: SceneFile,
         base: &Path,
         mut grid: Grid,
-        cache_dir: &Path,
+        cache_dir: Option<&Path>,
         frames: usize,
-        on_reference: impl FnOnce(&Path),
+        on_reference: impl FnOnce(Option<&Path>),
     ) -> Result<Sweep> {
         let Some(env) = file.env.clone() else {
             return Err(Error::field(
@@ -540,7 +527,8 @@ impl Sweep {
             e.sampler = SamplerKind::Full;
         }
         let key = reference_key(&file, base)?;
-        // Resolve with the full probe: the reference's light set (cached by env::prepare).
+        // Resolve with the full probe: the reference's light set (computed: no light-set
+        // cache; collapsing a probe into one light per texel is cheaper than reading one).
         let full = Scene::resolve(&file, base)?;
         let env_lights = full.env.as_ref().map_or(0, |e| e.lights);
         let explicit = full.lights[..full.lights.len() - env_lights].to_vec();
@@ -564,17 +552,23 @@ impl Sweep {
             .num_threads(threads)
             .build()
             .expect("thread pool");
-        let reference_file = cache_dir.join(format!("reference-{key:016x}.exr"));
-        let (reference, rendered) = match image_io::read_exr(&reference_file) {
-            Ok(img) if (img.width, img.height) == (full.render.width, full.render.height) => {
-                (img, false)
-            }
-            _ => {
-                on_reference(&reference_file);
+        let reference_file = cache_dir.map(|d| d.join(format!("reference-{key:016x}.exr")));
+        let (w, h) = (full.render.width, full.render.height);
+        let (cached, reference_rejected) = match reference_file.as_deref() {
+            None => (None, None),
+            Some(f) => match read_cached_reference(f, w, h) {
+                Ok(img) => (img, None),
+                Err(why) => (None, Some(why)),
+            },
+        };
+        let (reference, rendered) = match cached {
+            Some(img) => (img, false),
+            None => {
+                on_reference(reference_file.as_deref());
                 let img = pool.install(|| crate::render::render_reference(&full));
-                std::fs::create_dir_all(cache_dir)
-                    .map_err(|e| Error::io(cache_dir, "cannot create cache directory", e))?;
-                image_io::write_exr(&reference_file, &img)?;
+                if let Some(f) = &reference_file {
+                    write_cached_reference(f, &img)?;
+                }
                 (img, true)
             }
         };
@@ -605,6 +599,7 @@ impl Sweep {
             grid,
             default,
             reference_file,
+            reference_rejected,
             reference_rendered: rendered,
             frames: frames.max(1),
             pool,

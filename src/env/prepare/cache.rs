@@ -1,0 +1,272 @@
+//! The light-set cache of [`super::prepare`]: keys, entries, validation, and the choice of
+//! directory.
+//!
+//! # Key
+//! FNV-1a ([`crate::env::Fnv1a`]) of the probe file's bytes, the rotation and loader
+//! options, the sampler configuration, the crate version and
+//! [`LIGHT_SET_ALGORITHM_VERSION`] ([`file_cache_key`]). Entries are
+//! `<dir>/lights-<key>.json`, `<key>` 16 hex digits ([`cache_file_name`]).
+//!
+//! # Validation
+//! A hit reads one JSON file ([`CacheEntry`]) and never decodes the probe. Every read is
+//! checked ([`read_cache_entry`]): format tag, crate version, algorithm version and key must
+//! be this build's, the lights must pass [`validate`], match the header's count and hash to
+//! the stored checksum ([`lights_checksum`]). An entry that fails any of this (truncated,
+//! edited, from another version) is ignored and rewritten, never trusted
+//! ([`super::Prepared::cache_rejected`] says why).
+//!
+//! # Which directory
+//! Nothing reads the environment to find a cache except [`CacheDir::user`], which only the
+//! command line calls. The library's default ([`crate::scene::Scene::resolve`]) is
+//! [`CacheDir::None`], so `cargo test`, `brdfkit golden check|bless` and `brdfkit sweep`
+//! never read or write a light-set cache. `brdfkit render` uses [`CacheDir::user`]:
+//! `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else `$HOME/.cache/brdfkit` (with
+//! none of them set, nothing is cached); `render --no-cache` uses none.
+
+use crate::env::lightset_io::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
+use crate::env::{Fnv1a, LightSet, LoadOptions, SamplerConfig};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Version of the algorithm that turns probe bytes and settings into a light set: probe
+/// decoding, cleaning and rotation ([`crate::env::Probe::load`]), every sampler
+/// ([`SamplerConfig::run`], [`crate::env::sampling`]) and the full-probe set. Part of every
+/// light-set cache key ([`file_cache_key`]) and stored in each entry.
+///
+/// Bump when the output of `Probe::load` or of any sampler changes (a different light,
+/// power or order for the same inputs), so no cache entry written by older code is read.
+pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 1;
+
+/// The crate version, part of every cache key (a cache never outlives a release).
+pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// Format tag of a light-set cache entry.
+pub const CACHE_FORMAT: &str = "brdfkit-lightset-cache";
+
+/// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light
+/// sets. No code path picks the user's directory by itself: the caller passes one
+/// ([`CacheDir::user`]) or gets none (`Default`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum CacheDir {
+    /// No disk cache: every light set is computed. The library's default, used by tests,
+    /// `golden check|bless` and `sweep`.
+    #[default]
+    None,
+    /// Read and write entries in this directory (created on first write).
+    At(PathBuf),
+}
+
+impl CacheDir {
+    /// The user's cache directory: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`,
+    /// else `$HOME/.cache/brdfkit` (empty variables count as unset); [`CacheDir::None`]
+    /// with none of them set. The only place the crate reads these variables; only the
+    /// command line (`brdfkit render`) calls it.
+    pub fn user() -> CacheDir {
+        let var = |k: &str| {
+            std::env::var_os(k)
+                .filter(|v| !v.is_empty())
+                .map(PathBuf::from)
+        };
+        var("BRDFKIT_CACHE_DIR")
+            .or_else(|| var("XDG_CACHE_HOME").map(|p| p.join("brdfkit")))
+            .or_else(|| var("HOME").map(|p| p.join(".cache").join("brdfkit")))
+            .map_or(CacheDir::None, CacheDir::At)
+    }
+
+    /// The directory, if any.
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            CacheDir::None => None,
+            CacheDir::At(p) => Some(p),
+        }
+    }
+}
+
+/// Cache key of a light set: FNV-1a of a format tag, the crate version,
+/// [`LIGHT_SET_ALGORITHM_VERSION`], the probe file's bytes, the loader options and the
+/// sampler configuration ([`SamplerConfig::hash_into`]). The probe's name is not hashed:
+/// two files with the same bytes share entries.
+pub fn file_cache_key(bytes: &[u8], opts: &LoadOptions, config: &SamplerConfig) -> u64 {
+    versioned_key(
+        CRATE_VERSION,
+        LIGHT_SET_ALGORITHM_VERSION,
+        bytes,
+        opts,
+        config,
+    )
+}
+
+/// [`file_cache_key`] with explicit versions (so a test can show that each one changes it).
+fn versioned_key(
+    crate_version: &str,
+    algorithm_version: u32,
+    bytes: &[u8],
+    opts: &LoadOptions,
+    config: &SamplerConfig,
+) -> u64 {
+    let mut h = Fnv1a::default();
+    h.write(b"brdfkit-env-file-v2");
+    h.write_u64(crate_version.len() as u64);
+    h.write(crate_version.as_bytes());
+    h.write_u64(algorithm_version as u64);
+    h.write_u64(bytes.len() as u64);
+    h.write(bytes);
+    h.write_u64(opts.rotation.to_bits());
+    h.write_u64(opts.zero_non_finite as u64);
+    h.write_u64(opts.max_texels as u64);
+    config.hash_into(&mut h);
+    h.finish()
+}
+
+/// FNV-1a checksum of a light set's contents: its length, then the little-endian bits of
+/// `dir_x`, `dir_y`, `dir_z`, `power_r`, `power_g`, `power_b` in that order. Stored in each
+/// cache entry and recomputed on read, so an edited number is never trusted.
+pub fn lights_checksum(ls: &LightSet) -> u64 {
+    let mut h = Fnv1a::default();
+    h.write_u64(ls.len() as u64);
+    for a in [
+        &ls.dir_x,
+        &ls.dir_y,
+        &ls.dir_z,
+        &ls.power_r,
+        &ls.power_g,
+        &ls.power_b,
+    ] {
+        for v in a {
+            h.write(&v.to_le_bytes());
+        }
+    }
+    h.finish()
+}
+
+/// One light-set cache entry on disk (JSON): what produced it and a checksum of its lights.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CacheEntry {
+    /// [`CACHE_FORMAT`].
+    pub format: String,
+    /// [`CRATE_VERSION`] of the writer.
+    pub crate_version: String,
+    /// [`LIGHT_SET_ALGORITHM_VERSION`] of the writer.
+    pub algorithm_version: u32,
+    /// The entry's [`file_cache_key`], 16 hex digits (also its file name).
+    pub key: String,
+    /// [`lights_checksum`] of `lights`, 16 hex digits.
+    pub lights_fnv1a: String,
+    pub header: LightSetHeader,
+    pub lights: LightSet,
+}
+
+impl CacheEntry {
+    /// The entry for `lights` under `key`, written by this build.
+    pub fn new(key: u64, header: LightSetHeader, lights: LightSet) -> CacheEntry {
+        CacheEntry {
+            format: CACHE_FORMAT.into(),
+            crate_version: CRATE_VERSION.into(),
+            algorithm_version: LIGHT_SET_ALGORITHM_VERSION,
+            key: format!("{key:016x}"),
+            lights_fnv1a: format!("{:016x}", lights_checksum(&lights)),
+            header,
+            lights,
+        }
+    }
+}
+
+/// The cache file of `key` in `dir`.
+pub fn cache_file_name(dir: &Path, key: u64) -> PathBuf {
+    dir.join(format!("lights-{key:016x}.json"))
+}
+
+/// Reads and validates the cache entry `path` for `key`: a regular file of at most
+/// [`MAX_LIGHTSET_BYTES`], JSON of a [`CacheEntry`] whose format, crate version, algorithm
+/// version and key are this build's and `key`, whose lights pass [`validate`], match the
+/// header's count and hash to the stored checksum. `Ok(None)`: no entry; `Err`: an entry
+/// that is not used, and why.
+pub fn read_cache_entry(path: &Path, key: u64) -> std::result::Result<Option<LightSet>, String> {
+    if !path.exists() {
+        return Ok(None);
+    }
+    let bytes = crate::image_io::read_regular_file(path, MAX_LIGHTSET_BYTES, "light-set cache")
+        .map_err(|e| e.to_string())?;
+    let e: CacheEntry =
+        serde_json::from_slice(&bytes).map_err(|e| format!("not a cache entry: {e}"))?;
+    let expect = |what: &str, found: &dyn std::fmt::Display, wanted: &dyn std::fmt::Display| {
+        format!("{what} {found}, this build writes {wanted}")
+    };
+    if e.format != CACHE_FORMAT {
+        return Err(expect("format", &e.format, &CACHE_FORMAT));
+    }
+    if e.crate_version != CRATE_VERSION {
+        return Err(expect("crate version", &e.crate_version, &CRATE_VERSION));
+    }
+    if e.algorithm_version != LIGHT_SET_ALGORITHM_VERSION {
+        return Err(expect(
+            "light-set algorithm version",
+            &e.algorithm_version,
+            &LIGHT_SET_ALGORITHM_VERSION,
+        ));
+    }
+    let key = format!("{key:016x}");
+    if e.key != key {
+        return Err(expect("key", &e.key, &key));
+    }
+    validate(path, &e.lights).map_err(|e| e.to_string())?;
+    if e.header.n != e.lights.len() {
+        return Err(format!(
+            "header says {} lights, the entry holds {}",
+            e.header.n,
+            e.lights.len()
+        ));
+    }
+    let sum = format!("{:016x}", lights_checksum(&e.lights));
+    if e.lights_fnv1a != sum {
+        return Err(format!(
+            "checksum {} does not match its lights ({sum}): edited or damaged",
+            e.lights_fnv1a
+        ));
+    }
+    Ok(Some(e.lights))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cache_key_includes_both_versions() {
+        let opts = LoadOptions::default();
+        let cfg = SamplerConfig::MedianCut { n: 8 };
+        let k = |v: &str, a: u32| versioned_key(v, a, b"probe bytes", &opts, &cfg);
+        let now = k(CRATE_VERSION, LIGHT_SET_ALGORITHM_VERSION);
+        assert_eq!(now, file_cache_key(b"probe bytes", &opts, &cfg));
+        assert_ne!(now, k("0.0.0-other", LIGHT_SET_ALGORITHM_VERSION));
+        assert_ne!(now, k(CRATE_VERSION, LIGHT_SET_ALGORITHM_VERSION + 1));
+        // The version string is length-prefixed: moving bytes between it and the
+        // algorithm version cannot collide.
+        assert_ne!(k("0.1", 1), k("0.10", 1));
+    }
+
+    #[test]
+    fn checksum_sees_every_number() {
+        let mut ls = LightSet::default();
+        ls.push(glam::DVec3::Y, glam::DVec3::new(1.0, 2.0, 3.0));
+        ls.push(glam::DVec3::X, glam::DVec3::new(0.5, 0.25, 0.125));
+        let base = lights_checksum(&ls);
+        for field in 0..6 {
+            let mut e = ls.clone();
+            let a = [
+                &mut e.dir_x,
+                &mut e.dir_y,
+                &mut e.dir_z,
+                &mut e.power_r,
+                &mut e.power_g,
+                &mut e.power_b,
+            ]
+            .into_iter()
+            .nth(field)
+            .unwrap();
+            a[1] = f32::from_bits(a[1].to_bits() ^ 1);
+            assert_ne!(lights_checksum(&e), base, "field {field}");
+        }
+    }
+}

@@ -1,0 +1,147 @@
+//! Atomic file replacement: the one "write to a temporary name, then rename" of the crate
+//! ([`replace_via_temp`]), used by every writer (images, data sets, light sets, CSV,
+//! manifests, caches), with one naming and one sync policy.
+
+use std::path::Path;
+
+/// Runs `write` on a new temporary file beside `path`, syncs it to disk and renames it to
+/// `path`; on any failure (or a panic in `write`) the temporary file is removed and nothing
+/// appears under `path`. The one implementation of "write to a temporary name, then
+/// rename" for every writer in the crate, whatever its error type: `io_err` turns a failure
+/// to create, sync or rename the temporary file into that type.
+///
+/// The temporary file is created by [`tempfile::Builder`] in `path`'s directory (so the
+/// rename stays on one filesystem) as `.<name>.<random>.tmp`, exclusively (`O_EXCL`): two
+/// threads or processes writing the same `path` never share a temporary file, and the
+/// last rename wins. Unix permissions are those of [`std::fs::File::create`] (0666 less
+/// the umask). `write` may reopen the path (`File::create` truncates the same file).
+///
+/// Sync policy (every writer): the file's data is synced (`fsync`) before the rename, so
+/// after a crash `path` holds the old or the new contents, never a part. The directory is
+/// not synced: after a power loss the rename itself may be lost (the old file remains).
+pub fn replace_via_temp<E>(
+    path: &Path,
+    write: impl FnOnce(&Path) -> std::result::Result<(), E>,
+    io_err: impl Fn(std::io::Error) -> E,
+) -> std::result::Result<(), E> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    // Dropped (and so removed) on every early return below.
+    let tmp = builder.tempfile_in(dir).map_err(&io_err)?;
+    write(tmp.path())?;
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(tmp.path())
+        .and_then(|f| f.sync_all())
+        .map_err(&io_err)?;
+    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn interleaved_writers_of_one_path_never_share_a_temporary_file() {
+        // A second write of the same path starts and finishes while the first is between
+        // its write and its rename (what two threads of one process can do). With a
+        // name made of the PID alone both would use one temporary file: the inner rename
+        // would take the outer's file away and the outer rename would fail.
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out.txt");
+        replace_via_temp(
+            &target,
+            |outer| {
+                std::fs::write(outer, "outer")?;
+                replace_via_temp(
+                    &target,
+                    |inner| {
+                        assert_ne!(inner, outer);
+                        std::fs::write(inner, "inner")
+                    },
+                    |e| e,
+                )?;
+                assert_eq!(std::fs::read_to_string(&target)?, "inner");
+                assert_eq!(std::fs::read_to_string(outer)?, "outer");
+                Ok(())
+            },
+            |e| e,
+        )
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "outer");
+        assert_eq!(listing(dir.path()), ["out.txt"]);
+    }
+
+    #[test]
+    fn concurrent_threads_each_write_a_whole_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("t.bin");
+        let contents: Vec<Vec<u8>> = (0..8u8).map(|t| vec![t; 4096 + t as usize]).collect();
+        std::thread::scope(|s| {
+            for c in &contents {
+                let target = &target;
+                s.spawn(move || {
+                    for _ in 0..20 {
+                        replace_via_temp(target, |tmp| std::fs::write(tmp, c), |e| e).unwrap();
+                    }
+                });
+            }
+        });
+        let got = std::fs::read(&target).unwrap();
+        assert!(
+            contents.contains(&got),
+            "a mixed file of {} bytes",
+            got.len()
+        );
+        assert_eq!(listing(dir.path()), ["t.bin"]);
+    }
+
+    #[test]
+    fn a_failed_write_leaves_nothing_and_permissions_follow_file_create() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("x.exr");
+        let r = replace_via_temp(
+            &target,
+            |tmp| {
+                std::fs::write(tmp, "partial")?;
+                Err(std::io::Error::other("seeded failure"))
+            },
+            |e| e,
+        );
+        assert!(r.is_err());
+        assert!(listing(dir.path()).is_empty(), "{:?}", listing(dir.path()));
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            replace_via_temp(&target, |tmp| std::fs::write(tmp, "x"), |e| e).unwrap();
+            let plain = dir.path().join("plain");
+            std::fs::File::create(&plain).unwrap();
+            let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode(&target), mode(&plain));
+        }
+    }
+}

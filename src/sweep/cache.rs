@@ -1,0 +1,123 @@
+//! The sweep's reference cache ([`super`], "The reference"): `reference-<key>.exr` and its
+//! checksum file `reference-<key>.exr.fnv1a` in the `--cache` directory, keyed by
+//! [`reference_key`] (which includes the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
+//! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]) and checked on read
+//! ([`read_cached_reference`]).
+
+use crate::env::Fnv1a;
+use crate::error::{Error, Result};
+use crate::image_io::{self, Image};
+use crate::scene::{MaterialSpec, SceneFile};
+use std::path::{Path, PathBuf};
+
+/// Version of the algorithm behind a cached reference render: [`crate::render::render_reference`]
+/// (rasterization, the f64 shading path, [`crate::brdf::Brdf::eval_f64`] of every model,
+/// the SH and D-BRDF evaluation). Part of [`reference_key`].
+///
+/// Bump when the output of `render_reference` changes for the same scene, so no reference
+/// rendered by older code is read. (Light-set changes are covered by
+/// [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`], also in the key.)
+pub const REFERENCE_ALGORITHM_VERSION: u32 = 1;
+
+/// Cache key of a reference render: FNV-1a of a version tag, the crate version,
+/// [`REFERENCE_ALGORITHM_VERSION`], [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`],
+/// the scene description (as parsed, with the output section and thread count cleared, and
+/// the environment's sampler set to `full`), the base directory, and the bytes of the probe
+/// and of a material file.
+pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
+    let mut h = Fnv1a::default();
+    h.write(b"brdfkit-sweep-reference-v2");
+    let version = env!("CARGO_PKG_VERSION");
+    h.write_u64(version.len() as u64);
+    h.write(version.as_bytes());
+    h.write_u64(REFERENCE_ALGORITHM_VERSION as u64);
+    h.write_u64(crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION as u64);
+    h.write(format!("{file:?}").as_bytes());
+    h.write(base.to_string_lossy().as_bytes());
+    let mut files = Vec::new();
+    if let Some(env) = &file.env {
+        files.push(base.join(&env.file));
+    }
+    match &file.material {
+        MaterialSpec::ShFile { path, .. } | MaterialSpec::DbrdfFile { path } => {
+            files.push(base.join(path))
+        }
+        _ => {}
+    }
+    for f in files {
+        let bytes = std::fs::read(&f).map_err(|e| Error::io(&f, "cannot read", e))?;
+        h.write_u64(bytes.len() as u64);
+        h.write(&bytes);
+    }
+    Ok(h.finish())
+}
+
+/// FNV-1a checksum of an image: width, height, then every pixel's RGB f32 bits
+/// (little-endian, row-major). Written beside a cached reference and checked on read.
+pub fn image_checksum(img: &Image) -> u64 {
+    let mut h = Fnv1a::default();
+    h.write_u64(img.width as u64);
+    h.write_u64(img.height as u64);
+    for p in &img.pixels {
+        for c in p.to_array() {
+            h.write(&c.to_le_bytes());
+        }
+    }
+    h.finish()
+}
+
+/// The checksum file of a cached reference: `<file>.fnv1a`.
+fn checksum_path(file: &Path) -> PathBuf {
+    let mut name = file.as_os_str().to_owned();
+    name.push(".fnv1a");
+    PathBuf::from(name)
+}
+
+/// Reads the cached reference `file` of a `width` x `height` scene if it is usable (module
+/// doc): `Ok(None)` when absent, `Err(why)` when present but not used.
+pub fn read_cached_reference(
+    file: &Path,
+    width: u32,
+    height: u32,
+) -> std::result::Result<Option<Image>, String> {
+    if !file.exists() {
+        return Ok(None);
+    }
+    let img = image_io::read_exr(file).map_err(|e| e.to_string())?;
+    if (img.width, img.height) != (width, height) {
+        return Err(format!(
+            "{}x{}, the scene is {width}x{height}",
+            img.width, img.height
+        ));
+    }
+    // Only finiteness: an SH material's truncated expansion can shade below zero.
+    if let Some(p) = img.pixels.iter().find(|p| !p.is_finite()) {
+        return Err(format!("pixel {p} is not finite"));
+    }
+    let sum_file = checksum_path(file);
+    let stored =
+        std::fs::read_to_string(&sum_file).map_err(|e| format!("{}: {e}", sum_file.display()))?;
+    let sum = format!("fnv1a64:{:016x}", image_checksum(&img));
+    if stored.trim() != sum {
+        return Err(format!(
+            "checksum {} does not match its pixels ({sum}): edited or damaged",
+            stored.trim()
+        ));
+    }
+    Ok(Some(img))
+}
+
+/// Writes a reference and its checksum file (each atomically; the EXR first, so a crash
+/// between leaves an entry [`read_cached_reference`] refuses).
+pub(super) fn write_cached_reference(file: &Path, img: &Image) -> Result<()> {
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::io(dir, "cannot create cache directory", e))?;
+    }
+    image_io::write_exr(file, img)?;
+    let sum_file = checksum_path(file);
+    let text = format!("fnv1a64:{:016x}\n", image_checksum(img));
+    image_io::write_atomically(&sum_file, |tmp| {
+        std::fs::write(tmp, &text).map_err(|e| Error::io(&sum_file, "cannot write", e))
+    })
+}
