@@ -9,7 +9,7 @@
 //! 1. **Scene and assets in**: [`scene`] (TOML scene file, defaults, checks; [`scene::camera`]),
 //!    [`mesh`] (Utah teapot from Newell's patches, UV sphere, OBJ via tobj).
 //! 2. **Lights and materials prepared**: [`light`] (delta lights: point, directional),
-//!    [`env`] (light probes collapsed into delta-light sets: uniform, importance sampling,
+//!    [`env`](mod@env) (light probes collapsed into delta-light sets: uniform, importance sampling,
 //!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2),
 //!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
 //!    D-BRDF, MERL tables), [`sh`] (real spherical harmonics, SH coefficient data sets and

@@ -225,7 +225,7 @@ pub struct RenderArgs {
     /// Reference render: every light of the full probe (with an environment), no culling, f64 shading. Slow; the converged reference the fast path is measured against.
     #[arg(long)]
     pub reference: bool,
-    /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's [material].
+    /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's `[material]`.
     #[arg(long)]
     pub material: Option<String>,
     /// Drop the weakest directional lights while their summed irradiance stays at most this fraction of the total (0 <= F < 1; 0: off). Each pixel changes by at most the dropped irradiance times the material's largest f*cos. Default 0.001.

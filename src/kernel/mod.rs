@@ -163,7 +163,7 @@ fn direction_key(d: Vec3) -> u64 {
 
 impl DirLights {
     /// Collects the directional lights of `lights` (point lights are left to the caller),
-    /// sorted by [`direction_key`] (ties by original index), padded to whole chunks.
+    /// sorted by `direction_key` (ties by original index), padded to whole chunks.
     pub fn from_lights(lights: &[Light]) -> DirLights {
         let mut dirs: Vec<(u64, usize, Vec3, Vec3)> = lights
             .iter()

@@ -35,7 +35,7 @@
 //! set's definition, and no renderer path reads it:
 //! - the coefficients are projections onto the continuous basis: the acquisition device
 //!   illuminates the sample with the SH functions themselves (basis illumination, thesis
-//!   2.3.3 and its reference [7]), and [`crate::acquire`] projects with [`eval_sh_f64`] at
+//!   2.3.3 and its reference \[7\]), and [`crate::acquire`] projects with [`eval_sh_f64`] at
 //!   quadrature nodes. The function the coefficients describe is `sum_k c_k Y_k` with the
 //!   analytic `Y_k`;
 //! - the thesis stores the basis in a texture only because its fragment shader cannot

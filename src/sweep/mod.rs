@@ -34,7 +34,7 @@
 //! - `max_err`: largest absolute channel difference (linear radiance, the probe's units);
 //! - `flip_mean`: mean FLIP ([`crate::compare`]) between the display encodings (exposure 0,
 //!   ACES, sRGB, 8 bits) of the two images;
-//! - `default`: whether the row is the scene's own configuration ([`Grid::is_default`]).
+//! - `default`: whether the row is the scene's own configuration ([`DefaultConfig`]).
 //!
 //! Measured (wall-clock, [`std::time::Instant`]; they vary run to run and machine to
 //! machine): `prep_ms`, the sampler's time to collapse the decoded probe into the light set
