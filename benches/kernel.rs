@@ -147,8 +147,10 @@ fn kernel_throughput(c: &mut Criterion) {
 }
 
 fn scene(material: MaterialSpec, env_lights: Option<usize>) -> Scene {
-    let mut f = SceneFile::default();
-    f.material = material;
+    let mut f = SceneFile {
+        material,
+        ..SceneFile::default()
+    };
     match env_lights {
         Some(n) => {
             let mut env =

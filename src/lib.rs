@@ -63,6 +63,10 @@
 //! D-BRDF normalisation, the view lift, the SH convention) is listed in one place, in the
 //! doc of [`conventions`].
 
+// `!(x > 0.0)` is how this crate says "not positive, or NaN" (a NaN must take the
+// rejecting branch); rewriting it as `x <= 0.0` would let NaN through.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod acquire;
 pub mod aov;
 pub mod brdf;

@@ -244,7 +244,7 @@ fn library_materials_build_finite_and_lit() {
             (0.3f64, 0.0f64),
             (0.6, 2.0),
             (0.9, 4.0),
-            (0.5, 1.0 + 3.14159),
+            (0.5, 1.0 + std::f64::consts::PI),
         ] {
             let v = brdfkit::brdf::eval_cosine_weighted(
                 b.as_ref(),

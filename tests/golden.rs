@@ -584,7 +584,8 @@ fn regressions_within_the_tolerance_fail_on_the_blessing_path() {
         return;
     }
     let report = tempfile::tempdir().unwrap();
-    let faults: [(&str, &str, Vec<(&str, &str, &str)>); 3] = [
+    type Edits<'a> = Vec<(&'a str, &'a str, &'a str)>;
+    let faults: [(&str, &str, Edits); 3] = [
         (
             "0.05% constant",
             city,

@@ -1117,12 +1117,9 @@ fn dbrdf_hostile_files() {
     let near = set_sample(&good, 0, 5, 3e10);
     let p = write(d, "near.exr", &near);
     read_dbrdf(&p).unwrap();
-    let s = format!(
-        "{}",
-        SCENE.replace(
-            "kind = \"lambert\"\nalbedo = [0.5, 0.5, 0.5]",
-            "kind = \"dbrdf-file\"\npath = \"near.exr\""
-        )
+    let s = SCENE.replace(
+        "kind = \"lambert\"\nalbedo = [0.5, 0.5, 0.5]",
+        "kind = \"dbrdf-file\"\npath = \"near.exr\"",
     );
     let f = SceneFile::parse(&s).unwrap();
     let scene = Scene::resolve(&f, d).unwrap();

@@ -59,7 +59,10 @@ fn assert_close(
         // Relative to the pixel, or to 1% of the image's peak where SH terms cancel.
         let scale = q.abs().max_element().max(1e-2 * peak);
         worst = worst.max(d / scale);
-        if !(d <= tol * scale + 1e-6) && failed.is_none() {
+        // Written so that a NaN difference fails.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        let over = !(d <= tol * scale + 1e-6);
+        if over && failed.is_none() {
             failed = Some(format!("{what}: kernel {p:?} vs oracle {q:?}"));
         }
     }

@@ -84,7 +84,8 @@ fn scene_from(toml: &str, base: &Path) -> Scene {
 
 /// Library materials, built once (building acquires an SH data set or fits a D-BRDF).
 fn library(name: &'static str) -> Arc<dyn Brdf> {
-    static CACHE: OnceLock<std::sync::Mutex<Vec<(&'static str, Arc<dyn Brdf>)>>> = OnceLock::new();
+    type Built = Vec<(&'static str, Arc<dyn Brdf>)>;
+    static CACHE: OnceLock<std::sync::Mutex<Built>> = OnceLock::new();
     let mut c = CACHE.get_or_init(Default::default).lock().unwrap();
     if let Some((_, m)) = c.iter().find(|(n, _)| *n == name) {
         return m.clone();
@@ -507,7 +508,8 @@ fn error_falls_as_the_light_count_grows() {
         )
         .unwrap();
         let reference = reference_irradiance_many(&probe, &normals);
-        let samplers: [(&str, fn(usize, u64) -> SamplerConfig); 3] = [
+        type MakeConfig = fn(usize, u64) -> SamplerConfig;
+        let samplers: [(&str, MakeConfig); 3] = [
             ("median-cut", |n, _| SamplerConfig::MedianCut { n }),
             ("lloyd", |n, _| SamplerConfig::Lloyd { n, iterations: 8 }),
             ("stratified", |n, seed| SamplerConfig::Stratified {

@@ -234,7 +234,10 @@ fn fans_crossing_the_camera_plane_cover_once() {
             }
             let t = centre.dot(normal) / denom;
             // View depth along -z is t (d.z = -1); keep a margin off the near plane.
-            if !(t > cam.near * 1.01) {
+            // Written so that a NaN depth is rejected.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            let too_near = !(t > cam.near * 1.01);
+            if too_near {
                 return false;
             }
             let p = d * t - centre;

@@ -133,8 +133,10 @@ pub fn render_overlay(
         dots.push_circle(u as f32 * w as f32, v as f32 * h as f32, opts.dot_radius);
     }
     if let Some(path) = dots.finish() {
-        let mut paint = Paint::default();
-        paint.anti_alias = true;
+        let mut paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
         paint.set_color(Color::from_rgba8(255, 30, 30, 255));
         pm.fill_path(
             &path,

@@ -26,6 +26,8 @@ pub const AZIMUTH_MAX_ERROR: f64 = 1e-6;
 #[inline(always)]
 pub fn acos_01<S: Isa>(s: S, x: S::V) -> S::V {
     let x = x.max(s.zero()).min(s.splat(1.0));
+    // The published coefficients, digit for digit; f32 rounds each to its nearest value.
+    #[allow(clippy::excessive_precision)]
     const A: [f32; 8] = [
         1.570_796_305,
         -0.214_598_801_6,
@@ -45,6 +47,8 @@ pub fn acos_01<S: Isa>(s: S, x: S::V) -> S::V {
 
 /// `atan2(y, x)` per lane wrapped into `[0, 2 pi)` (0 at `x = y = 0`), radians.
 #[inline(always)]
+// The polynomial's coefficients as published; f32 rounds each to its nearest value.
+#[allow(clippy::excessive_precision)]
 pub fn azimuth<S: Isa>(s: S, y: S::V, x: S::V) -> S::V {
     let (ax, ay) = (x.abs(), y.abs());
     let zero = s.zero();
@@ -142,7 +146,7 @@ mod tests {
                 xs.push(x);
                 ys.push(y);
             }
-            while xs.len() % LANES != 0 {
+            while !xs.len().is_multiple_of(LANES) {
                 xs.push(0.5);
                 ys.push(0.5);
             }

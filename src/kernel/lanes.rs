@@ -22,6 +22,10 @@
 //! [`crate::kernel::KERNEL_TOLERANCE`]). A frame takes one path for every tile and thread,
 //! so images stay bit-identical across thread counts and tile sizes.
 
+// The portable path's per-lane loops index two or three arrays by the lane number, which
+// reads as the lane arithmetic it is.
+#![allow(clippy::needless_range_loop)]
+
 use std::ops::{Add, AddAssign, Mul, Sub};
 
 /// Number of lanes.

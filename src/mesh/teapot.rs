@@ -42,6 +42,8 @@ fn bernstein2(t: f32) -> [f32; 3] {
 /// Position and the two partial derivatives of a bicubic patch. The derivatives are
 /// degree-2 combinations of control-point *differences* (`3 (P[i+1] - P[i])`), so a row of
 /// coincident control points gives an exactly zero derivative, not a rounding residue.
+// The Bernstein sums index the basis by the control point's row and column, as written.
+#[allow(clippy::needless_range_loop)]
 fn eval_patch(cp: &[Vec3; 16], u: f32, v: f32) -> (Vec3, Vec3, Vec3) {
     let (bu, bv) = (bernstein3(u), bernstein3(v));
     let (du, dv) = (bernstein2(u), bernstein2(v));
@@ -136,7 +138,8 @@ fn weld(mesh: &mut Mesh, tol: f32) {
         *p = *canon.entry(key(*p)).or_insert(*p);
     }
     // Share vertex records with equal position and (nearly) equal normal.
-    let mut first: HashMap<((i64, i64, i64), (i32, i32, i32)), u32> = HashMap::new();
+    type PositionNormalKey = ((i64, i64, i64), (i32, i32, i32));
+    let mut first: HashMap<PositionNormalKey, u32> = HashMap::new();
     let mut remap = vec![0u32; mesh.positions.len()];
     let mut positions = Vec::new();
     let mut normals = Vec::new();

@@ -42,8 +42,8 @@ pub fn resolve(
         let step_x = t.a.map(|a| a * ONE);
         let step_y = t.b.map(|b| b * ONE);
         let mut row = t.edges_at(x0, y0);
-        for k in 0..3 {
-            row[k] += t.bias[k] - 1;
+        for (r, bias) in row.iter_mut().zip(t.bias) {
+            *r += bias - 1;
         }
         for py in y0..=y1 {
             let mut e = row;

@@ -716,7 +716,7 @@ mod tests {
                     d = (d + n as f64 / 2.0).rem_euclid(n as f64) - n as f64 / 2.0;
                 }
                 // ties: prefer d = -0.5 (texel above the edge) over d = +0.5
-                let key = if d >= -0.5 && d < 0.5 {
+                let key = if (-0.5..0.5).contains(&d) {
                     d.abs() - 1e-9
                 } else {
                     d.abs()
@@ -816,13 +816,13 @@ mod tests {
         }
         for (s, t) in sample_coords() {
             tb.lookup(s, t, Lookup::Bilinear, &mut out);
-            for k in 0..nt {
+            for (k, got) in out.iter().enumerate().take(nt) {
                 let tab: Vec<f64> = (0..nv)
                     .flat_map(|j| (0..nu).map(move |i| (i, j)))
                     .map(|(i, j)| tb.texel(i, j)[k] as f64)
                     .collect();
                 let r = gl_linear_ref(&tab, nu, nv, s as f64, t as f64);
-                assert!((out[k] as f64 - r).abs() < 2e-6, "s={s} t={t} k={k}");
+                assert!((*got as f64 - r).abs() < 2e-6, "s={s} t={t} k={k}");
             }
         }
     }
@@ -845,7 +845,10 @@ mod tests {
                 let (i, j) = (rng.gen_range(0..nu), rng.gen_range(0..nv));
                 let (p, a) = hemi_texel_angles_f64(i, j, nu, nv);
                 let wo = local_direction(p as f32, a as f32);
-                let wi = local_direction(rng.gen_range(0.0..1.5), rng.gen_range(0.0..6.28));
+                let wi = local_direction(
+                    rng.gen_range(0.0..1.5),
+                    rng.gen_range(0.0..std::f32::consts::TAU),
+                );
                 eval_sh_f64(wi.as_dvec3(), &mut y);
                 let got = d.eval(wi, wo);
                 for c in 0..3 {
