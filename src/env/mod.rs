@@ -267,26 +267,6 @@ impl Fnv1a {
     }
 }
 
-/// Stable 64-bit cache key of a light set: FNV-1a over a format tag, the probe's size,
-/// rotation (f64 bits) and texels (f32 little-endian bits, after cleaning), and the
-/// sampler configuration ([`SamplerConfig::hash_into`]: name, N, seed, iterations).
-/// The probe's name is not hashed: two files with the same contents share a key.
-/// Changing the tag string invalidates every cached entry.
-pub fn cache_key(probe: &Probe, config: &SamplerConfig) -> u64 {
-    let mut h = Fnv1a::default();
-    h.write(b"brdfkit-lightset-v1");
-    h.write_u64(probe.width() as u64);
-    h.write_u64(probe.height() as u64);
-    h.write_u64(probe.rotation().to_bits());
-    for t in probe.texels() {
-        for c in t {
-            h.write(&c.to_le_bytes());
-        }
-    }
-    config.hash_into(&mut h);
-    h.finish()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -301,29 +281,6 @@ mod tests {
         let mut h = Fnv1a::default();
         h.write(b"foobar");
         assert_eq!(h.finish(), 0x85944171f73967e8);
-    }
-
-    #[test]
-    fn cache_key_depends_on_contents_and_parameters() {
-        let opts = LoadOptions::default();
-        let (a, _) = Probe::from_texels("a", 4, 2, vec![[1.0; 3]; 8], &opts).unwrap();
-        let (b, _) = Probe::from_texels("b", 4, 2, vec![[1.0; 3]; 8], &opts).unwrap();
-        let mut t = vec![[1.0; 3]; 8];
-        t[5][2] = 1.0001;
-        let (c, _) = Probe::from_texels("a", 4, 2, t, &opts).unwrap();
-        let k = |p: &Probe, cfg| cache_key(p, &cfg);
-        let imp = SamplerConfig::Importance { n: 16, seed: 1 };
-        assert_eq!(k(&a, imp.clone()), k(&b, imp.clone()));
-        assert_ne!(k(&a, imp.clone()), k(&c, imp.clone()));
-        assert_ne!(
-            k(&a, imp.clone()),
-            k(&a, SamplerConfig::Importance { n: 16, seed: 2 })
-        );
-        assert_ne!(
-            k(&a, imp.clone()),
-            k(&a, SamplerConfig::MedianCut { n: 16 })
-        );
-        assert_ne!(k(&a, imp.clone()), k(&a.clone().with_rotation(0.1), imp));
     }
 
     #[test]
