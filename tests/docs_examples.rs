@@ -3,8 +3,8 @@
 //! Each ```` ```toml ```` block is parsed with [`SceneFile::parse`] (syntax, field names, types)
 //! and then loaded with [`Scene::resolve`] against the directory of the Markdown file, so its
 //! values are in range and the files it names (meshes, probes) exist where the example says.
-//! The `[env]` of a block is prepared separately with no light-set cache
-//! (`prepare(spec, base, None)`), so the test never reads or writes the user's cache.
+//! `Scene::resolve` computes an `[env]`'s light set with no cache (tests/no_hidden_state.rs),
+//! so the test never reads or writes the user's cache.
 //!
 //! A block preceded by the line `<!-- docs_examples: parse-only -->` is only parsed: it
 //! names a file the reader makes first (e.g. the output of `brdfkit acquire`).
@@ -12,7 +12,6 @@
 //! `checker_reports_each_seeded_fault` feeds the checker Markdown with known-bad blocks and
 //! asserts that each is reported with its line.
 
-use brdfkit::env::prepare::prepare;
 use brdfkit::scene::{Scene, SceneFile};
 use std::path::{Path, PathBuf};
 
@@ -58,15 +57,11 @@ fn toml_blocks(markdown: &str) -> Vec<Block> {
 
 /// Parses and loads one block; relative paths resolve against `base`.
 fn check_block(block: &Block, base: &Path) -> Result<(), String> {
-    let mut file = SceneFile::parse(&block.text)?;
+    let file = SceneFile::parse(&block.text)?;
     if block.parse_only {
         return Ok(());
     }
-    let env = file.env.take();
     Scene::resolve(&file, base).map_err(|e| e.to_string())?;
-    if let Some(spec) = env {
-        prepare(&spec, base, None).map_err(|e| e.to_string())?;
-    }
     Ok(())
 }
 
