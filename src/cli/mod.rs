@@ -181,7 +181,8 @@ pub struct FitDbrdfArgs {
 
 #[derive(clap::Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file (TOML). Every field has a default; see the README for the format.
+    /// Scene file (TOML). Every field has a default; the format (every field, its default,
+    /// examples) is docs/scene-format.md in the brdfkit repository.
     pub scene: Option<PathBuf>,
     /// Output image: .png (tone-mapped sRGB) or .exr (linear float). Default: out.png and out.exr.
     #[arg(short, long)]

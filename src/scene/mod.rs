@@ -4,65 +4,11 @@
 //! scene; unknown fields are errors; every value is checked here, once, with an error
 //! that names the file and the field. Later stages trust what a [`Scene`] holds.
 //!
-//! ```toml
-//! [camera]                  # omit to frame the mesh automatically
-//! position = [4.0, 4.0, 9.0]
-//! target = [0.0, 1.2, 0.0]
-//! up = [0.0, 1.0, 0.0]
-//! fov_y_deg = 35.0
-//! near = 0.01               # omit: 1/1000 of the distance to the target
+//! The format, every field with its default and examples, is `docs/scene-format.md`,
+//! included below as the one description (the README and `brdfkit render --help` point to it;
+//! `tests/docs_examples.rs` loads its examples).
 //!
-//! [mesh]
-//! source = "teapot"         # "teapot", "sphere", or a path to an .obj (relative to this file)
-//! segments = 16             # teapot: quads per patch edge; sphere: stacks
-//!
-//! [material]
-//! kind = "blinn-phong"      # "lambert" (albedo), "blinn-phong" (kd, ks, exponent),
-//!                           # "library" (name = "blue-silk", see `brdfkit materials`),
-//!                           # "sh-file" or "dbrdf-file" (path = "x.exr", relative to this file)
-//! # lookup = "nearest"      # SH materials only (library SH or sh-file): filter of the
-//!                           # coefficient table over the view direction, "nearest"
-//!                           # (GL_NEAREST, thesis 3.1.4) or "bilinear" (GL_LINEAR); omit to
-//!                           # keep the data set's own (library: bilinear, file: nearest)
-//! kd = [0.55, 0.22, 0.12]
-//! ks = [0.25, 0.25, 0.25]
-//! exponent = 60.0
-//!
-//! [[light]]                 # any number; with no [[light]] and no [env], a default key light
-//! kind = "directional"      # to_light: direction from the surface towards the light
-//! to_light = [0.4, 1.0, 0.6]
-//! color = [1.0, 1.0, 1.0]
-//! intensity = 3.0           # irradiance at normal incidence (W/m^2)
-//! # kind = "point", position = [..], intensity in W/sr
-//!
-//! [env]                     # optional environment light (thesis 3.2)
-//! file = "probe.exr"        # equirectangular .exr or .hdr, relative to this file
-//! sampler = "lloyd"         # uniform, importance, stratified, median-cut, lloyd (default), full
-//! count = 128               # number of lights (not for full)
-//! seed = 1                  # random samplers
-//! rotation = 0.0            # degrees about +y
-//! intensity = 1.0           # radiance scale
-//!
-//! [render]
-//! width = 640
-//! height = 480
-//! cull = "none"             # "none" (two-sided) or "back"
-//! tile_size = 32
-//! threads = 0               # 0: all cores
-//! precision = "f32"         # "f32": the fast kernel path; "f64": frames, directions, the
-//!                           # BRDF and the light sum in f64 (crate::shade::shade_reference_f64)
-//! drop_lights = 0.001       # drop the weakest lights up to this fraction of the total
-//!                           # irradiance (0: off; bound in kernel::skip)
-//! band_skip = true          # shade an SH data set with the bands its declared
-//!                           # band_threshold needs (false: every stored band)
-//! kernel = "auto"           # kernel path of the f32 shading: "auto" (the best this CPU
-//!                           # runs), "portable" or "avx2" (an error where the CPU lacks it)
-//!
-//! [output]
-//! path = "out.png"          # omit: out.png and out.exr
-//! exposure = 0.0            # stops
-//! tonemap = "aces"          # "clamp", "reinhard" or "aces"
-//! ```
+#![doc = include_str!("../../docs/scene-format.md")]
 
 pub mod camera;
 
