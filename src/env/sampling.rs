@@ -70,7 +70,7 @@ impl ProbeTables {
     }
 }
 
-/// Which sampler and its parameters: the unit of caching ([`crate::env::cache_key`]) and
+/// Which sampler and its parameters: the unit of caching ([`crate::env::prepare::file_cache_key`]) and
 /// of light-set file headers.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "sampler", rename_all = "kebab-case")]
