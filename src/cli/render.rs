@@ -88,8 +88,17 @@ pub fn run(a: RenderArgs) -> Result<()> {
         file.output.tonemap = t;
     }
     if let Some(m) = &a.mesh {
-        // A mesh path given on the command line is relative to the working directory.
-        file.mesh.source = m.clone();
+        // A mesh path given on the command line is relative to the working directory (made
+        // absolute here, so the scene file's own relative paths keep their base: the
+        // scene's directory).
+        file.mesh.source = match m.as_str() {
+            "teapot" | "sphere" => m.clone(),
+            path => std::env::current_dir()
+                .map(|d| d.join(path))
+                .unwrap_or_else(|_| PathBuf::from(path))
+                .to_string_lossy()
+                .into_owned(),
+        };
     }
     if let Some(p) = &a.env {
         // A probe given on the command line is relative to the working directory.
@@ -120,7 +129,6 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if let Some(m) = &a.material {
         file.material = crate::scene::MaterialSpec::from_cli(m)?;
     }
-    let cli_mesh_base = a.mesh.is_some().then(|| PathBuf::from("."));
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
         None => vec![PathBuf::from("out.png"), PathBuf::from("out.exr")],
@@ -135,7 +143,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     } else {
         CacheDir::user()
     };
-    let resolve_base = cli_mesh_base.as_deref().unwrap_or(&base);
+    let resolve_base = base.as_path();
     let scene = match &a.scene {
         Some(p) => Scene::resolve_with_cache(&file, resolve_base, &cache).map_err(|e| match e {
             Error::Field { .. } => Error::format(p, e.to_string()),

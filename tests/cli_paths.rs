@@ -1,0 +1,74 @@
+//! Paths on the command line are relative to the working directory, paths in a scene file to
+//! the scene file's directory, and one never re-bases the other.
+
+use std::path::Path;
+use std::process::Command;
+
+/// Runs `brdfkit args` in `cwd` (killed after 120 s), returning (success, stderr).
+fn run_in(cwd: &Path, args: &[&str]) -> (bool, String) {
+    let out = Command::new("timeout")
+        .args(["-s", "KILL", "120", env!("CARGO_BIN_EXE_brdfkit")])
+        .args(args)
+        .current_dir(cwd)
+        .env("BRDFKIT_CACHE_DIR", cwd.join("cache"))
+        .output()
+        .expect("run brdfkit under timeout (coreutils)");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_mesh_on_the_command_line_keeps_the_scene_files_paths() {
+    // The scene lives in scenes/ and names its probe relative to itself; the render runs from
+    // elsewhere with --mesh sphere (a built-in) and then --mesh PATH (an OBJ relative to the
+    // working directory). Before, any --mesh moved the scene's base to the working directory
+    // and the probe was looked up as ./probe.exr.
+    let tmp = tempfile::tempdir().unwrap();
+    let scenes = tmp.path().join("scenes");
+    let work = tmp.path().join("work");
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::create_dir_all(&work).unwrap();
+    let probe = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/sky.exr");
+    std::fs::copy(&probe, scenes.join("probe.exr")).unwrap();
+    std::fs::write(
+        scenes.join("scene.toml"),
+        "[env]\nfile = \"probe.exr\"\nsampler = \"median-cut\"\ncount = 8\n\n[render]\nwidth = 32\nheight = 24\n",
+    )
+    .unwrap();
+    std::fs::write(
+        work.join("tri.obj"),
+        "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    for mesh in ["sphere", "tri.obj"] {
+        let out = work.join(format!("{}.exr", mesh.replace('.', "-")));
+        let (ok, err) = run_in(
+            &work,
+            &[
+                "render",
+                "../scenes/scene.toml",
+                "--mesh",
+                mesh,
+                "-o",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(ok, "--mesh {mesh}: {err}");
+        assert!(out.exists(), "--mesh {mesh}: no image");
+    }
+    // A mesh path that does not exist in the working directory is an error naming it.
+    let (ok, err) = run_in(
+        &work,
+        &[
+            "render",
+            "../scenes/scene.toml",
+            "--mesh",
+            "missing.obj",
+            "-o",
+            "x.exr",
+        ],
+    );
+    assert!(!ok && err.contains("missing.obj"), "{err}");
+}
