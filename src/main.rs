@@ -8,6 +8,14 @@ use std::process::ExitCode;
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
+    // A closed standard output (`brdfkit compare a.exr b.exr | head`) ends the program
+    // quietly, as it does every Unix filter: Rust ignores SIGPIPE by default, so a write to
+    // the closed pipe would fail and `println!` panic (exit 101) instead.
+    #[cfg(unix)]
+    // SAFETY: restoring a signal's default disposition, before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = brdfkit::cli::Cli::parse();
     match brdfkit::cli::run(cli) {
         Ok(true) => ExitCode::SUCCESS,

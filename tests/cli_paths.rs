@@ -72,3 +72,38 @@ fn a_mesh_on_the_command_line_keeps_the_scene_files_paths() {
     );
     assert!(!ok && err.contains("missing.obj"), "{err}");
 }
+
+#[test]
+fn a_closed_stdout_ends_every_subcommand_quietly() {
+    // `brdfkit ... | head` with the reader gone: no panic message, no exit 101.
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let tmp = tempfile::tempdir().unwrap();
+    let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("golden");
+    let a = golden.join("fig3-13-teal-paint.exr");
+    let b = golden.join("fig3-10-blue-silk-nearest.exr");
+    let cases: [Vec<&str>; 3] = [
+        vec!["compare", a.to_str().unwrap(), b.to_str().unwrap()],
+        vec!["materials"],
+        vec!["--help"],
+    ];
+    for args in cases {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+            .args(&args)
+            .current_dir(tmp.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // the reader closes its end before anything is read
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_ne!(out.status.code(), Some(101), "{args:?}: {err}");
+        eprintln!(
+            "{args:?}: exit {:?}, signal {:?}",
+            out.status.code(),
+            out.status.signal()
+        );
+    }
+}
