@@ -24,12 +24,13 @@ pub mod lightset_io;
 pub mod overlay;
 pub mod prepare;
 pub mod probe;
-pub mod sampling;
-#[cfg(test)]
-mod tests_samplers;
+pub mod samplers;
 
 pub use probe::{LoadOptions, LoadReport, Probe, ProbeError};
-pub use sampling::{MedianCut, Region, SamplerConfig};
+/// The samplers under their former module name: every `env::sampling::X` path is
+/// `env::samplers::X`.
+pub use samplers as sampling;
+pub use samplers::{MedianCut, Region, SamplerConfig};
 
 use glam::DVec3;
 use rayon::prelude::*;

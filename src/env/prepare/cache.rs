@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 
 /// Version of the algorithm that turns probe bytes and settings into a light set: probe
 /// decoding, cleaning and rotation ([`crate::env::Probe::load`]), every sampler
-/// ([`SamplerConfig::run`], [`crate::env::sampling`]) and the full-probe set. Part of every
+/// ([`SamplerConfig::run`], [`crate::env::samplers`]) and the full-probe set. Part of every
 /// light-set cache key ([`file_cache_key`]) and stored in each entry.
 ///
 /// Bump when the output of `Probe::load` or of any sampler changes (a different light,

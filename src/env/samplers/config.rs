@@ -1,0 +1,93 @@
+//! [`SamplerConfig`]: which sampler and its parameters, the one value that names a light
+//! set (cache keys, light-set file headers, scene files).
+//!
+//! Design rule: the configuration alone decides the light set of a given probe; its hash
+//! ([`SamplerConfig::hash_into`]) is stable across runs and platforms and feeds every
+//! light-set cache key. The hash says *which* light set was asked for, not *how* it is
+//! computed: when a sampler's output changes for the same configuration, bump
+//! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`] instead.
+
+use super::{full_probe, importance, importance_stratified, lloyd, median_cut, uniform};
+use crate::env::{Fnv1a, LightSet, Probe};
+use serde::{Deserialize, Serialize};
+
+/// Which sampler and its parameters: the unit of caching ([`crate::env::prepare::file_cache_key`]) and
+/// of light-set file headers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "sampler", rename_all = "kebab-case")]
+pub enum SamplerConfig {
+    /// [`uniform()`]: `n` uniform random directions, each carrying its Voronoi cell.
+    Uniform { n: usize, seed: u64 },
+    /// [`importance()`]: thesis Algorithm 1, i.i.d. uniform numbers.
+    Importance { n: usize, seed: u64 },
+    /// [`importance_stratified`]: Algorithm 1 fed stratified numbers.
+    Stratified { n: usize, seed: u64 },
+    /// [`median_cut()`]: thesis Algorithm 2 / Debevec 2005.
+    MedianCut { n: usize },
+    /// [`lloyd()`]: median cut relaxed by weighted spherical k-means.
+    Lloyd { n: usize, iterations: usize },
+    /// [`full_probe`]: every texel a light (the converged reference).
+    Full,
+}
+
+impl SamplerConfig {
+    /// Short name: `uniform`, `importance`, `stratified`, `median-cut`, `lloyd`, `full`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            SamplerConfig::Uniform { .. } => "uniform",
+            SamplerConfig::Importance { .. } => "importance",
+            SamplerConfig::Stratified { .. } => "stratified",
+            SamplerConfig::MedianCut { .. } => "median-cut",
+            SamplerConfig::Lloyd { .. } => "lloyd",
+            SamplerConfig::Full => "full",
+        }
+    }
+
+    /// Requested number of lights (`None` for the full probe).
+    pub fn n(&self) -> Option<usize> {
+        match *self {
+            SamplerConfig::Uniform { n, .. }
+            | SamplerConfig::Importance { n, .. }
+            | SamplerConfig::Stratified { n, .. }
+            | SamplerConfig::MedianCut { n }
+            | SamplerConfig::Lloyd { n, .. } => Some(n),
+            SamplerConfig::Full => None,
+        }
+    }
+
+    /// Seed of the random samplers.
+    pub fn seed(&self) -> Option<u64> {
+        match *self {
+            SamplerConfig::Uniform { seed, .. }
+            | SamplerConfig::Importance { seed, .. }
+            | SamplerConfig::Stratified { seed, .. } => Some(seed),
+            _ => None,
+        }
+    }
+
+    /// Runs the sampler on a probe.
+    pub fn run(&self, probe: &Probe) -> LightSet {
+        match *self {
+            SamplerConfig::Uniform { n, seed } => uniform(probe, n, seed),
+            SamplerConfig::Importance { n, seed } => importance(probe, n, seed),
+            SamplerConfig::Stratified { n, seed } => importance_stratified(probe, n, seed),
+            SamplerConfig::MedianCut { n } => median_cut(probe, n).lights,
+            SamplerConfig::Lloyd { n, iterations } => lloyd(probe, n, iterations),
+            SamplerConfig::Full => full_probe(probe),
+        }
+    }
+
+    /// Feeds the configuration into a stable hash: name, then each parameter as a u64
+    /// (absent ones as `u64::MAX`).
+    pub fn hash_into(&self, h: &mut Fnv1a) {
+        h.write(self.name().as_bytes());
+        h.write(&[0]);
+        h.write_u64(self.n().map_or(u64::MAX, |n| n as u64));
+        h.write_u64(self.seed().unwrap_or(u64::MAX));
+        let iters = match *self {
+            SamplerConfig::Lloyd { iterations, .. } => iterations as u64,
+            _ => u64::MAX,
+        };
+        h.write_u64(iters);
+    }
+}
