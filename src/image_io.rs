@@ -6,10 +6,19 @@
 //! to a unique temporary name in the target directory, synced and renamed into place
 //! ([`replace_via_temp`]), so a failed or interrupted write never leaves a half-written
 //! file under the requested name.
+//!
+//! Reading: [`check_regular_file`] / [`read_regular_file`] guard every reader of the crate
+//! against devices, FIFOs and oversized files; [`exr_guard`] is the one guarded OpenEXR
+//! reader (declared pixels checked against the file's length before decoding), which
+//! [`read_exr`] and the SH, D-BRDF and light-probe readers use.
 
 mod atomic;
+pub mod exr_guard;
 
 pub use atomic::replace_via_temp;
+pub use exr_guard::{
+    check_exr_declared_size, exr_max_expansion, EXR_DECODE_SLACK, MAX_EXR_FILE_BYTES,
+};
 
 use crate::error::{Error, FileError, Result};
 use glam::Vec3;
@@ -211,93 +220,34 @@ pub fn read_regular_text(
     })
 }
 
-/// Largest EXR file (image, SH data set, D-BRDF table) any reader opens: 1 GiB, far above
-/// the assets (a 10-band SH data set on a 64 x 64 grid is 5 MB) and small enough that the
-/// decoders' allocations, bounded by [`check_exr_declared_size`], stay bounded too.
-pub const MAX_EXR_FILE_BYTES: u64 = 1 << 30;
-
-/// Bytes any EXR file may declare (decoded, all parts) whatever its length.
-pub const EXR_DECODE_SLACK: u64 = 16 << 20;
-
-/// The largest factor by which an EXR compression can expand data: exact for none (1),
-/// RLE (a 2-byte run of at most 128 bytes: 64) and ZIP/ZIPS/PXR24 (deflate's 1032:1,
-/// rounded up, with PXR24's 24-to-32-bit widening); PIZ, B44 and DWA have no small bound,
-/// and 4096 is assumed (far above what photographic images reach).
-pub fn exr_max_expansion(c: exr::compression::Compression) -> u64 {
-    use exr::compression::Compression as C;
-    match c {
-        C::Uncompressed => 1,
-        C::RLE => 64,
-        C::ZIP1 | C::ZIP16 => 1100,
-        C::PXR24 => 1500,
-        _ => 4096,
-    }
-}
-
-/// Checks the pixel bytes an EXR file's headers declare (every part, largest level, plus
-/// one tile block per tiled part) against what a file of `file_len` bytes can hold: at most
-/// [`exr_max_expansion`] x `file_len` + [`EXR_DECODE_SLACK`]. Call it on the headers
-/// (`exr::meta::MetaData::read_from_file`) before decoding: the `exr` crate allocates
-/// every declared pixel up front. Fails with a message (without the path) naming the
-/// declared size.
-pub fn check_exr_declared_size(
-    headers: &[exr::meta::header::Header],
-    file_len: u64,
-) -> std::result::Result<(), String> {
-    let mut declared: u64 = 0;
-    let mut limit: u64 = 0;
-    for h in headers {
-        let (w, ht) = (h.layer_size.width() as u64, h.layer_size.height() as u64);
-        let bpp = h.channels.bytes_per_pixel as u64;
-        let bytes = w.saturating_mul(ht).saturating_mul(bpp);
-        declared = declared.saturating_add(bytes);
-        // The decoder allocates one whole block per tile, whatever the data window: a tile
-        // description can declare far more pixels than the image (found by fuzzing: 4194304
-        // x 64 pixel tiles in a 1109-byte file, a 704 MB allocation).
-        if let exr::meta::BlockDescription::Tiles(t) = h.blocks {
-            let tile = (t.tile_size.width() as u64)
-                .saturating_mul(t.tile_size.height() as u64)
-                .saturating_mul(bpp);
-            declared = declared.saturating_add(tile);
-        }
-        limit = limit.max(file_len.saturating_mul(exr_max_expansion(h.compression)));
-    }
-    let limit = limit.saturating_add(EXR_DECODE_SLACK);
-    if declared > limit {
-        let sizes: Vec<String> = headers
-            .iter()
-            .map(|h| format!("{}x{}", h.layer_size.width(), h.layer_size.height()))
-            .collect();
-        return Err(format!(
-            "EXR header declares {} pixels ({declared} bytes), more than a {file_len}-byte file can hold",
-            sizes.join(" + ")
-        ));
-    }
-    Ok(())
-}
-
 /// Reads an OpenEXR file's RGB channels (first layer) into an [`Image`].
 ///
-/// Fails with an error naming the file if it is not a regular file of at most
-/// [`MAX_EXR_FILE_BYTES`], cannot be read or decoded, or if its header
-/// declares more pixels than its length can hold ([`check_exr_declared_size`]).
+/// Read through the guarded reader [`exr_guard`]. Fails with an error naming the file if it
+/// is not a regular file of at most [`MAX_EXR_FILE_BYTES`], cannot be read or decoded, or if
+/// its header declares more pixels than its length can hold ([`check_exr_declared_size`]).
 pub fn read_exr(path: &Path) -> Result<Image> {
-    check_regular_file(path, MAX_EXR_FILE_BYTES, "EXR image")?;
-    let meta = exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| Error::format(path, format!("cannot read EXR: {e}")))?;
-    let file_len = std::fs::metadata(path)
-        .map_err(|e| Error::io(path, "cannot read EXR", e))?
-        .len();
-    check_exr_declared_size(&meta.headers, file_len).map_err(|m| Error::format(path, m))?;
-    let img = exr::prelude::read_first_rgba_layer_from_file(
-        path,
-        |res, _| Image::new(res.width() as u32, res.height() as u32),
-        |img: &mut Image, pos: exr::prelude::Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
-            let w = img.width as usize;
-            img.pixels[pos.y() * w + pos.x()] = Vec3::new(r, g, b);
-        },
-    )
-    .map_err(|e| Error::format(path, format!("cannot read EXR: {e}")))?;
+    let img = exr_guard::read_headers(path, MAX_EXR_FILE_BYTES, "EXR image")
+        .and_then(|h| {
+            h.decode(|path| {
+                exr::prelude::read_first_rgba_layer_from_file(
+                    path,
+                    |res, _| Image::new(res.width() as u32, res.height() as u32),
+                    |img: &mut Image,
+                     pos: exr::prelude::Vec2<usize>,
+                     (r, g, b, _a): (f32, f32, f32, f32)| {
+                        let w = img.width as usize;
+                        img.pixels[pos.y() * w + pos.x()] = Vec3::new(r, g, b);
+                    },
+                )
+            })
+        })
+        .map_err(|e| match e {
+            exr_guard::ExrGuardError::File(e) => Error::from(e),
+            exr_guard::ExrGuardError::Exr(e) => {
+                Error::format(path, format!("cannot read EXR: {e}"))
+            }
+            exr_guard::ExrGuardError::DeclaredSize(m) => Error::format(path, m),
+        })?;
     Ok(img.layer_data.channel_data.pixels)
 }
 

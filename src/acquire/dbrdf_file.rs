@@ -20,10 +20,10 @@
 //! a temporary file in the same directory that is renamed over the target.
 
 use crate::brdf::DBrdf;
-use exr::prelude::read;
+use crate::image_io::exr_guard::{self, text, Attributes, ExrGuardError};
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
-    ReadChannels, ReadLayers, Text, WritableImage,
+    WritableImage,
 };
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -83,10 +83,6 @@ pub enum DbrdfFileError {
     /// Not a regular file, or over [`crate::image_io::MAX_EXR_FILE_BYTES`].
     #[error(transparent)]
     File(#[from] crate::error::FileError),
-}
-
-fn text(s: &str) -> Text {
-    Text::from_bytes_unchecked(s.as_bytes().into())
 }
 
 fn exr_err(path: &Path, e: exr::error::Error) -> DbrdfFileError {
@@ -155,40 +151,28 @@ pub fn write_dbrdf(path: &Path, d: &DBrdf, provenance: &str) -> Result<(), Dbrdf
 ///
 /// Limits: a regular file of at most [`crate::image_io::MAX_EXR_FILE_BYTES`]; declared
 /// pixels within [`crate::image_io::check_exr_declared_size`] of the file's length (checked
-/// before any pixel is allocated); every `c p` at most [`crate::brdf::MAX_BRDF_VALUE`].
+/// before any pixel is allocated, by the crate's one guarded reader
+/// [`crate::image_io::exr_guard`]); every `c p` at most [`crate::brdf::MAX_BRDF_VALUE`].
 pub fn read_dbrdf(path: &Path) -> Result<(DBrdf, String), DbrdfFileError> {
     // A device or FIFO is refused unopened; then the headers alone are read and the pixels
     // they declare checked against the file's length, before the decoder allocates them.
-    let file_len = crate::image_io::check_regular_file(
-        path,
-        crate::image_io::MAX_EXR_FILE_BYTES,
-        "D-BRDF file",
-    )?;
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| exr_err(path, e))?;
-    crate::image_io::check_exr_declared_size(&meta.headers, file_len).map_err(|message| {
-        DbrdfFileError::Exr {
-            path: path.to_owned(),
-            message,
-        }
-    })?;
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .all_layers()
-        .all_attributes()
-        .from_file(path)
-        .map_err(|e| exr_err(path, e))?;
+    let image =
+        exr_guard::read_all_layers(path, crate::image_io::MAX_EXR_FILE_BYTES, "D-BRDF file")
+            .map_err(|e| match e {
+                ExrGuardError::File(e) => DbrdfFileError::File(e),
+                ExrGuardError::Exr(e) => exr_err(path, e),
+                ExrGuardError::DeclaredSize(message) => DbrdfFileError::Exr {
+                    path: path.to_owned(),
+                    message,
+                },
+            })?;
     let p = || path.to_owned();
     let layer = image.layer_data.first().ok_or(DbrdfFileError::NotDbrdf {
         path: p(),
         found: None,
     })?;
-    let attrs = &layer.attributes.other;
-    let get_text = |name: &str| match attrs.get(&text(name)) {
-        Some(AttributeValue::Text(t)) => Some(String::from_utf8_lossy(t.bytes()).into_owned()),
-        _ => None,
-    };
+    let attrs = Attributes(&layer.attributes.other);
+    let get_text = |name: &str| attrs.string(name);
     let format = get_text("brdfkit.format");
     if format.as_deref() != Some(FORMAT_NAME) {
         return Err(DbrdfFileError::NotDbrdf {
@@ -202,25 +186,22 @@ pub fn read_dbrdf(path: &Path) -> Result<(DBrdf, String), DbrdfFileError> {
         name,
         value,
     };
-    match attrs.get(&text("brdfkit.version")) {
-        Some(AttributeValue::I32(FORMAT_VERSION)) => {}
-        Some(AttributeValue::I32(v)) => return Err(bad("brdfkit.version", v.to_string())),
-        _ => return Err(missing("brdfkit.version")),
+    match attrs.i32("brdfkit.version") {
+        Some(FORMAT_VERSION) => {}
+        Some(v) => return Err(bad("brdfkit.version", v.to_string())),
+        None => return Err(missing("brdfkit.version")),
     }
     let param = get_text("brdfkit.param").ok_or_else(|| missing("brdfkit.param"))?;
     if param != PARAMETERIZATION {
         return Err(bad("brdfkit.param", format!("{param:?}")));
     }
-    let c = match attrs.get(&text("brdfkit.c")) {
-        Some(AttributeValue::F32(c)) => *c,
-        _ => return Err(missing("brdfkit.c")),
-    };
+    let c = attrs.f32("brdfkit.c").ok_or_else(|| missing("brdfkit.c"))?;
     if !(c.is_finite() && c > 0.0) {
         return Err(bad("brdfkit.c", c.to_string()));
     }
-    let rs = match attrs.get(&text("brdfkit.rs")) {
-        Some(AttributeValue::FloatVec3((x, y, z))) => Vec3::new(*x, *y, *z),
-        _ => return Err(missing("brdfkit.rs")),
+    let rs = match attrs.v3f("brdfkit.rs") {
+        Some((x, y, z)) => Vec3::new(x, y, z),
+        None => return Err(missing("brdfkit.rs")),
     };
     if !rs.is_finite() || rs.min_element() < 0.0 || rs.max_element() > 1.0 {
         return Err(bad("brdfkit.rs", format!("{rs}")));

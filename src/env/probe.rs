@@ -318,6 +318,7 @@ fn check_size(
 type Raw = (usize, usize, Vec<[f32; 3]>);
 
 fn read_exr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
+    use crate::image_io::exr_guard::{self, ExrGuardError};
     use exr::prelude::*;
     let decode_err = |e: exr::error::Error| match e {
         exr::error::Error::Io(source) => ProbeError::Io {
@@ -330,48 +331,52 @@ fn read_exr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeError> {
         },
     };
     // Read only the headers first, so an absurd data window is rejected before any
-    // pixel allocation.
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(decode_err)?;
-    let header = meta.headers.first().ok_or_else(|| ProbeError::Decode {
-        path: path.to_path_buf(),
-        message: "no layer".into(),
-    })?;
-    let size = header.layer_size;
-    check_size(path, size.width(), size.height(), opts)?;
-    let file_len = std::fs::metadata(path)
-        .map_err(|source| ProbeError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?
-        .len();
-    crate::image_io::check_exr_declared_size(&meta.headers, file_len).map_err(|message| {
-        ProbeError::Decode {
+    // pixel allocation (the crate's one guarded EXR reader, `image_io::exr_guard`).
+    let guard_err = |e: ExrGuardError| match e {
+        ExrGuardError::File(e) => ProbeError::File(e),
+        ExrGuardError::Exr(e) => decode_err(e),
+        ExrGuardError::DeclaredSize(message) => ProbeError::Decode {
             path: path.to_path_buf(),
             message,
-        }
-    })?;
+        },
+    };
+    let headers =
+        exr_guard::read_headers(path, super::prepare::MAX_PROBE_FILE_BYTES, "light probe")
+            .map_err(guard_err)?;
+    let header = headers
+        .headers()
+        .first()
+        .ok_or_else(|| ProbeError::Decode {
+            path: path.to_path_buf(),
+            message: "no layer".into(),
+        })?;
+    let size = header.layer_size;
+    check_size(path, size.width(), size.height(), opts)?;
 
     struct Px {
         w: usize,
         data: Vec<[f32; 3]>,
     }
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .rgba_channels(
-            |res: Vec2<usize>, _| Px {
-                w: res.width(),
-                data: vec![[0.0; 3]; res.width() * res.height()],
-            },
-            |px: &mut Px, pos: Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
-                let w = px.w;
-                px.data[pos.y() * w + pos.x()] = [r, g, b];
-            },
-        )
-        .first_valid_layer()
-        .all_attributes()
-        .from_file(path)
-        .map_err(decode_err)?;
+    let image = headers
+        .decode(|path| {
+            read()
+                .no_deep_data()
+                .largest_resolution_level()
+                .rgba_channels(
+                    |res: Vec2<usize>, _| Px {
+                        w: res.width(),
+                        data: vec![[0.0; 3]; res.width() * res.height()],
+                    },
+                    |px: &mut Px, pos: Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
+                        let w = px.w;
+                        px.data[pos.y() * w + pos.x()] = [r, g, b];
+                    },
+                )
+                .first_valid_layer()
+                .all_attributes()
+                .from_file(path)
+        })
+        .map_err(guard_err)?;
     let layer = image.layer_data;
     let (w, h) = (layer.size.width(), layer.size.height());
     check_size(path, w, h, opts)?;

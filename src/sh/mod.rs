@@ -4,6 +4,16 @@
 //! Design rule: the SH basis is defined once, in [`basis`], in the *local shading frame*
 //! (polar angle from local +z = the normal); tables, files and projections call it and
 //! never restate the convention.
+//!
+//! # Layout
+//! - [`basis`] -- the real SH basis `Y_lm` (f32 and f64), its indexing and convention;
+//! - [`quadrature`] -- quadrature for projecting onto the basis;
+//! - [`dataset`] -- the data set [`ShDataset`] (one file per concern: coefficient lookups,
+//!   evaluation and the [`Brdf`](crate::brdf::Brdf) impl, the optional basis table, the
+//!   band skip policy);
+//! - [`mod@file`] -- the self-describing OpenEXR file format (format doc, writer, reader); its
+//!   bytes are read through the crate's one guarded EXR reader,
+//!   [`crate::image_io::exr_guard`].
 
 pub mod basis;
 pub mod dataset;
