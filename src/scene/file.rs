@@ -112,8 +112,8 @@ pub struct RenderSpec {
     /// Whether SH data sets are shaded with only the bands their declared threshold needs.
     pub band_skip: bool,
     /// The kernel path of the f32 shading ([`crate::kernel::lanes`]); every path gives the
-    /// same bits, so this changes only speed. [`Scene::resolve`] refuses a path this CPU
-    /// cannot run.
+    /// same bits, so this changes only speed. [`Scene::resolve`](super::Scene::resolve)
+    /// refuses a path this CPU cannot run.
     pub kernel: KernelPath,
 }
 
