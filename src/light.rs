@@ -5,7 +5,7 @@
 //! and an RGB irradiance at normal incidence `E` (W/m^2 for radiometric inputs). The
 //! reflected radiance is then `sum_k f(l_k, v) cos(polar_k) E_k`.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 /// A delta light.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +26,35 @@ pub enum Light {
 /// meaning at such distances anyway: a real emitter has a size.
 pub const MIN_POINT_DISTANCE2: f32 = 1e-12;
 
+/// The body of [`Light::at`] and [`Light::at_f64`], one definition for both arithmetics:
+/// light `$light` seen from point `$p` (vector type `$V`), its stored f32 vectors converted
+/// with `$V::from` (the identity for f32).
+macro_rules! towards_light {
+    ($light:expr, $p:expr, $V:ident) => {
+        match *$light {
+            Light::Directional {
+                to_light,
+                irradiance,
+            } => ($V::from(to_light), $V::from(irradiance)),
+            Light::Point {
+                position,
+                intensity,
+            } => {
+                let d = $V::from(position) - $p;
+                let d2 = d.length_squared();
+                if d2 > 0.0 && d2.is_finite() {
+                    (
+                        d / d2.sqrt(),
+                        $V::from(intensity) / d2.max(MIN_POINT_DISTANCE2.into()),
+                    )
+                } else {
+                    ($V::Y, $V::ZERO)
+                }
+            }
+        }
+    };
+}
+
 impl Light {
     /// Unit direction towards the light and irradiance at normal incidence at world
     /// point `p`. A point light exactly at `p` gives zero irradiance, and closer than
@@ -33,24 +62,14 @@ impl Light {
     /// (documented fallbacks; never Inf or NaN for finite inputs).
     #[inline]
     pub fn at(&self, p: Vec3) -> (Vec3, Vec3) {
-        match *self {
-            Light::Directional {
-                to_light,
-                irradiance,
-            } => (to_light, irradiance),
-            Light::Point {
-                position,
-                intensity,
-            } => {
-                let d = position - p;
-                let d2 = d.length_squared();
-                if d2 > 0.0 && d2.is_finite() {
-                    (d / d2.sqrt(), intensity / d2.max(MIN_POINT_DISTANCE2))
-                } else {
-                    (Vec3::Y, Vec3::ZERO)
-                }
-            }
-        }
+        towards_light!(self, p, Vec3)
+    }
+
+    /// [`Light::at`] in f64 arithmetic (the light's f32 values widened exactly), for the
+    /// f64 path ([`crate::shade::shade_reference_f64`]); same formula, same fallbacks.
+    #[inline]
+    pub fn at_f64(&self, p: DVec3) -> (DVec3, DVec3) {
+        towards_light!(self, p, DVec3)
     }
 }
 

@@ -1,0 +1,189 @@
+//! The scene file as written: its schema (every field optional, with its default) and
+//! reading it.
+//!
+//! Design rule: this is the TOML as the user writes it, nothing checked beyond its syntax
+//! and types (unknown fields are errors, `deny_unknown_fields`); every value is checked
+//! once, later, in `resolve.rs` ([`Scene::resolve`](super::Scene::resolve)). The material
+//! part of the schema lives with the rest of the material in `material.rs`.
+
+use super::MaterialSpec;
+use crate::env::prepare::EnvSpec;
+use crate::error::{Error, Result};
+use crate::image_io::Tonemap;
+use crate::kernel::lanes::KernelPath;
+use crate::raster::Cull;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// Largest scene file read (bytes).
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// The scene file as written (all optional).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SceneFile {
+    pub camera: Option<CameraSpec>,
+    pub mesh: MeshSpec,
+    pub material: MaterialSpec,
+    #[serde(rename = "light")]
+    pub lights: Option<Vec<LightSpec>>,
+    /// Environment light: a probe collapsed into directional lights.
+    pub env: Option<EnvSpec>,
+    pub render: RenderSpec,
+    pub output: OutputSpec,
+}
+
+#[derive(Debug, Default, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CameraSpec {
+    pub position: Option<[f32; 3]>,
+    pub target: Option<[f32; 3]>,
+    pub up: Option<[f32; 3]>,
+    pub fov_y_deg: Option<f32>,
+    pub near: Option<f32>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MeshSpec {
+    pub source: String,
+    pub segments: u32,
+}
+
+impl Default for MeshSpec {
+    fn default() -> Self {
+        MeshSpec {
+            source: "teapot".into(),
+            segments: 16,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum LightSpec {
+    Directional {
+        to_light: [f32; 3],
+        #[serde(default = "white")]
+        color: [f32; 3],
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+    },
+    Point {
+        position: [f32; 3],
+        #[serde(default = "white")]
+        color: [f32; 3],
+        #[serde(default = "default_intensity")]
+        intensity: f32,
+    },
+}
+
+fn white() -> [f32; 3] {
+    [1.0, 1.0, 1.0]
+}
+fn default_intensity() -> f32 {
+    3.0
+}
+
+/// The default light: a white key light from above, front right (thesis Fig. 3.9 left:
+/// "a directional light illuminates the teapot from above").
+pub fn default_lights() -> Vec<LightSpec> {
+    vec![LightSpec::Directional {
+        to_light: [0.4, 1.0, 0.6],
+        color: white(),
+        intensity: default_intensity(),
+    }]
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderSpec {
+    pub width: u32,
+    pub height: u32,
+    pub cull: Cull,
+    pub tile_size: u32,
+    pub threads: usize,
+    /// Arithmetic of the shaded image (not of AOVs); default [`Precision::F32`].
+    pub precision: Precision,
+    /// Fraction of the total directional irradiance that may be dropped, weakest lights
+    /// first (0 <= x < 1; 0 turns it off). See [`crate::kernel::skip`]. Not used by the
+    /// f64 path, which shades every light.
+    pub drop_lights: f32,
+    /// Whether SH data sets are shaded with only the bands their declared threshold needs.
+    pub band_skip: bool,
+    /// The kernel path of the f32 shading ([`crate::kernel::lanes`]); every path gives the
+    /// same bits, so this changes only speed. [`Scene::resolve`](super::Scene::resolve)
+    /// refuses a path this CPU cannot run.
+    pub kernel: KernelPath,
+}
+
+/// Arithmetic of the shading stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Precision {
+    /// The fast path: the kernels of [`crate::kernel`] in f32 ([`crate::shade::shade`]).
+    #[default]
+    F32,
+    /// Frames, directions, the BRDF ([`crate::brdf::Brdf::eval_f64`]) and the light sum in
+    /// f64, every light, no light culling, rounded to f32 once per pixel
+    /// ([`crate::shade::shade_reference_f64`]). Several times slower.
+    F64,
+}
+
+impl Default for RenderSpec {
+    fn default() -> Self {
+        RenderSpec {
+            width: 640,
+            height: 480,
+            cull: Cull::None,
+            tile_size: 32,
+            threads: 0,
+            precision: Precision::F32,
+            drop_lights: crate::kernel::skip::DEFAULT_DROP_LIGHTS,
+            band_skip: true,
+            kernel: KernelPath::Auto,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSpec {
+    pub path: Option<PathBuf>,
+    pub exposure: f32,
+    pub tonemap: Tonemap,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            path: None,
+            exposure: 0.0,
+            tonemap: Tonemap::Aces,
+        }
+    }
+}
+
+impl SceneFile {
+    /// Reads and parses a scene file. Errors name the file, and for content errors the
+    /// field, line and column. Files that are not regular files (directories, devices,
+    /// FIFOs) or over [`MAX_SCENE_BYTES`] are refused before they are read.
+    pub fn load(path: &Path) -> Result<SceneFile> {
+        let text = crate::image_io::read_regular_text(path, MAX_SCENE_BYTES, "scene file")?;
+        SceneFile::parse(&text).map_err(|m| Error::format(path, m))
+    }
+
+    /// Parses scene TOML text; the error is one line.
+    pub fn parse(text: &str) -> std::result::Result<SceneFile, String> {
+        toml::from_str(text).map_err(|e| {
+            let msg = e.message().trim().replace('\n', " ");
+            match e.span() {
+                Some(span) => {
+                    let line = text[..span.start].matches('\n').count() + 1;
+                    format!("line {line}: {msg}")
+                }
+                None => msg,
+            }
+        })
+    }
+}

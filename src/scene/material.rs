@@ -1,0 +1,163 @@
+//! The material of a scene: its spec in the scene file, what a `--material` value names
+//! (file sniffing), and building the material a spec names.
+//!
+//! Design rule: every way a scene names a material (analytic model, library name, SH file,
+//! D-BRDF file) is one [`MaterialSpec`] variant, and [`resolve_material`] is the one place
+//! that turns a spec into a [`Brdf`], checking its values once with errors naming the
+//! `material.*` field.
+
+use super::resolve::{nonneg, rgb, strip_field};
+use crate::brdf::{BlinnPhong, Brdf, Lambert};
+use crate::error::{Error, Result};
+use crate::sh::dataset::Lookup;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum MaterialSpec {
+    Lambert {
+        #[serde(default = "default_albedo")]
+        albedo: [f32; 3],
+    },
+    BlinnPhong {
+        #[serde(default = "default_kd")]
+        kd: [f32; 3],
+        #[serde(default = "default_ks")]
+        ks: [f32; 3],
+        #[serde(default = "default_exponent")]
+        exponent: f32,
+    },
+    /// A library material by name (`brdfkit materials`), built at load time
+    /// ([`crate::materials::build`]).
+    Library {
+        name: String,
+        /// Coefficient-table filter for SH materials; `None` keeps the library's (bilinear).
+        /// A D-BRDF material with a lookup is an error naming `material.lookup`.
+        #[serde(default)]
+        lookup: Option<Lookup>,
+    },
+    /// An SH data set file ([`crate::sh::read_sh_dataset`]), path relative to the scene file.
+    ShFile {
+        path: PathBuf,
+        /// Coefficient-table filter; `None` keeps the file's default (nearest).
+        #[serde(default)]
+        lookup: Option<Lookup>,
+    },
+    /// A D-BRDF file ([`crate::acquire::dbrdf_file::read_dbrdf`]), path relative to the
+    /// scene file.
+    DbrdfFile { path: PathBuf },
+}
+
+impl MaterialSpec {
+    /// The spec for a `--material` value: a library name, else a file path whose kind (SH
+    /// data set or D-BRDF) is read from its `brdfkit.format` header. Fails with a field
+    /// error naming `--material` when the value is neither.
+    pub fn from_cli(value: &str) -> Result<MaterialSpec> {
+        if crate::materials::find(value).is_some() {
+            return Ok(MaterialSpec::Library {
+                name: value.to_string(),
+                lookup: None,
+            });
+        }
+        let path = PathBuf::from(value);
+        let path = if path.is_absolute() {
+            path
+        } else {
+            std::env::current_dir()
+                .map(|d| d.join(&path))
+                .unwrap_or(path)
+        };
+        use crate::acquire::dbrdf_file::{read_dbrdf, DbrdfFileError};
+        match read_dbrdf(&path) {
+            Ok(_) => Ok(MaterialSpec::DbrdfFile { path }),
+            Err(DbrdfFileError::NotDbrdf { found: Some(f), .. })
+                if f == crate::sh::file::FORMAT_NAME =>
+            {
+                Ok(MaterialSpec::ShFile { path, lookup: None })
+            }
+            Err(DbrdfFileError::Io { .. } | DbrdfFileError::File(_)) if !path.exists() => {
+                Err(Error::field(
+                "--material",
+                format!(
+                    "{value:?} is neither a library material (see `brdfkit materials`) nor an existing file"
+                ),
+            ))
+            }
+            Err(e) => Err(Error::field("--material", e.to_string())),
+        }
+    }
+}
+
+fn default_albedo() -> [f32; 3] {
+    [0.8, 0.8, 0.8]
+}
+fn default_kd() -> [f32; 3] {
+    [0.55, 0.22, 0.12]
+}
+fn default_ks() -> [f32; 3] {
+    [0.25, 0.25, 0.25]
+}
+fn default_exponent() -> f32 {
+    60.0
+}
+
+impl Default for MaterialSpec {
+    fn default() -> Self {
+        MaterialSpec::BlinnPhong {
+            kd: default_kd(),
+            ks: default_ks(),
+            exponent: default_exponent(),
+        }
+    }
+}
+
+/// Builds the material a [`MaterialSpec`] names, its file paths relative to `base`. Field
+/// errors name the field (`material.kd`, `material.path`, ...).
+pub(super) fn resolve_material(spec: &MaterialSpec, base: &Path) -> Result<Arc<dyn Brdf>> {
+    Ok(match spec {
+        MaterialSpec::Lambert { albedo } => Arc::new(Lambert {
+            albedo: rgb("material.albedo", *albedo)?,
+        }),
+        MaterialSpec::BlinnPhong { kd, ks, exponent } => Arc::new(BlinnPhong {
+            kd: rgb("material.kd", *kd)?,
+            ks: rgb("material.ks", *ks)?,
+            exponent: nonneg("material.exponent", *exponent)?,
+        }),
+        MaterialSpec::Library { name, lookup } => {
+            let m = crate::materials::build(name)
+                .map_err(|e| Error::field("material.name", strip_field(e)))?;
+            match lookup {
+                None => m,
+                Some(mode) => {
+                    let mut ds = m.as_sh().cloned().ok_or_else(|| {
+                        Error::field(
+                            "material.lookup",
+                            format!(
+                                "{name:?} is not an SH data set (it is a {}); only SH \
+                                 materials have a coefficient lookup",
+                                m.name()
+                            ),
+                        )
+                    })?;
+                    ds.coeff_lookup = *mode;
+                    Arc::new(ds)
+                }
+            }
+        }
+        MaterialSpec::ShFile { path, lookup } => {
+            let mut ds = crate::sh::read_sh_dataset(&base.join(path))
+                .map_err(|e| Error::field("material.path", e.to_string()))?;
+            if let Some(mode) = lookup {
+                ds.coeff_lookup = *mode;
+            }
+            Arc::new(ds)
+        }
+        MaterialSpec::DbrdfFile { path } => Arc::new(
+            crate::acquire::dbrdf_file::read_dbrdf(&base.join(path))
+                .map_err(|e| Error::field("material.path", e.to_string()))?
+                .0,
+        ),
+    })
+}

@@ -1,0 +1,266 @@
+//! Resolution: a checked, loaded, renderable [`Scene`] from a [`SceneFile`].
+//!
+//! Design rule: every value of the file is checked here, once, with an error that names
+//! the file and the field; later stages trust what a [`Scene`] holds. Relative paths
+//! resolve against the scene file's directory (`base`). The material is built by
+//! `material.rs` ([`MaterialSpec`](super::MaterialSpec)), an environment light set by
+//! [`crate::env::prepare`].
+
+use super::camera::{self, Camera};
+use super::material::resolve_material;
+use super::{default_lights, LightSpec, OutputSpec, RenderSpec, SceneFile};
+use crate::brdf::Brdf;
+use crate::env::prepare::{self, CacheDir};
+use crate::error::{Error, Result};
+use crate::kernel::lanes::KernelPath;
+use crate::light::Light;
+use crate::mesh::{self, Mesh};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Largest accepted image side (pixels).
+pub const MAX_SIDE: u32 = 16384;
+
+/// A scene ready to render: everything loaded and checked.
+#[derive(Clone)]
+pub struct Scene {
+    pub mesh: Arc<Mesh>,
+    pub camera: Camera,
+    pub material: Arc<dyn Brdf>,
+    pub lights: Vec<Light>,
+    pub render: RenderSpec,
+    pub output: OutputSpec,
+    /// What environment preparation did, when the scene has an `[env]`.
+    pub env: Option<EnvSummary>,
+}
+
+/// A summary of the environment light preparation, for the command line to report.
+#[derive(Clone, Debug)]
+pub struct EnvSummary {
+    pub file: PathBuf,
+    pub lights: usize,
+    pub cache_hit: bool,
+    /// Why an existing cache entry was ignored ([`prepare::Prepared::cache_rejected`]).
+    pub cache_rejected: Option<String>,
+    pub negative_texels: usize,
+}
+
+/// A finite vector, else a field error naming `field`.
+pub(super) fn vec3(field: &str, v: [f32; 3]) -> Result<Vec3> {
+    let v = Vec3::from(v);
+    if !v.is_finite() {
+        return Err(Error::field(field, format!("{v:?} is not finite")));
+    }
+    Ok(v)
+}
+
+/// A finite number >= 0, else a field error naming `field`.
+pub(super) fn nonneg(field: &str, x: f32) -> Result<f32> {
+    if !(x.is_finite() && x >= 0.0) {
+        return Err(Error::field(
+            field,
+            format!("{x} must be a finite number >= 0"),
+        ));
+    }
+    Ok(x)
+}
+
+/// An RGB triple of finite numbers >= 0, else a field error naming `field`.
+pub(super) fn rgb(field: &str, v: [f32; 3]) -> Result<Vec3> {
+    for x in v {
+        nonneg(field, x)?;
+    }
+    Ok(Vec3::from(v))
+}
+
+/// The message of a field error without its field (to re-attach another field name).
+pub(super) fn strip_field(e: Error) -> String {
+    match e {
+        Error::Field { message, .. } => message,
+        other => other.to_string(),
+    }
+}
+
+/// Loads the mesh named by `source`: "teapot", "sphere" or an OBJ path (relative paths
+/// resolve against `base`).
+pub fn load_mesh(source: &str, segments: u32, base: &Path) -> Result<Mesh> {
+    match source {
+        "teapot" => Ok(mesh::teapot::teapot(segments)),
+        "sphere" => Ok(mesh::sphere::uv_sphere(segments.max(2))),
+        path => mesh::obj::load_obj(&base.join(path)),
+    }
+}
+
+impl Scene {
+    /// Checks and loads a scene description; `base` is the directory relative paths in it
+    /// resolve against. Field errors name the field (e.g. `render.width`). An environment
+    /// light set is computed, never read from or written to a disk cache
+    /// ([`CacheDir::None`]); [`Scene::resolve_with_cache`] takes a cache.
+    pub fn resolve(file: &SceneFile, base: &Path) -> Result<Scene> {
+        Scene::resolve_with_cache(file, base, &CacheDir::None)
+    }
+
+    /// [`Scene::resolve`] with the light-set cache `cache` ([`prepare::prepare`]): the
+    /// command line passes the user's ([`CacheDir::user`]), everything else none.
+    pub fn resolve_with_cache(file: &SceneFile, base: &Path, cache: &CacheDir) -> Result<Scene> {
+        let r = &file.render;
+        for (name, v) in [("render.width", r.width), ("render.height", r.height)] {
+            if v == 0 || v > MAX_SIDE {
+                return Err(Error::field(
+                    name,
+                    format!("{v} is out of range (1 to {MAX_SIDE} pixels)"),
+                ));
+            }
+        }
+        if !(1..=1024).contains(&r.tile_size) {
+            return Err(Error::field(
+                "render.tile_size",
+                format!("{} is out of range (1 to 1024)", r.tile_size),
+            ));
+        }
+        if r.threads > 1024 {
+            return Err(Error::field(
+                "render.threads",
+                format!("{} is out of range (0 to 1024)", r.threads),
+            ));
+        }
+        if !(0.0..1.0).contains(&r.drop_lights) {
+            return Err(Error::field(
+                "render.drop_lights",
+                format!("{} is out of range (0 <= fraction < 1)", r.drop_lights),
+            ));
+        }
+        if crate::kernel::lanes::Dispatch::choose(r.kernel).is_none() {
+            return Err(Error::field(
+                "render.kernel",
+                format!(
+                    "'{}' is not available on this CPU (available: auto, {})",
+                    r.kernel.name(),
+                    KernelPath::available()
+                        .iter()
+                        .map(|p| p.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        }
+        if !file.output.exposure.is_finite() || file.output.exposure.abs() > 64.0 {
+            return Err(Error::field(
+                "output.exposure",
+                format!("{} is out of range (-64 to 64 stops)", file.output.exposure),
+            ));
+        }
+        if file.mesh.segments == 0 || file.mesh.segments > 256 {
+            return Err(Error::field(
+                "mesh.segments",
+                format!("{} is out of range (1 to 256)", file.mesh.segments),
+            ));
+        }
+        let mesh = load_mesh(&file.mesh.source, file.mesh.segments, base)?;
+
+        let material = resolve_material(&file.material, base)?;
+
+        let specs = match (&file.lights, &file.env) {
+            (Some(l), _) => l.clone(),
+            (None, Some(_)) => Vec::new(),
+            (None, None) => default_lights(),
+        };
+        let mut lights = Vec::with_capacity(specs.len());
+        for (i, l) in specs.iter().enumerate() {
+            let f = |name: &str| format!("light[{i}].{name}");
+            lights.push(match l {
+                LightSpec::Directional {
+                    to_light,
+                    color,
+                    intensity,
+                } => {
+                    let d = vec3(&f("to_light"), *to_light)?;
+                    let d = d.try_normalize().ok_or_else(|| {
+                        Error::field(f("to_light"), "must not be the zero vector")
+                    })?;
+                    Light::Directional {
+                        to_light: d,
+                        irradiance: rgb(&f("color"), *color)?
+                            * nonneg(&f("intensity"), *intensity)?,
+                    }
+                }
+                LightSpec::Point {
+                    position,
+                    color,
+                    intensity,
+                } => Light::Point {
+                    position: vec3(&f("position"), *position)?,
+                    intensity: rgb(&f("color"), *color)? * nonneg(&f("intensity"), *intensity)?,
+                },
+            });
+        }
+
+        let mut env = None;
+        if let Some(spec) = &file.env {
+            let prepared = prepare::prepare(spec, base, cache.path())?;
+            lights.extend(prepare::to_scene_lights(&prepared.lights));
+            env = Some(EnvSummary {
+                file: base.join(&spec.file),
+                lights: prepared.lights.len(),
+                cache_hit: prepared.cache_hit,
+                cache_rejected: prepared.cache_rejected,
+                negative_texels: prepared.report.map_or(0, |r| r.negative_texels),
+            });
+        }
+
+        let aspect = r.width as f32 / r.height as f32;
+        let spec = file.camera.clone().unwrap_or_default();
+        let fov = spec.fov_y_deg.unwrap_or(camera::DEFAULT_FOV_Y_DEG);
+        if !(fov > 0.0 && fov < 179.0) {
+            return Err(Error::field(
+                "camera.fov_y_deg",
+                format!("{fov} is out of range (0 to 179 degrees)"),
+            ));
+        }
+        let bounds = mesh.bounds();
+        let mut cam = Camera::frame(&bounds, mesh.radius_about(bounds.center()), aspect, fov);
+        if let Some(t) = spec.target {
+            cam.target = vec3("camera.target", t)?;
+        }
+        if let Some(p) = spec.position {
+            cam.position = vec3("camera.position", p)?;
+            cam.near = (cam.target - cam.position).length() * 1e-3;
+        }
+        if let Some(u) = spec.up {
+            cam.up = vec3("camera.up", u)?;
+            if cam.up.length_squared() == 0.0 {
+                return Err(Error::field("camera.up", "must not be the zero vector"));
+            }
+        }
+        if cam.position == cam.target {
+            return Err(Error::field(
+                "camera.position",
+                "equals camera.target: no viewing direction",
+            ));
+        }
+        if let Some(n) = spec.near {
+            cam.near = n;
+        }
+        if !(cam.near > 0.0 && cam.near.is_finite()) {
+            return Err(Error::field(
+                "camera.near",
+                format!("{} must be a finite number > 0", cam.near),
+            ));
+        }
+        Ok(Scene {
+            mesh: Arc::new(mesh),
+            camera: cam,
+            material,
+            lights,
+            render: r.clone(),
+            output: file.output.clone(),
+            env,
+        })
+    }
+
+    /// The default scene (no file).
+    pub fn default_scene() -> Scene {
+        Scene::resolve(&SceneFile::default(), Path::new(".")).expect("the default scene is valid")
+    }
+}

@@ -1,0 +1,32 @@
+//! Work counters of the tile loop.
+//!
+//! Design rule: integers gathered per tile and summed after, so the totals do not depend
+//! on the thread count or the order of the sum; tests read them to see each skip
+//! (tests/skips.rs), the command line reports them.
+
+/// Work done by one [`super::shade_with_counts`] call, gathered per tile and summed after
+/// (integers: the totals do not depend on the thread count or the order of the sum).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShadeCounts {
+    /// Tiles with at least one triangle, shaded.
+    pub tiles_shaded: u64,
+    /// Tiles no triangle touched, skipped without looking at a pixel.
+    pub tiles_skipped: u64,
+    /// Pixels shaded (visible surface).
+    pub pixels_shaded: u64,
+    /// (pixel x light) pairs handed to the kernel: per tile, its pixels times the live
+    /// lights of the chunks its normal cone keeps plus the point lights.
+    pub light_pairs: u64,
+}
+
+impl std::ops::Add for ShadeCounts {
+    type Output = ShadeCounts;
+    fn add(self, o: ShadeCounts) -> ShadeCounts {
+        ShadeCounts {
+            tiles_shaded: self.tiles_shaded + o.tiles_shaded,
+            tiles_skipped: self.tiles_skipped + o.tiles_skipped,
+            pixels_shaded: self.pixels_shaded + o.pixels_shaded,
+            light_pairs: self.light_pairs + o.light_pairs,
+        }
+    }
+}

@@ -1,0 +1,70 @@
+//! The G-buffer: the surface seen through a pixel, reconstructed from the visibility buffer.
+//!
+//! Design rule: geometry only, no shading. Per pixel, the perspective-correct barycentrics
+//! of the source triangle give the world position and the interpolated normal; back faces
+//! (two-sided mode) get the normal flipped, so the inside of the teapot is lit as a surface
+//! facing the viewer. Every shading path (the tile loop, the scalar oracle, the f64 path)
+//! and the AOVs ([`crate::aov`]) read surfaces through here, so they all see the same one.
+
+use crate::mesh::Mesh;
+use crate::raster::{VisBuffer, NO_TRIANGLE};
+use glam::Vec3;
+
+/// What shading needs to know about the surface seen through one pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct Surface {
+    /// World position.
+    pub position: Vec3,
+    /// Unit shading normal, flipped towards the viewer for back faces.
+    pub normal: Vec3,
+    /// Whether the triangle faces the camera.
+    pub front_facing: bool,
+    /// Distance along the view axis (the clip w).
+    pub view_depth: f32,
+}
+
+/// The surface seen through pixel `(x, y)`, if any.
+#[inline]
+pub fn surface_at(mesh: &Mesh, vis: &VisBuffer, x: u32, y: u32) -> Option<Surface> {
+    surface_at_index(mesh, vis, vis.index(x, y), x, y)
+}
+
+/// [`surface_at`] for a pixel whose tile-major index `i` the caller already knows.
+#[inline]
+pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) -> Option<Surface> {
+    let id = vis.visible[i];
+    if id == NO_TRIANGLE {
+        return None;
+    }
+    let t = &vis.triangles[id as usize];
+    let b = t.source_bary(x, y);
+    let tri = mesh.triangles[t.source as usize];
+    let [p0, p1, p2] = tri.map(|k| mesh.positions[k as usize]);
+    let [n0, n1, n2] = tri.map(|k| mesh.normals[k as usize]);
+    let position = p0 * b[0] + p1 * b[1] + p2 * b[2];
+    let geometric = (p1 - p0).cross(p2 - p0);
+    let mut normal = (n0 * b[0] + n1 * b[1] + n2 * b[2])
+        .try_normalize()
+        .or_else(|| geometric.try_normalize())
+        .unwrap_or(Vec3::Y);
+    if !t.front_facing {
+        normal = -normal;
+    }
+    Some(Surface {
+        position,
+        normal,
+        front_facing: t.front_facing,
+        view_depth: 1.0 / vis.depth[i],
+    })
+}
+
+/// Pixels of tile `t` as `(index within the tile, x, y)`, row by row, without divisions
+/// per pixel; the padding of edge tiles is left out.
+pub fn tile_pixels(vis: &VisBuffer, t: usize) -> impl Iterator<Item = (usize, u32, u32)> + '_ {
+    let ts = vis.tile_size;
+    let x0 = (t as u32 % vis.tiles_x) * ts;
+    let y0 = (t as u32 / vis.tiles_x) * ts;
+    let w = ts.min(vis.width - x0);
+    let h = ts.min(vis.height - y0);
+    (0..h).flat_map(move |ly| (0..w).map(move |lx| ((ly * ts + lx) as usize, x0 + lx, y0 + ly)))
+}

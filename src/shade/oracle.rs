@@ -1,0 +1,62 @@
+//! The scalar oracle: the plain per-light loop over [`Brdf::eval`], in f32, that the
+//! kernels are tested against.
+//!
+//! Design rule: no kernel, no lanes, no culling, nothing shared with the fast path but the
+//! surface (`gbuffer.rs`), the view lifting ([`super::local_view`]) and the frame's
+//! per-scene decisions ([`FramePrep::new`]), so the two differ only by the kernel's
+//! arithmetic.
+
+use super::{local_view, surface_at, FramePrep, Surface};
+use crate::brdf::{eval_cosine_weighted, Brdf};
+use crate::conventions::ShadingFrame;
+use crate::image_io::Image;
+use crate::light::Light;
+use crate::raster::VisBuffer;
+use crate::scene::Scene;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Reflected radiance at one surface point: `sum_k f(l_k, v) cos E_k` (thesis Def. 10).
+#[inline]
+/// `lights` is the frame's light set (the scene's, less any dropped as negligible).
+pub fn shade_point(brdf: &dyn Brdf, lights: &[Light], surface: &Surface, eye: Vec3) -> Vec3 {
+    let frame = ShadingFrame::from_normal(surface.normal);
+    let wo = local_view(&frame, surface, eye);
+    let mut sum = Vec3::ZERO;
+    for light in lights {
+        let (l, e) = light.at(surface.position);
+        let wi = frame.to_local(l);
+        if wi.z > 0.0 {
+            sum += eval_cosine_weighted(brdf, wi, wo) * e;
+        }
+    }
+    sum
+}
+
+/// The scalar oracle: [`shade_point`] at every visible pixel, no kernel, no culling.
+///
+/// It shades what the fast path shades: the light set and SH bands that [`FramePrep::new`]
+/// kept (dropping negligible lights and bands is a decision about the scene, bounded in
+/// [`crate::kernel::skip`], not about the kernel), so the two differ only by the kernel's
+/// arithmetic. [`super::shade_reference_f64`] is the other reference: every light, every
+/// band, f64.
+pub fn shade_reference(scene: &Scene, vis: &VisBuffer) -> Image {
+    let mut img = Image::new(vis.width, vis.height);
+    let prep = FramePrep::new(scene);
+    let brdf: &dyn Brdf = match &prep.sh {
+        Some((ds, _)) => ds.as_ref(),
+        None => scene.material.as_ref(),
+    };
+    let lights = &prep.dropped.kept;
+    img.pixels
+        .par_chunks_mut(vis.width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, out) in row.iter_mut().enumerate() {
+                if let Some(s) = surface_at(&scene.mesh, vis, x as u32, y as u32) {
+                    *out = shade_point(brdf, lights, &s, scene.camera.position);
+                }
+            }
+        });
+    img
+}

@@ -1,0 +1,104 @@
+//! The pixel-packed kernel path: eight pixels of an SH data set under point lights only,
+//! one pixel per lane.
+//!
+//! Design rule: same terms as the per-pixel path ([`FramePrep::shade_surface`]), laid out
+//! the other way round. With a handful of lights, a light per lane would leave most lanes
+//! empty; here each pixel's sum runs in its own lane over the lights in order, so it does
+//! not depend on which pixels share its batch (nor on the tile size or thread count).
+//! Empty lanes and lights below a pixel's horizon get weight 0, which adds an exact 0.
+
+use super::fault::drop_last_band;
+use super::{local_view, FramePrep, KernelFault, Surface};
+use crate::conventions::{hemi_texcoord, ShadingFrame};
+use crate::kernel::lanes::{F32x8, Isa, LANES};
+use crate::kernel::{self, sh::ShRecurrence};
+use crate::sh::dataset::ShDataset;
+use glam::Vec3;
+
+impl FramePrep<'_> {
+    /// Up to eight pixels of an SH data set lit only by point lights, one pixel per lane
+    /// ([`kernel::sh::sh_sum_packed`]): with a handful of lights, a light per lane would
+    /// leave most lanes empty. Same terms as [`FramePrep::shade_surface`]; each pixel's
+    /// sum runs in its own lane over the lights in order, so it does not depend on which
+    /// pixels share its batch (nor on the tile size or thread count).
+    #[inline(always)]
+    pub(super) fn shade_packed<S: Isa>(
+        &self,
+        s: S,
+        ds: &ShDataset,
+        rec: &ShRecurrence,
+        batch: &[(usize, Surface)],
+        buf: &mut Vec<f32>,
+        sc: &mut kernel::sh::Scratch,
+    ) -> [Vec3; LANES] {
+        let t3 = 3 * ds.bands() * ds.bands();
+        buf.resize(t3 * (LANES + 1), 0.0);
+        let (ct, one) = buf.split_at_mut(t3 * LANES);
+        let includes_cosine = self.brdf.includes_cosine();
+        let np = self.points.len();
+        let mut table_basis = [None; LANES];
+        for p in 0..LANES {
+            let Some((_, surf)) = batch.get(p) else {
+                for k in 0..t3 {
+                    ct[k * LANES + p] = 0.0;
+                }
+                for i in 0..np {
+                    let o = i * LANES + p;
+                    (sc.x[o], sc.y[o], sc.z[o]) = (0.0, 0.0, 1.0);
+                    (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
+                }
+                continue;
+            };
+            let frame = ShadingFrame::from_normal(surf.normal);
+            let wo = local_view(&frame, surf, self.eye);
+            let (pa, az) = kernel::approx::view_angles(s, wo);
+            let (ts, tt) = hemi_texcoord(pa, az);
+            kernel::sh::lookup_coeffs(s, ds, ts, tt, one);
+            if self.fault == Some(KernelFault::DropLastBand) {
+                drop_last_band(one, ds.bands());
+            }
+            if self.fault == Some(KernelFault::TableBasis) {
+                table_basis[p] = Some(self.points.iter().fold(Vec3::ZERO, |sum, light| {
+                    let (l, e) = light.at(surf.position);
+                    let wi = frame.to_local(l);
+                    let w = if includes_cosine { e } else { e * wi.z };
+                    sum + ds.reconstruct_tabulated(wi, wo) * w
+                }));
+            }
+            for (k, &c) in one.iter().enumerate() {
+                ct[k * LANES + p] = c;
+            }
+            for (i, light) in self.points.iter().enumerate() {
+                let (l, e) = light.at(surf.position);
+                let wi = frame.to_local(l);
+                // Below the horizon (or degenerate, NaN): weight 0 along the normal, so
+                // the lane adds an exact 0.
+                let (wi, w) = if wi.z > 0.0 {
+                    (wi, if includes_cosine { e } else { e * wi.z })
+                } else {
+                    (Vec3::Z, Vec3::ZERO)
+                };
+                let o = i * LANES + p;
+                (sc.x[o], sc.y[o], sc.z[o]) = (wi.x, wi.y, wi.z);
+                (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);
+            }
+        }
+        let mut lights = np;
+        match self.fault {
+            Some(KernelFault::DropLane(lane)) => {
+                for i in 0..np {
+                    let o = i * LANES + lane;
+                    (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
+                }
+            }
+            Some(KernelFault::SkipLastGroup) => lights = np.saturating_sub(1),
+            _ => {}
+        }
+        let (r, g, b) = kernel::sh::sh_sum_packed(s, rec, ct, lights, sc);
+        let (mut ar, mut ag, mut ab) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
+        r.store(&mut ar);
+        g.store(&mut ag);
+        b.store(&mut ab);
+        std::array::from_fn(|p| table_basis[p].unwrap_or(Vec3::new(ar[p], ag[p], ab[p])))
+    }
+}

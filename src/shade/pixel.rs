@@ -1,0 +1,65 @@
+//! The per-pixel kernel path: one surface point, its lights across the lanes.
+//!
+//! Design rule: every light kind goes through the same kernel with the same (analytic) SH
+//! basis, basis table or not (the data set's definition: [`crate::sh::dataset`], "Which
+//! basis defines a data set"). The lights above the pixel's horizon, directional and point
+//! alike, are gathered into one list (local direction, weight `E cos`), eight per SIMD
+//! group, and summed by the SH kernel or the material's lane model. The pixel-packed
+//! alternative for point lights only is `packed.rs`.
+
+use super::fault::seed_fault;
+use super::{local_view, FramePrep, Surface};
+use crate::conventions::{hemi_texcoord, ShadingFrame};
+use crate::kernel::{self, lanes::Isa};
+use glam::Vec3;
+
+impl FramePrep<'_> {
+    /// Radiance of one surface point lit by the chunks `chunks` of the directional lights
+    /// and by every point light, on the instruction set `s` (called from the tile loop,
+    /// which [`FramePrep::dispatch`] runs once per tile).
+    ///
+    /// The lights above the horizon, directional and point alike, go into `scratch` (local
+    /// direction, weight `E cos`) and from there through the SH kernel or the material's
+    /// lane model.
+    #[inline(always)]
+    pub fn shade_surface<S: Isa>(
+        &self,
+        s: S,
+        surf: &Surface,
+        chunks: &[u32],
+        coeff_buf: &mut Vec<f32>,
+        scratch: &mut kernel::sh::Scratch,
+    ) -> Vec3 {
+        let frame = ShadingFrame::from_normal(surf.normal);
+        let wo = local_view(&frame, surf, self.eye);
+        scratch.clear();
+        let includes_cosine = self.brdf.includes_cosine();
+        kernel::sh::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
+        for light in &self.points {
+            let (l, e) = light.at(surf.position);
+            let wi = frame.to_local(l);
+            if wi.z > 0.0 {
+                scratch.push(wi, if includes_cosine { e } else { e * wi.z });
+            }
+        }
+        match &self.sh {
+            Some((ds, rec)) => {
+                if scratch.n == 0 {
+                    Vec3::ZERO
+                } else {
+                    coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
+                    let (p, a) = kernel::approx::view_angles(s, wo);
+                    let (ts, tt) = hemi_texcoord(p, a);
+                    kernel::sh::lookup_coeffs(s, ds, ts, tt, coeff_buf);
+                    if let Some(fault) = self.fault {
+                        if let Some(sum) = seed_fault(fault, ds, wo, coeff_buf, scratch) {
+                            return sum;
+                        }
+                    }
+                    kernel::sh::sh_sum(s, rec, coeff_buf, scratch)
+                }
+            }
+            None => self.model.sum(s, wo, scratch),
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! The tile loop of the fast (f32) path: the entry points [`shade`], [`shade_with`] and
+//! [`shade_with_counts`].
+//!
+//! Design rule: each visible pixel is shaded exactly once, independently of every other,
+//! so the image does not depend on the thread count or the tile size. The image is written
+//! tile by tile in place, parallel over bands of one tile row; tiles no triangle touched
+//! are skipped without looking at a pixel. The whole tile ([`ShadeTile`]) is one
+//! [`Kernel`], compiled for the instruction set dispatched once per frame: per tile, its
+//! surfaces (`gbuffer.rs`), the normal cone that culls light chunks (provably
+//! changing no bit), then the per-pixel path (`pixel.rs`) or, for SH data sets under
+//! point lights only, the pixel-packed one (`packed.rs`).
+
+use super::{surface_at_index, tile_pixels, FramePrep, ShadeCounts, Surface};
+use crate::image_io::Image;
+use crate::kernel::lanes::{Isa, Kernel, LANES};
+use crate::kernel::{self, Cone};
+use crate::raster::VisBuffer;
+use crate::scene::Scene;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Shades every visible pixel of `vis` into a linear radiance image (background black).
+pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
+    shade_with(&FramePrep::new(scene), scene, vis)
+}
+
+/// [`shade`] with explicit frame preparation (to switch optimisations off in tests).
+pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
+    shade_with_counts(prep, scene, vis).0
+}
+
+/// [`shade_with`], also returning the work done ([`ShadeCounts`]).
+pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (Image, ShadeCounts) {
+    let mut img = Image::new(vis.width, vis.height);
+    let band_len = (vis.width * vis.tile_size) as usize;
+    // Per-pixel lists, or the pixel-packed point-light path's eight lanes per light.
+    let room = prep.dir.len() + LANES * prep.points.len();
+    // Parallel over bands of one tile row (contiguous in the image, so tiles write their
+    // pixels in place); each worker keeps its buffers across the tiles it shades.
+    let counts: Vec<ShadeCounts> = img
+        .pixels
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .map_init(
+            || (Vec::new(), kernel::sh::Scratch::default(), Vec::new()),
+            |(buf, scratch, surfaces), (ty, band)| {
+                let mut counts = ShadeCounts::default();
+                for tx in 0..vis.tiles_x as usize {
+                    let t = ty * vis.tiles_x as usize + tx;
+                    if !vis.tile_occupied[t] {
+                        counts.tiles_skipped += 1;
+                        continue;
+                    }
+                    scratch.reserve(room);
+                    counts = counts
+                        + prep.dispatch.run(ShadeTile {
+                            prep,
+                            scene,
+                            vis,
+                            t,
+                            band,
+                            buf,
+                            scratch,
+                            surfaces,
+                        });
+                }
+                counts
+            },
+        )
+        .collect();
+    let total = counts
+        .into_iter()
+        .fold(ShadeCounts::default(), |a, b| a + b);
+    (img, total)
+}
+
+/// One occupied tile, as a [`Kernel`] so the whole tile loop is compiled for the
+/// instruction set dispatched once per frame. `band` is the image rows of the tile's row
+/// of tiles; buffers are the worker's, reused.
+struct ShadeTile<'p, 'a, 'o> {
+    prep: &'p FramePrep<'a>,
+    scene: &'p Scene,
+    vis: &'p VisBuffer,
+    t: usize,
+    band: &'o mut [Vec3],
+    buf: &'o mut Vec<f32>,
+    scratch: &'o mut kernel::sh::Scratch,
+    surfaces: &'o mut Vec<(usize, Surface)>,
+}
+
+impl Kernel for ShadeTile<'_, '_, '_> {
+    type Out = ShadeCounts;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> ShadeCounts {
+        let ShadeTile {
+            prep,
+            scene,
+            vis,
+            t,
+            band,
+            buf,
+            scratch,
+            surfaces,
+        } = self;
+        let per_tile = (vis.tile_size * vis.tile_size) as usize;
+        let y0 = (t as u32 / vis.tiles_x) * vis.tile_size;
+        surfaces.clear();
+        surfaces.extend(tile_pixels(vis, t).filter_map(|(i, x, y)| {
+            let at = ((y - y0) * vis.width + x) as usize;
+            surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y).map(|s| (at, s))
+        }));
+        let cone = if prep.cull_lights {
+            Cone::around(surfaces.iter().map(|(_, s)| s.normal))
+        } else {
+            None
+        };
+        let chunks = prep.dir.chunks_for(cone);
+        match &prep.sh {
+            Some((ds, rec)) if prep.dir.is_empty() => {
+                for batch in surfaces.chunks(LANES) {
+                    let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
+                    for (k, (at, _)) in batch.iter().enumerate() {
+                        band[*at] = rgb[k];
+                    }
+                }
+            }
+            _ => {
+                for (at, surf) in surfaces.iter() {
+                    band[*at] = prep.shade_surface(s, surf, &chunks, buf, scratch);
+                }
+            }
+        }
+        let lights = chunks
+            .iter()
+            .map(|&c| prep.chunk_live[c as usize] as u64)
+            .sum::<u64>()
+            + prep.points.len() as u64;
+        ShadeCounts {
+            tiles_shaded: 1,
+            tiles_skipped: 0,
+            pixels_shaded: surfaces.len() as u64,
+            light_pairs: surfaces.len() as u64 * lights,
+        }
+    }
+}

@@ -1,0 +1,60 @@
+//! The view direction in the shading frame, lifted above the horizon.
+//!
+//! Design rule: one definition of the lifting for both arithmetics. Interpolated normals
+//! can face slightly away from the camera at silhouettes, and a BRDF is not defined below
+//! the horizon, so the local view direction is clamped to at least [`MIN_VIEW_COS`] above
+//! it, keeping its azimuth (src/conventions.rs, "view direction"). The f32 form
+//! ([`lift_above_horizon`], through [`local_view`]) serves the kernels and the scalar
+//! oracle; the f64 form ([`lift_above_horizon_f64`]) serves the f64 path
+//! ([`super::shade_reference_f64`]). Both are expanded from the one body in
+//! `lift_above_horizon!`, each in its own arithmetic (the f32 form rounds in f32, as the
+//! fast path always has).
+
+use super::Surface;
+use crate::conventions::ShadingFrame;
+use glam::{DVec3, Vec3};
+
+/// Smallest cosine between the view direction and the normal used for shading.
+pub const MIN_VIEW_COS: f32 = 1e-3;
+
+/// The body of [`lift_above_horizon`] and [`lift_above_horizon_f64`]: `$wo` (a local
+/// direction of vector type `$V`, scalar type `$S`) unchanged when its z is at least
+/// [`MIN_VIEW_COS`]; otherwise the direction of the same azimuth at exactly that cosine,
+/// or the normal (+z) when the azimuth is undefined (x = y = 0).
+macro_rules! lift_above_horizon {
+    ($wo:expr, $V:ident, $S:ty) => {{
+        let wo: $V = $wo;
+        let c = MIN_VIEW_COS as $S;
+        if wo.z < c {
+            let h = (wo.x * wo.x + wo.y * wo.y).sqrt();
+            let s = (1.0 - c * c).sqrt();
+            if h > 0.0 {
+                $V::new(wo.x / h * s, wo.y / h * s, c)
+            } else {
+                $V::Z
+            }
+        } else {
+            wo
+        }
+    }};
+}
+
+/// A local view direction (unit, local +z the normal) lifted to at least [`MIN_VIEW_COS`]
+/// above the horizon, its azimuth kept; f32 arithmetic.
+#[inline]
+pub fn lift_above_horizon(wo: Vec3) -> Vec3 {
+    lift_above_horizon!(wo, Vec3, f32)
+}
+
+/// [`lift_above_horizon`] in f64 arithmetic (the f64 path).
+#[inline]
+pub fn lift_above_horizon_f64(wo: DVec3) -> DVec3 {
+    lift_above_horizon!(wo, DVec3, f64)
+}
+
+/// Local view direction at a surface: `local_from_world(v)`, lifted above the horizon.
+#[inline]
+pub fn local_view(frame: &ShadingFrame, surface: &Surface, eye: Vec3) -> Vec3 {
+    let v = (eye - surface.position).normalize_or(frame.n);
+    lift_above_horizon(frame.to_local(v))
+}
