@@ -107,3 +107,40 @@ fn a_closed_stdout_ends_every_subcommand_quietly() {
         );
     }
 }
+
+#[test]
+fn material_files_are_told_apart_by_their_header() {
+    // `--material PATH` reads only the EXR headers to tell an SH data set from a D-BRDF
+    // (the file itself is read once, when the scene resolves); anything else is refused with
+    // the file and the header named.
+    use brdfkit::scene::MaterialSpec;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let sh = root.join("golden/magenta-plastic-5b-8x4.exr");
+    let dbrdf = root.join("golden/lindt-paper-16x8.exr");
+    let probe = root.join("assets/probes/sky.exr");
+    assert!(matches!(
+        MaterialSpec::from_cli(sh.to_str().unwrap()).unwrap(),
+        MaterialSpec::ShFile { .. }
+    ));
+    assert!(matches!(
+        MaterialSpec::from_cli(dbrdf.to_str().unwrap()).unwrap(),
+        MaterialSpec::DbrdfFile { .. }
+    ));
+    let e = MaterialSpec::from_cli(probe.to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("--material:") && e.contains("sky.exr") && e.contains("brdfkit.format"),
+        "{e}"
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let junk = tmp.path().join("junk.exr");
+    std::fs::write(&junk, b"not an exr").unwrap();
+    let e = MaterialSpec::from_cli(junk.to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("--material:") && e.contains("junk.exr"),
+        "{e}"
+    );
+}

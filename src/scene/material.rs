@@ -69,23 +69,40 @@ impl MaterialSpec {
                 .map(|d| d.join(&path))
                 .unwrap_or(path)
         };
-        use crate::acquire::dbrdf_file::{read_dbrdf, DbrdfFileError};
-        match read_dbrdf(&path) {
-            Ok(_) => Ok(MaterialSpec::DbrdfFile { path }),
-            Err(DbrdfFileError::NotDbrdf { found: Some(f), .. })
-                if f == crate::sh::file::FORMAT_NAME =>
-            {
-                Ok(MaterialSpec::ShFile { path, lookup: None })
-            }
-            Err(DbrdfFileError::Io { .. } | DbrdfFileError::File(_)) if !path.exists() => {
-                Err(Error::field(
+        if !path.exists() {
+            return Err(Error::field(
                 "--material",
                 format!(
                     "{value:?} is neither a library material (see `brdfkit materials`) nor an existing file"
                 ),
-            ))
-            }
-            Err(e) => Err(Error::field("--material", e.to_string())),
+            ));
+        }
+        // The kind is the `brdfkit.format` header attribute: only the headers are read here
+        // (after the regular-file and size checks); the file is read whole, once, when the
+        // scene is resolved.
+        use crate::image_io::exr_guard::{read_headers, Attributes, MAX_EXR_FILE_BYTES};
+        let headers = read_headers(&path, MAX_EXR_FILE_BYTES, "material file")
+            .map_err(|e| Error::field("--material", format!("{}: {e}", path.display())))?;
+        let format = headers
+            .headers()
+            .first()
+            .and_then(|h| Attributes(&h.own_attributes.other).string("brdfkit.format"));
+        let (dbrdf, sh) = (
+            crate::acquire::dbrdf_file::FORMAT_NAME,
+            crate::sh::file::FORMAT_NAME,
+        );
+        match format.as_deref() {
+            Some(f) if f == dbrdf => Ok(MaterialSpec::DbrdfFile { path }),
+            Some(f) if f == sh => Ok(MaterialSpec::ShFile { path, lookup: None }),
+            found => Err(Error::field(
+                "--material",
+                format!(
+                    "{}: not a brdfkit material file (brdfkit.format is {}; expected '{sh}' \
+                     from `brdfkit acquire` or '{dbrdf}' from `brdfkit fit-dbrdf`)",
+                    path.display(),
+                    found.map_or("missing".to_string(), |f| format!("'{f}'"))
+                ),
+            )),
         }
     }
 }
