@@ -1,0 +1,203 @@
+//! Tests of the sweep CSV ([`super`]): exact text, header-keyed reading, and errors that
+//! name the file, the line and the column. Expected text comes from the committed README
+//! sweep (written by the positional writer this module replaced) and from hand-written lines.
+
+use super::*;
+
+fn readme_csv() -> String {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/readme/sweep.csv");
+    std::fs::read_to_string(p).unwrap()
+}
+
+/// The first `n` lines of `text` with every line's fields reordered by `order`
+/// (`order[k]` is the old position of new column `k`).
+fn reorder(text: &str, n: usize, order: &[usize]) -> String {
+    text.lines()
+        .take(n)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            order.iter().map(|&k| f[k]).collect::<Vec<_>>().join(",") + "\n"
+        })
+        .collect()
+}
+
+fn parse_error(text: &str) -> String {
+    match parse_csv(Path::new("shard-7.csv"), text.as_bytes()) {
+        Ok(rows) => panic!("parsed {} rows of a bad CSV:\n{text}", rows.len()),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn assert_mentions(msg: &str, parts: &[&str]) {
+    for p in parts {
+        assert!(msg.contains(p), "{msg:?} does not mention {p:?}");
+    }
+}
+
+#[test]
+fn csv_round_trip() {
+    let row = Row {
+        config: Config {
+            index: 7,
+            sampler: SamplerKind::MedianCut,
+            lights: 64,
+            order: 5,
+            lookup: Some(Lookup::Bilinear),
+            precision: Precision::F64,
+        },
+        rel_rmse: 0.012345678901234,
+        max_err: 1.5e-3,
+        flip_mean: 0.0291,
+        default: true,
+        prep_ms: 1.2345,
+        frame_ms: 83.0,
+        pareto: true,
+    };
+    let text = csv_text(std::slice::from_ref(&row));
+    let line = text.lines().nth(1).unwrap();
+    assert_eq!(
+        line,
+        "7,median-cut,64,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1,1.234,83.000,1"
+    );
+    let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
+    assert_eq!(back.len(), 1);
+    assert_eq!(back[0].csv_line(), line);
+    assert_eq!(
+        back[0].deterministic_part(),
+        "7,median-cut,64,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1"
+    );
+    // Small and large errors keep Rust's positional form (no exponent), as `{}` writes.
+    let tiny = Row {
+        rel_rmse: 1e-9,
+        max_err: 1e21,
+        config: Config {
+            lookup: None,
+            ..row.config
+        },
+        ..row
+    };
+    assert_eq!(
+        tiny.csv_line(),
+        "7,median-cut,64,5,-,f64,0.000000001,1000000000000000000000,0.0291,1,1.234,83.000,1"
+    );
+    // No rows: the header alone.
+    assert_eq!(csv_text(&[]), format!("{CSV_HEADER}\n"));
+}
+
+#[test]
+fn the_header_is_the_record_schema() {
+    assert_eq!(COLUMNS.join(","), CSV_HEADER);
+    // serde's own header (the field names of `Record`, in declaration order).
+    let mut w = ::csv::Writer::from_writer(Vec::new());
+    w.serialize(Record::from(
+        &parse_csv(Path::new("r.csv"), readme_csv().as_bytes()).unwrap()[0],
+    ))
+    .unwrap();
+    let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+    assert_eq!(text.lines().next(), Some(CSV_HEADER));
+    assert_eq!(
+        CSV_HEADER.split(',').nth(DETERMINISTIC_COLUMNS - 1),
+        Some("default")
+    );
+}
+
+/// The committed README sweep (880 rows written by the positional writer this module
+/// replaced) reads and writes back to the same bytes.
+#[test]
+fn readme_sweep_reads_and_writes_back_byte_identical() {
+    let text = readme_csv();
+    let rows = parse_csv(Path::new("sweep.csv"), text.as_bytes()).unwrap();
+    assert_eq!(rows.len(), 880);
+    assert_eq!(csv_text(&rows), text);
+}
+
+#[test]
+fn reordered_columns_read_the_same() {
+    let text = readme_csv();
+    let rows = parse_csv(
+        Path::new("a.csv"),
+        reorder(&text, 40, &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]).as_bytes(),
+    )
+    .unwrap();
+    assert_eq!(rows.len(), 39);
+    let reversed: Vec<usize> = (0..13).rev().collect();
+    let moved = reorder(&text, 40, &reversed);
+    assert!(moved.starts_with("pareto,frame_ms,"));
+    let back = parse_csv(Path::new("b.csv"), moved.as_bytes()).unwrap();
+    assert_eq!(back, rows);
+    // Written back in the fixed column order.
+    assert_eq!(
+        csv_text(&back),
+        reorder(&text, 40, &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12])
+    );
+}
+
+#[test]
+fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
+    let text = readme_csv();
+    let all: Vec<usize> = (0..13).collect();
+    let without = |k: usize| -> Vec<usize> { all.iter().copied().filter(|&i| i != k).collect() };
+    // A missing column (pareto dropped from every line).
+    assert_mentions(
+        &parse_error(&reorder(&text, 3, &without(12))),
+        &[
+            "shard-7.csv",
+            "line 1",
+            "not a sweep CSV",
+            "no column \"pareto\"",
+        ],
+    );
+    // An unknown column, and a repeated one.
+    let renamed = reorder(&text, 3, &all).replacen("max_err", "max_error", 1);
+    assert_mentions(
+        &parse_error(&renamed),
+        &["shard-7.csv", "line 1", "unknown column \"max_error\""],
+    );
+    let mut twice = all.clone();
+    twice.push(7);
+    assert_mentions(
+        &parse_error(&reorder(&text, 3, &twice)),
+        &["shard-7.csv", "line 1", "\"max_err\" appears twice"],
+    );
+    assert_mentions(&parse_error(""), &["shard-7.csv", "line 1", "empty file"]);
+    // Bad values, in a CSV with its columns reversed: the column is named by header.
+    let reversed: Vec<usize> = (0..13).rev().collect();
+    let moved = reorder(&text, 4, &reversed);
+    let mut lines: Vec<String> = moved.lines().map(str::to_string).collect();
+    let set = |lines: &[String], line: usize, column: &str, value: &str| -> String {
+        let k = lines[0].split(',').position(|h| h == column).unwrap();
+        let mut out = lines.to_vec();
+        let mut f: Vec<&str> = lines[line - 1].split(',').collect();
+        f[k] = value;
+        out[line - 1] = f.join(",");
+        out.join("\n") + "\n"
+    };
+    for (line, column, value, says) in [
+        (3, "rel_rmse", "zero", "is not a number"),
+        (2, "index", "-1", "is not a whole number"),
+        (4, "lights", "1.5", "is not a whole number"),
+        (2, "pareto", "2", "is not 0 or 1"),
+        (3, "default", "yes", "is not 0 or 1"),
+        (2, "sampler", "octahedral", "unknown sampler"),
+        (3, "lookup", "trilinear", "unknown lookup"),
+        (4, "precision", "f16", "unknown precision"),
+    ] {
+        let msg = parse_error(&set(&lines, line, column, value));
+        assert_mentions(
+            &msg,
+            &[
+                "shard-7.csv",
+                &format!("line {line}:"),
+                &format!("column {column}:"),
+                value,
+                says,
+            ],
+        );
+    }
+    // A line with a field missing.
+    lines[2] = lines[2].rsplit_once(',').unwrap().0.to_string();
+    assert_mentions(
+        &parse_error(&(lines.join("\n") + "\n")),
+        &["shard-7.csv", "line 3:", "12 fields, expected 13"],
+    );
+}
