@@ -3,6 +3,7 @@
 //! subcommand; this file holds the argument definitions and the dispatch.
 
 mod acquire;
+mod cache;
 mod compare;
 mod golden;
 mod lights;
@@ -64,6 +65,11 @@ pub enum Command {
     FitDbrdf(FitDbrdfArgs),
     /// List the material library (name, representation, description).
     Materials,
+    /// Show where the caches are and how much they hold, or empty them (`cache clean`).
+    #[command(
+        after_help = "Examples:\n  brdfkit cache          # both caches: directory, files, size\n  brdfkit cache clean    # delete their entries (only lights-*.json and reference-*.exr[.fnv1a])\n\nLight sets (brdfkit render): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else ~/.cache/brdfkit.\nSweep references (brdfkit sweep): target/brdfkit-cache, or the sweep's --cache DIR (here: --sweep-cache DIR).\nTests and golden check|bless use neither."
+    )]
+    Cache(CacheArgs),
     /// Run time against error: render a scene over a grid of configurations, write CSV and a plot.
     #[command(
         long_about = "Renders a scene over a grid of configurations (sampler x light count x SH order x \
@@ -341,6 +347,23 @@ pub enum CullArg {
     Back,
 }
 
+#[derive(clap::Args, Debug)]
+pub struct CacheArgs {
+    #[command(subcommand)]
+    pub action: Option<CacheAction>,
+    /// The sweep's reference cache directory, if not the default target/brdfkit-cache.
+    #[arg(long, value_name = "DIR")]
+    pub sweep_cache: Option<PathBuf>,
+}
+
+#[derive(Subcommand, Debug, Clone, Copy)]
+pub enum CacheAction {
+    /// Directory, number of entries and size of each cache (the default).
+    Show,
+    /// Delete every cache entry (only files the caches wrote; nothing else).
+    Clean,
+}
+
 #[derive(Subcommand, Debug)]
 pub enum GoldenAction {
     /// Re-render golden entries (all, or the named ones) and compare each with its stored image: identical bits on the platform and kernel path that blessed it (the manifest's blessed_on), the entry's tolerance elsewhere (exit 1 if any fails). Never writes golden/. Reads and writes no cache: every light set is computed from its probe.
@@ -382,6 +405,7 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Acquire(args) => acquire::run_acquire(args).map(|_| true),
         Command::FitDbrdf(args) => acquire::run_fit(args).map(|_| true),
         Command::Materials => acquire::run_materials().map(|_| true),
+        Command::Cache(args) => cache::run(args).map(|_| true),
         Command::Sweep(args) => sweep::run(args).map(|_| true),
     }
 }
