@@ -352,7 +352,7 @@ pub struct CacheArgs {
     #[command(subcommand)]
     pub action: Option<CacheAction>,
     /// The sweep's reference cache directory, if not the default target/brdfkit-cache.
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", global = true)]
     pub sweep_cache: Option<PathBuf>,
 }
 
