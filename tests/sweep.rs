@@ -117,6 +117,36 @@ fn shards_merge_into_the_single_run() {
         args.extend(["-o", "merged.csv"]);
         brdfkit(dir, &args);
         assert_eq!(deterministic(&dir.join("merged.csv")), all, "{n} shards");
+        // Every shard but one: the gap in the row indices is an error naming the rows.
+        for left_out in 0..n {
+            let mut args = vec!["sweep", "--merge"];
+            args.extend(
+                parts
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, _)| *k != left_out)
+                    .map(|(_, p)| p.as_str()),
+            );
+            args.extend(["-o", "partial.csv"]);
+            let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+                .args(&args)
+                .current_dir(dir)
+                .env("BRDFKIT_CACHE_DIR", dir.join("env-cache"))
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(
+                out.status.code(),
+                Some(2),
+                "shard {left_out}/{n} left out: {err}"
+            );
+            assert!(
+                err.contains("missing from the merge")
+                    && err.contains(&format!("rows {left_out} to")),
+                "{err}"
+            );
+            assert!(!dir.join("partial.csv").exists());
+        }
     }
 
     // The cached reference is checked on read: an edited one (every pixel +1%, still a

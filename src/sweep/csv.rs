@@ -362,7 +362,8 @@ fn parse_csv(path: &Path, bytes: &[u8]) -> Result<Vec<Row>> {
 }
 
 /// Merges shard CSVs into what one run writes: rows sorted by index, the Pareto column
-/// recomputed over the union. A row index in two files is an error naming both files.
+/// recomputed over the union. A row index in two files is an error naming both files; a
+/// gap in the row indices (a shard left out) is an error naming the missing rows.
 pub fn merge(inputs: &[PathBuf]) -> Result<Vec<Row>> {
     let mut rows: Vec<(Row, usize)> = Vec::new();
     for (k, p) in inputs.iter().enumerate() {
@@ -380,6 +381,23 @@ pub fn merge(inputs: &[PathBuf]) -> Result<Vec<Row>> {
                 ),
             ));
         }
+    }
+    // Shard I of N holds the rows k with k % N == I, so a missing shard leaves a gap in the
+    // indices (unless it held only the last rows of the grid, which a CSV cannot tell).
+    if let Some((i, (r, _))) = rows
+        .iter()
+        .enumerate()
+        .find(|(i, (r, _))| r.config.index != *i)
+    {
+        let shown: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
+        return Err(Error::format(
+            &inputs[0],
+            format!(
+                "rows {i} to {} are missing from the merge of {} (a shard left out?)",
+                r.config.index - 1,
+                shown.join(", ")
+            ),
+        ));
     }
     let mut rows: Vec<Row> = rows.into_iter().map(|(r, _)| r).collect();
     finish_rows(&mut rows);
