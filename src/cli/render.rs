@@ -120,6 +120,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
         if let Some(n) = a.lights {
             env.count = n;
         }
+        if a.lights.is_some()
+            && (a.reference || env.sampler == crate::env::prepare::SamplerKind::Full)
+        {
+            eprintln!(
+                "warning: --lights is ignored with the full probe (--sampler full or --reference): every texel is a light"
+            );
+        }
     }
     if a.reference {
         if let Some(env) = file.env.as_mut() {
@@ -157,6 +164,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 "warning: {}: {} texels with negative values (lossy compression) clamped to 0",
                 e.file.display(),
                 e.negative_texels
+            );
+        }
+        if let Some((w, h)) = e.probe_size {
+            if w != 2 * h {
+                eprintln!(
+                    "warning: {}: {w}x{h} is not 2:1; read as an equirectangular (latitude-longitude) probe anyway",
+                    e.file.display()
+                );
+            }
+        }
+        if e.total_power.iter().all(|&p| p <= 0.0) {
+            eprintln!(
+                "warning: {}: the probe carries no light (every texel black or negative): the environment adds nothing",
+                e.file.display()
             );
         }
         if let Some(why) = &e.cache_rejected {

@@ -104,6 +104,8 @@ pub struct LoadReport {
     /// Texels with a non-finite channel that were set to black (only with
     /// [`LoadOptions::zero_non_finite`]).
     pub non_finite_zeroed: usize,
+    /// The probe's size in texels, `(width, height)`; an equirectangular probe is 2:1.
+    pub size: (usize, usize),
 }
 
 /// An equirectangular light probe: linear RGB radiance (units of the file, typically
@@ -176,7 +178,10 @@ impl Probe {
                 got: texels.len(),
             });
         }
-        let mut report = LoadReport::default();
+        let mut report = LoadReport {
+            size: (width, height),
+            ..LoadReport::default()
+        };
         let mut non_finite = 0usize;
         for t in texels.iter_mut() {
             if t.iter().any(|c| !c.is_finite()) {

@@ -44,6 +44,11 @@ pub struct EnvSummary {
     /// Why an existing cache entry was ignored ([`prepare::Prepared::cache_rejected`]).
     pub cache_rejected: Option<String>,
     pub negative_texels: usize,
+    /// The probe's size in texels when it was decoded (`None` on a cache hit).
+    pub probe_size: Option<(usize, usize)>,
+    /// Total RGB power of the light set after `[env] intensity` (irradiance at normal
+    /// incidence summed over the lights, W/m^2 for a probe in W/(m^2 sr)).
+    pub total_power: [f64; 3],
 }
 
 /// A finite vector, else a field error naming `field`.
@@ -205,7 +210,9 @@ impl Scene {
                 lights: prepared.lights.len(),
                 cache_hit: prepared.cache_hit,
                 cache_rejected: prepared.cache_rejected,
-                negative_texels: prepared.report.map_or(0, |r| r.negative_texels),
+                negative_texels: prepared.report.as_ref().map_or(0, |r| r.negative_texels),
+                probe_size: prepared.report.as_ref().map(|r| r.size),
+                total_power: prepared.lights.total_power().to_array(),
             });
         }
 
