@@ -235,6 +235,9 @@ pub struct RenderArgs {
     /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's `[material]`.
     #[arg(long)]
     pub material: Option<String>,
+    /// Coefficient lookup of an SH material (library or file): nearest (GL_NEAREST) or bilinear (GL_LINEAR). Overrides the scene's `material.lookup` and the lookup the file records (acquired files record bilinear; files without one use nearest). An error for a material that is not an SH data set.
+    #[arg(long, value_enum)]
+    pub lookup: Option<render::LookupArg>,
     /// Drop the weakest directional lights while their summed irradiance stays at most this fraction of the total (0 <= F < 1; 0: off). Each pixel changes by at most the dropped irradiance times the material's largest f*cos. Default 0.001.
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub drop_lights: Option<f32>,

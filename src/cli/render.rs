@@ -5,9 +5,11 @@ use crate::aov;
 use crate::env::prepare::{CacheDir, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
+use crate::materials::Representation;
 use crate::raster::Cull;
 use crate::render;
-use crate::scene::{Scene, SceneFile, MAX_SIDE};
+use crate::scene::{MaterialSpec, Scene, SceneFile, MAX_SIDE};
+use crate::sh::Lookup;
 use crate::shard::Shard;
 use crate::turntable::{self, Motion};
 use std::path::{Path, PathBuf};
@@ -136,6 +138,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if let Some(m) = &a.material {
         file.material = crate::scene::MaterialSpec::from_cli(m)?;
     }
+    if let Some(l) = a.lookup {
+        set_lookup(&mut file.material, l)?;
+    }
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
         None => vec![PathBuf::from("out.png"), PathBuf::from("out.exr")],
@@ -230,6 +235,52 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// `--lookup`: the coefficient-table filter of an SH material (thesis 3.1.4).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LookupArg {
+    /// `GL_NEAREST`: the view texel containing the direction.
+    Nearest,
+    /// `GL_LINEAR`: bilinear blend of the four nearest view texels.
+    Bilinear,
+}
+
+/// Sets `--lookup` on an SH material (library SH material or SH file), overriding the scene's
+/// `material.lookup` and the file's recorded lookup; a field error naming `--lookup` for any
+/// other material.
+fn set_lookup(material: &mut MaterialSpec, l: LookupArg) -> Result<()> {
+    let mode = match l {
+        LookupArg::Nearest => Lookup::Nearest,
+        LookupArg::Bilinear => Lookup::Bilinear,
+    };
+    let not_sh = |what: &str| {
+        Error::field(
+            "--lookup",
+            format!("the material is {what}, not an SH data set; only SH materials have a coefficient lookup"),
+        )
+    };
+    match material {
+        MaterialSpec::Library { name, lookup } => match crate::materials::find(name) {
+            Some(m) if matches!(m.representation, Representation::Dbrdf) => {
+                Err(not_sh(&format!("the D-BRDF library material {name:?}")))
+            }
+            // An unknown name is reported (naming material.name) when the scene resolves.
+            _ => {
+                *lookup = Some(mode);
+                Ok(())
+            }
+        },
+        MaterialSpec::ShFile { lookup, .. } => {
+            *lookup = Some(mode);
+            Ok(())
+        }
+        MaterialSpec::DbrdfFile { path } => {
+            Err(not_sh(&format!("the D-BRDF file {}", path.display())))
+        }
+        MaterialSpec::Lambert { .. } => Err(not_sh("analytic (lambert)")),
+        MaterialSpec::BlinnPhong { .. } => Err(not_sh("analytic (blinn-phong)")),
+    }
 }
 
 /// The turntable's output path: `-o` (or the scene's output path), default `out.png`; PNG only.

@@ -41,7 +41,8 @@ pub enum MaterialSpec {
     /// An SH data set file ([`crate::sh::read_sh_dataset`]), path relative to the scene file.
     ShFile {
         path: PathBuf,
-        /// Coefficient-table filter; `None` keeps the file's default (nearest).
+        /// Coefficient-table filter; `None` keeps the lookup the file records
+        /// (`brdfkit.lookup`, [`crate::sh::file`]; nearest when the file has none).
         #[serde(default)]
         lookup: Option<Lookup>,
     },

@@ -39,6 +39,14 @@
 //!     colours, l, m) that a renderer may drop by shading only the first bands
 //!     ([`ShDataset::effective_bands`](crate::sh::ShDataset::effective_bands)); must satisfy
 //!     `0 <= value < 1`. Written only when non-zero, so files without it stay byte-identical.
+//!   - `brdfkit.lookup: string = "nearest" | "bilinear"` (optional, coefficient part only;
+//!     nearest when absent, the meaning of every file written before it existed): the filter
+//!     of the coefficient table (view direction; thesis 3.1.4, `GL_NEAREST` / `GL_LINEAR`,
+//!     [`Lookup`](crate::sh::dataset::Lookup)) that reproduces the source best, the one a
+//!     renderer uses unless told otherwise (`brdfkit render --lookup`, a scene's
+//!     `material.lookup`). `brdfkit acquire` writes `"bilinear"`. Written only when not
+//!     nearest, so files of nearest data sets stay byte-identical; any other value is
+//!     refused ([`ShFileError::BadAttribute`]).
 //!
 //! Reading fails with [`ShFileError`] naming the file and the problem; no partial data set
 //! is ever returned. Writing goes to a temporary file in the same directory, then renames
@@ -79,6 +87,17 @@ azimuth = atan2(y, x) in [0, 2pi)";
 pub const SH_CONVENTION: &str = "real; orthonormal over the full sphere; \
 no Condon-Shortley phase; m>0 sqrt2 K P cos(m az), m<0 sqrt2 K P sin(|m| az); \
 index k = l*l + l + m; polar angle from local +z";
+
+/// Name of the optional coefficient-lookup attribute (see the module doc).
+pub const LOOKUP_ATTRIBUTE: &str = "brdfkit.lookup";
+
+/// Value of [`LOOKUP_ATTRIBUTE`] for a lookup.
+pub fn lookup_value(l: crate::sh::dataset::Lookup) -> &'static str {
+    match l {
+        crate::sh::dataset::Lookup::Nearest => "nearest",
+        crate::sh::dataset::Lookup::Bilinear => "bilinear",
+    }
+}
 
 const COEFF_LAYER: &str = "sh-coefficients";
 const BASIS_LAYER: &str = "sh-basis";

@@ -7,12 +7,12 @@
 //! no partial data set is returned.
 
 use super::{
-    basis_channel_name, coeff_channel_name, exr_err, ShFileError, BASIS_LAYER, COEFF_LAYER,
-    FORMAT_NAME, FORMAT_VERSION, PARAMETERIZATION, SH_CONVENTION,
+    basis_channel_name, coeff_channel_name, exr_err, lookup_value, ShFileError, BASIS_LAYER,
+    COEFF_LAYER, FORMAT_NAME, FORMAT_VERSION, LOOKUP_ATTRIBUTE, PARAMETERIZATION, SH_CONVENTION,
 };
 use crate::image_io::exr_guard::{self, Attributes, ExrGuardError};
 use crate::sh::basis::num_terms;
-use crate::sh::dataset::{ShBasisTable, ShDataset, DEFAULT_BAND_THRESHOLD, MAX_BANDS};
+use crate::sh::dataset::{Lookup, ShBasisTable, ShDataset, DEFAULT_BAND_THRESHOLD, MAX_BANDS};
 use exr::prelude::{AnyChannels, AttributeValue, FlatSamples, Layer};
 use std::collections::HashMap;
 use std::path::Path;
@@ -222,6 +222,19 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
             })
         }
     };
+    // Absent: nearest, the meaning of every file written before the attribute existed.
+    let coeff_lookup = match part.attrs.get(LOOKUP_ATTRIBUTE) {
+        None => Lookup::Nearest,
+        Some(v) => [Lookup::Nearest, Lookup::Bilinear]
+            .into_iter()
+            .find(|&l| matches!(v, AttributeValue::Text(t) if t.eq(lookup_value(l))))
+            .ok_or_else(|| ShFileError::BadAttribute {
+                path: path.to_owned(),
+                layer: COEFF_LAYER,
+                name: LOOKUP_ATTRIBUTE,
+                value: format!("{v:?} (need the string \"nearest\" or \"bilinear\")"),
+            })?,
+    };
     let nt = num_terms(bands);
     part.check_count(3 * nt)?;
     let mut coeffs = vec![0.0f32; nu * nv * 3 * nt];
@@ -239,6 +252,7 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
     };
     let mut ds = ShDataset::new(nu, nv, bands, cosine, provenance, coeffs).map_err(data_err)?;
     ds.set_band_threshold(band_threshold).map_err(data_err)?;
+    ds.coeff_lookup = coeff_lookup;
     if let Some(bl) = find(BASIS_LAYER) {
         let part = Part::new(path, BASIS_LAYER, bl);
         let (bb, bu, bv) = part.header("basis")?;

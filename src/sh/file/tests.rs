@@ -100,6 +100,63 @@ fn band_threshold_round_trips_defaults_when_absent_and_rejects_bad_values() {
     }
 }
 
+#[test]
+fn lookup_round_trips_is_absent_for_nearest_and_rejects_bad_values() {
+    use crate::sh::dataset::Lookup;
+    let tmp = tmpdir();
+    let dir = tmp.path();
+    let mut ds = sample(2, false);
+    let attr = |p: &std::path::Path| {
+        let img = read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .all_layers()
+            .all_attributes()
+            .from_file(p)
+            .unwrap();
+        img.layer_data[0]
+            .attributes
+            .other
+            .get(&text(LOOKUP_ATTRIBUTE))
+            .cloned()
+    };
+    // Nearest (the meaning of an absent attribute) is not written.
+    let p = dir.join("nearest.exr");
+    write_sh_dataset(&p, &ds).unwrap();
+    assert_eq!(attr(&p), None);
+    assert_eq!(read_sh_dataset(&p).unwrap().coeff_lookup, Lookup::Nearest);
+    ds.coeff_lookup = Lookup::Bilinear;
+    let p = dir.join("bilinear.exr");
+    write_sh_dataset(&p, &ds).unwrap();
+    assert_eq!(attr(&p), Some(AttributeValue::Text(text("bilinear"))));
+    let back = read_sh_dataset(&p).unwrap();
+    assert_eq!(back.coeff_lookup, Lookup::Bilinear);
+    assert_eq!(back, ds);
+    // An explicit "nearest" (another writer) reads as nearest.
+    let (_d, p) =
+        corrupted(|l| set_attr(l, LOOKUP_ATTRIBUTE, AttributeValue::Text(text("nearest"))));
+    assert_eq!(read_sh_dataset(&p).unwrap().coeff_lookup, Lookup::Nearest);
+    for bad in [
+        AttributeValue::Text(text("linear")),
+        AttributeValue::Text(text("Bilinear")),
+        AttributeValue::I32(1),
+    ] {
+        let (_dir, p) = corrupted(|l| set_attr(l, LOOKUP_ATTRIBUTE, bad));
+        let e = read_sh_dataset(&p).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ShFileError::BadAttribute {
+                    name: "brdfkit.lookup",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+    }
+}
+
 /// Writes a valid file, lets `edit` corrupt the decoded image, writes it back raw;
 /// returns the directory (the caller keeps it alive) and the file.
 fn corrupted(edit: impl FnOnce(&mut AnyLayer)) -> (tempfile::TempDir, PathBuf) {

@@ -5,12 +5,12 @@
 //! ([`crate::image_io::replace_via_temp`]).
 
 use super::{
-    basis_channel_name, coeff_channel_name, exr_err, ShFileError, BASIS_LAYER, COEFF_LAYER,
-    FORMAT_NAME, FORMAT_VERSION, PARAMETERIZATION, SH_CONVENTION,
+    basis_channel_name, coeff_channel_name, exr_err, lookup_value, ShFileError, BASIS_LAYER,
+    COEFF_LAYER, FORMAT_NAME, FORMAT_VERSION, LOOKUP_ATTRIBUTE, PARAMETERIZATION, SH_CONVENTION,
 };
 use crate::image_io::exr_guard::text;
 use crate::sh::basis::num_terms;
-use crate::sh::dataset::{ShDataset, DEFAULT_BAND_THRESHOLD};
+use crate::sh::dataset::{Lookup, ShDataset, DEFAULT_BAND_THRESHOLD};
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, ImageAttributes,
     IntegerBounds, Layer, LayerAttributes, WritableImage,
@@ -75,6 +75,14 @@ pub fn write_sh_dataset(path: &Path, ds: &ShDataset) -> Result<(), ShFileError> 
         attrs.other.insert(
             text("brdfkit.band_threshold"),
             AttributeValue::F32(ds.band_threshold()),
+        );
+    }
+    // Written only when not nearest (the meaning of an absent attribute), so files of
+    // nearest data sets stay byte-identical to those written before the attribute existed.
+    if ds.coeff_lookup != Lookup::Nearest {
+        attrs.other.insert(
+            text(LOOKUP_ATTRIBUTE),
+            AttributeValue::Text(text(lookup_value(ds.coeff_lookup))),
         );
     }
     let mut layers = vec![Layer::new(
