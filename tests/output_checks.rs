@@ -57,6 +57,9 @@ fn judge(r: &Run, before: &[PathBuf], after: &[PathBuf], needles: &[&str]) -> Re
     if r.code != Some(2) {
         return Err(format!("exit {:?}, not 2 (stderr: {})", r.code, r.stderr));
     }
+    if r.elapsed > FAST {
+        return Err(format!("took {:?} (bound {FAST:?})", r.elapsed));
+    }
     let lines: Vec<&str> = r.stderr.lines().collect();
     if lines.len() != 1 || !lines[0].starts_with("brdfkit: error: ") {
         return Err(format!("not one `brdfkit: error:` line: {lines:?}"));
@@ -65,9 +68,6 @@ fn judge(r: &Run, before: &[PathBuf], after: &[PathBuf], needles: &[&str]) -> Re
         if !lines[0].contains(n) {
             return Err(format!("{:?} does not mention {n:?}", lines[0]));
         }
-    }
-    if r.elapsed > FAST {
-        return Err(format!("took {:?} (bound {FAST:?})", r.elapsed));
     }
     if before != after {
         return Err(format!("files left behind: {before:?} -> {after:?}"));
