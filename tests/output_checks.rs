@@ -112,7 +112,7 @@ fn wrong_extensions_are_refused_before_the_work() {
         ),
         (
             [&["render"][..], &big, &["--turntable", "4", "-o", "t.exr"]].concat(),
-            vec!["t.exr", "--output", ".png"],
+            vec!["t.exr", "--output", "--turntable writes PNG", ".png"],
         ),
         (
             vec![

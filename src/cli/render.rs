@@ -143,7 +143,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
             "output path"
         };
         let (checked, allowed): (&[PathBuf], &[&str]) = match a.turntable {
-            Some(_) => (&outputs[..1], &["png"]),
+            Some(_) => {
+                // Its own message first: why a turntable needs a .png.
+                turntable_output(Some(outputs[0].clone()))?;
+                (&outputs[..1], &["png"])
+            }
             None => (&outputs, &["png", "exr"]),
         };
         for p in checked {
