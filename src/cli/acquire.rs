@@ -87,6 +87,7 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
         (m, _) => m,
     };
     let (nu, nv) = parse_grid("--grid", &a.grid)?;
+    crate::image_io::check_output(&a.output, &["exr"], "--output")?;
     let src = parse_source(&a.source)?;
     let grid = ErrorGrid::default();
     let methods: Vec<Method> = if a.no_table {
@@ -178,6 +179,7 @@ fn method_lsq(chosen: Method) -> Method {
 
 pub fn run_fit(a: FitDbrdfArgs) -> Result<()> {
     let (nu, nv) = parse_grid("--grid", &a.grid)?;
+    crate::image_io::check_output(&a.output, &["exr"], "--output")?;
     let src = parse_source(&a.source)?;
     let opts = FitOptions {
         nu,

@@ -38,6 +38,11 @@ pub fn run(a: CompareArgs) -> Result<bool> {
             format!("{} must be in (0, 1)", th.percentile),
         ));
     }
+    // An explicit --diff is checked before the comparison; the default (beside ACTUAL) is
+    // not, so a passing comparison in a read-only directory still passes.
+    if let Some(p) = &a.diff {
+        crate::image_io::check_output(p, &["png"], "--diff")?;
+    }
     let expected = compare::load(&a.expected)?;
     let actual = compare::load(&a.actual)?;
     let (m, flip) = compare::compare(&expected, &actual, &th)?;

@@ -30,29 +30,16 @@ pub fn run(a: LightsArgs) -> Result<()> {
     }
     let out_kind = match &a.output {
         None => None,
-        Some(p) => match p
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
-            Some("json") => Some(true),
-            Some("csv") => Some(false),
-            _ => {
-                return Err(Error::format(
-                    p,
-                    "unknown light-set format: the file name must end in .json or .csv",
-                ))
-            }
-        },
+        Some(p) => {
+            crate::image_io::check_output(p, &["json", "csv"], "--output")?;
+            Some(
+                p.extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("json")),
+            )
+        }
     };
     if let Some(p) = &a.overlay {
-        if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
-            return Err(Error::format(
-                p,
-                "the overlay is a PNG: the file name must end in .png",
-            ));
-        }
+        crate::image_io::check_output(p, &["png"], "--overlay")?;
     }
     let (probe, report) = load_probe(&a.probe, &opts)?;
     if report.negative_texels > 0 {

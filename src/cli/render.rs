@@ -145,6 +145,27 @@ pub fn run(a: RenderArgs) -> Result<()> {
         Some(p) => vec![p],
         None => vec![PathBuf::from("out.png"), PathBuf::from("out.exr")],
     };
+    // Every output is checked before the slow work (environment, mesh, render): its
+    // extension and that its directory takes a new file. A turntable writes OUT_0000.png
+    // ... and OUT.gif beside its PNG output (outputs[0]: -o, the scene's, or out.png).
+    {
+        let flag = if a.output.is_some() {
+            "--output"
+        } else {
+            "output path"
+        };
+        let (checked, allowed): (&[PathBuf], &[&str]) = match a.turntable {
+            Some(_) => {
+                // Its own message first: why a turntable needs a .png.
+                turntable_output(Some(outputs[0].clone()))?;
+                (&outputs[..1], &["png"])
+            }
+            None => (&outputs, &["png", "exr"]),
+        };
+        for p in checked {
+            image_io::check_output(p, allowed, flag)?;
+        }
+    }
     let formats = outputs
         .iter()
         .map(|p| image_io::format_of(p))

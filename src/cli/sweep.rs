@@ -61,6 +61,10 @@ pub fn run(a: SweepArgs) -> Result<()> {
         .output
         .clone()
         .unwrap_or_else(|| PathBuf::from("sweep.csv"));
+    crate::image_io::check_output(&output, &["csv"], "--output")?;
+    if let Some(p) = &a.plot {
+        crate::image_io::check_output(p, &["png"], "--plot")?;
+    }
     if !a.merge.is_empty() {
         let rows = sweep::merge(&a.merge)?;
         sweep::write_csv(&output, &rows)?;
