@@ -1,0 +1,154 @@
+//! The AVX2 + FMA backend of [`super::F32x8`]: `core::arch` intrinsics on `__m256`
+//! (x86_64 only). Its values exist only on a CPU that runs them (see the module doc of
+//! [`super`]).
+
+use super::*;
+use std::arch::x86_64::*;
+
+/// The AVX2 + FMA instruction set. Only [`Dispatch::choose`] makes one (module doc).
+#[derive(Clone, Copy, Debug)]
+pub struct Avx2Fma(pub(super) ());
+
+/// [`F32x8`] of [`Avx2Fma`]. Made only through an [`Avx2Fma`] token, so every
+/// operation below runs on a CPU with AVX2 and FMA.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct A8(__m256);
+
+// SAFETY (every `unsafe` block of this module): the intrinsics need AVX (+ FMA for the
+// fused ones), which the existence of an `A8` or `Avx2Fma` value proves (see above);
+// memory accesses are bounds-checked before the unaligned loads and stores.
+
+impl Isa for Avx2Fma {
+    type V = A8;
+    #[inline(always)]
+    fn splat(self, v: f32) -> A8 {
+        A8(unsafe { _mm256_set1_ps(v) })
+    }
+    #[inline(always)]
+    fn load(self, s: &[f32]) -> A8 {
+        let s = &s[..LANES];
+        A8(unsafe { _mm256_loadu_ps(s.as_ptr()) })
+    }
+    fn name(self) -> &'static str {
+        "avx2+fma"
+    }
+}
+
+macro_rules! op {
+    ($tr:ident, $f:ident, $intr:ident) => {
+        impl $tr for A8 {
+            type Output = A8;
+            #[inline(always)]
+            fn $f(self, o: A8) -> A8 {
+                A8(unsafe { $intr(self.0, o.0) })
+            }
+        }
+    };
+}
+op!(Add, add, _mm256_add_ps);
+op!(Sub, sub, _mm256_sub_ps);
+op!(Mul, mul, _mm256_mul_ps);
+
+impl AddAssign for A8 {
+    #[inline(always)]
+    fn add_assign(&mut self, o: A8) {
+        *self = *self + o;
+    }
+}
+
+impl F32x8 for A8 {
+    #[inline(always)]
+    fn floor(self) -> A8 {
+        A8(unsafe { _mm256_floor_ps(self.0) })
+    }
+    #[inline(always)]
+    fn abs(self) -> A8 {
+        A8(unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0) })
+    }
+    #[inline(always)]
+    fn select_gt(self, o: A8, a: A8, b: A8) -> A8 {
+        unsafe {
+            let m = _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0);
+            A8(_mm256_blendv_ps(b.0, a.0, m))
+        }
+    }
+    #[inline(always)]
+    fn gather(self, table: &[f32]) -> A8 {
+        assert!(!table.is_empty() && table.len() < 1 << 24);
+        unsafe {
+            let hi = _mm256_set1_ps((table.len() - 1) as f32);
+            // maxps returns the second operand for NaN: NaN indices become 0.
+            let k = _mm256_min_ps(_mm256_max_ps(self.0, _mm256_setzero_ps()), hi);
+            let idx = _mm256_cvttps_epi32(k);
+            // In bounds: 0 <= idx <= len - 1 by the clamp above.
+            A8(_mm256_i32gather_ps::<4>(table.as_ptr(), idx))
+        }
+    }
+    #[inline(always)]
+    fn mul_add(self, b: A8, c: A8) -> A8 {
+        A8(unsafe { _mm256_fmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_mul_add(self, b: A8, c: A8) -> A8 {
+        A8(unsafe { _mm256_fnmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn div(self, o: A8) -> A8 {
+        A8(unsafe { _mm256_div_ps(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> A8 {
+        A8(unsafe { _mm256_sqrt_ps(self.0) })
+    }
+    #[inline(always)]
+    fn min(self, o: A8) -> A8 {
+        A8(unsafe { _mm256_min_ps(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn max(self, o: A8) -> A8 {
+        A8(unsafe { _mm256_max_ps(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn gt_mask(self, o: A8) -> u32 {
+        unsafe { _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0)) as u32 }
+    }
+    #[inline(always)]
+    fn positive_part(self) -> A8 {
+        unsafe {
+            let m = _mm256_cmp_ps::<_CMP_GT_OQ>(self.0, _mm256_setzero_ps());
+            A8(_mm256_and_ps(self.0, m))
+        }
+    }
+    #[inline(always)]
+    fn keep(self, mask: u32) -> A8 {
+        unsafe {
+            let bits = _mm256_set1_epi32(mask as i32);
+            let sel = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            let m = _mm256_cmpeq_epi32(_mm256_and_si256(bits, sel), sel);
+            A8(_mm256_and_ps(self.0, _mm256_castsi256_ps(m)))
+        }
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        let mut a = [0.0f32; LANES];
+        self.store(&mut a);
+        a[i]
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32]) {
+        let out = &mut out[..LANES];
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn compress_store(self, mask: u32, out: &mut [f32], at: usize) -> usize {
+        let out = &mut out[at..at + LANES];
+        let m = (mask & 0xff) as usize;
+        unsafe {
+            let idx = _mm256_loadu_si256(COMPRESS[m].as_ptr() as *const __m256i);
+            let v = _mm256_permutevar8x32_ps(self.0, idx);
+            _mm256_storeu_ps(out.as_mut_ptr(), v);
+        }
+        m.count_ones() as usize
+    }
+}

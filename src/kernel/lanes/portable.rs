@@ -1,0 +1,169 @@
+//! The portable backend of [`super::F32x8`]: `[f32; 8]` with per-lane loops, for any CPU,
+//! giving the same bits as the AVX2 backend (fused multiply-add per lane).
+
+use super::*;
+
+/// The portable instruction set (any CPU).
+#[derive(Clone, Copy, Debug)]
+pub struct Portable;
+
+/// [`F32x8`] of [`Portable`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct P8(pub [f32; LANES]);
+
+#[inline(always)]
+fn map2(a: P8, b: P8, f: impl Fn(f32, f32) -> f32) -> P8 {
+    let mut r = [0.0; LANES];
+    for i in 0..LANES {
+        r[i] = f(a.0[i], b.0[i]);
+    }
+    P8(r)
+}
+
+impl Isa for Portable {
+    type V = P8;
+    #[inline(always)]
+    fn splat(self, v: f32) -> P8 {
+        P8([v; LANES])
+    }
+    #[inline(always)]
+    fn load(self, s: &[f32]) -> P8 {
+        let mut a = [0.0; LANES];
+        a.copy_from_slice(&s[..LANES]);
+        P8(a)
+    }
+    fn name(self) -> &'static str {
+        "portable"
+    }
+}
+
+impl Add for P8 {
+    type Output = P8;
+    #[inline(always)]
+    fn add(self, o: P8) -> P8 {
+        map2(self, o, |a, b| a + b)
+    }
+}
+impl Sub for P8 {
+    type Output = P8;
+    #[inline(always)]
+    fn sub(self, o: P8) -> P8 {
+        map2(self, o, |a, b| a - b)
+    }
+}
+impl Mul for P8 {
+    type Output = P8;
+    #[inline(always)]
+    fn mul(self, o: P8) -> P8 {
+        map2(self, o, |a, b| a * b)
+    }
+}
+impl AddAssign for P8 {
+    #[inline(always)]
+    fn add_assign(&mut self, o: P8) {
+        *self = *self + o;
+    }
+}
+
+impl F32x8 for P8 {
+    #[inline(always)]
+    fn floor(self) -> P8 {
+        P8(self.0.map(f32::floor))
+    }
+    #[inline(always)]
+    fn abs(self) -> P8 {
+        P8(self.0.map(f32::abs))
+    }
+    #[inline(always)]
+    fn select_gt(self, o: P8, a: P8, b: P8) -> P8 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = if self.0[i] > o.0[i] { a.0[i] } else { b.0[i] };
+        }
+        P8(r)
+    }
+    #[inline(always)]
+    fn gather(self, table: &[f32]) -> P8 {
+        assert!(!table.is_empty() && table.len() < 1 << 24);
+        let hi = (table.len() - 1) as f32;
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            // `max` first: a NaN index becomes 0, as `maxps` does below.
+            let k = if self.0[i] > 0.0 { self.0[i] } else { 0.0 };
+            let k = if k < hi { k } else { hi };
+            r[i] = table[k as usize];
+        }
+        P8(r)
+    }
+    #[inline(always)]
+    fn mul_add(self, b: P8, c: P8) -> P8 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = self.0[i].mul_add(b.0[i], c.0[i]);
+        }
+        P8(r)
+    }
+    #[inline(always)]
+    fn neg_mul_add(self, b: P8, c: P8) -> P8 {
+        // `-(a b) + c` with one rounding, as `vfnmadd`: negating `a` is exact.
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = (-self.0[i]).mul_add(b.0[i], c.0[i]);
+        }
+        P8(r)
+    }
+    #[inline(always)]
+    fn div(self, o: P8) -> P8 {
+        map2(self, o, |a, b| a / b)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> P8 {
+        P8(self.0.map(f32::sqrt))
+    }
+    #[inline(always)]
+    fn min(self, o: P8) -> P8 {
+        // Same NaN rule as `minps`: the second operand when either is NaN.
+        map2(self, o, |a, b| if a < b { a } else { b })
+    }
+    #[inline(always)]
+    fn max(self, o: P8) -> P8 {
+        map2(self, o, |a, b| if a > b { a } else { b })
+    }
+    #[inline(always)]
+    fn gt_mask(self, o: P8) -> u32 {
+        (0..LANES).fold(0, |m, i| m | (((self.0[i] > o.0[i]) as u32) << i))
+    }
+    #[inline(always)]
+    fn positive_part(self) -> P8 {
+        P8(self.0.map(|v| if v > 0.0 { v } else { 0.0 }))
+    }
+    #[inline(always)]
+    fn keep(self, mask: u32) -> P8 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            if mask & (1 << i) != 0 {
+                r[i] = self.0[i];
+            }
+        }
+        P8(r)
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        self.0[i]
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f32]) {
+        out[..LANES].copy_from_slice(&self.0);
+    }
+    #[inline(always)]
+    fn compress_store(self, mask: u32, out: &mut [f32], at: usize) -> usize {
+        let out = &mut out[at..at + LANES];
+        let idx = &COMPRESS[(mask & 0xff) as usize];
+        let n = (mask & 0xff).count_ones() as usize;
+        for k in 0..LANES {
+            out[k] = self.0[idx[k] as usize];
+        }
+        n
+    }
+}
