@@ -4,20 +4,8 @@
 use std::path::Path;
 use std::process::Command;
 
-/// Runs `brdfkit args` in `cwd` (killed after 120 s), returning (success, stderr).
-fn run_in(cwd: &Path, args: &[&str]) -> (bool, String) {
-    let out = Command::new("timeout")
-        .args(["-s", "KILL", "120", env!("CARGO_BIN_EXE_brdfkit")])
-        .args(args)
-        .current_dir(cwd)
-        .env("BRDFKIT_CACHE_DIR", cwd.join("cache"))
-        .output()
-        .expect("run brdfkit under timeout (coreutils)");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::run_in;
 
 #[test]
 fn a_mesh_on_the_command_line_keeps_the_scene_files_paths() {

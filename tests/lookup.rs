@@ -10,22 +10,9 @@ use brdfkit::image_io::read_exr;
 use brdfkit::sh::{read_sh_dataset, Lookup};
 use exr::prelude::{read, ReadChannels, ReadLayers, WritableImage};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-/// Runs `brdfkit args` in `cwd` (killed after 120 s), returning (success, stderr).
-fn run_in(cwd: &Path, args: &[&str]) -> (bool, String) {
-    let out = Command::new("timeout")
-        .args(["-s", "KILL", "120", env!("CARGO_BIN_EXE_brdfkit")])
-        .args(args)
-        .current_dir(cwd)
-        .env("BRDFKIT_CACHE_DIR", cwd.join("cache"))
-        .output()
-        .expect("run brdfkit under timeout (coreutils)");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::run_in;
 
 /// Renders `material` (48x36, teapot/8) with the extra `args` into `dir/name.exr`; returns the
 /// linear pixels.
