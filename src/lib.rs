@@ -81,6 +81,7 @@ pub mod kernel;
 pub mod light;
 pub mod materials;
 pub mod mesh;
+pub mod progress;
 pub mod raster;
 pub mod render;
 pub mod scene;

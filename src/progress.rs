@@ -1,0 +1,121 @@
+//! Progress on stderr for work that can take more than about a second: one helper for every
+//! command and library loop (reference renders, acquisition, fitting, sweeps, turntables,
+//! light-set preparation).
+//!
+//! Design rule: drawing is decided once, when a [`Progress`] is made. On a terminal it draws a
+//! bar with the count, the elapsed time and an ETA (or a spinner when the amount of work is
+//! unknown); when stderr is not a terminal (a pipe, a file, CI) it draws nothing at all, so
+//! logs stay clean. Library code takes a `&Progress` and only counts ([`Progress::inc`]);
+//! [`Progress::hidden`] is what callers pass when nobody is watching. Counting is thread-safe
+//! (rayon workers may call [`Progress::inc`] concurrently) and never changes what is computed.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::time::Duration;
+
+/// A progress display on stderr, or nothing (see the module doc). Cloning shares the display.
+#[derive(Clone, Debug)]
+pub struct Progress {
+    bar: ProgressBar,
+}
+
+impl Progress {
+    /// A bar over `len` steps of `unit` ("tiles", "rows", "view texels", ...), labelled
+    /// `what`, with elapsed time and ETA. Hidden when stderr is not a terminal.
+    pub fn bar(len: u64, what: &str, unit: &str) -> Progress {
+        if !stderr_is_terminal() {
+            return Progress::hidden();
+        }
+        let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+        let template = format!(
+            "{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta}})"
+        );
+        bar.set_style(
+            ProgressStyle::with_template(&template)
+                .expect("a valid indicatif template")
+                .progress_chars("=> "),
+        );
+        bar.set_message(what.to_string());
+        Progress { bar }
+    }
+
+    /// A spinner labelled `what` for work of unknown length. Hidden when stderr is not a
+    /// terminal.
+    pub fn spinner(what: &str) -> Progress {
+        if !stderr_is_terminal() {
+            return Progress::hidden();
+        }
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg}  {elapsed_precise}")
+                .expect("a valid indicatif template"),
+        );
+        bar.set_message(what.to_string());
+        bar.enable_steady_tick(Duration::from_millis(120));
+        Progress { bar }
+    }
+
+    /// A display that draws nothing; counting on it costs an atomic add.
+    pub fn hidden() -> Progress {
+        Progress {
+            bar: ProgressBar::hidden(),
+        }
+    }
+
+    /// Whether anything is drawn.
+    pub fn is_hidden(&self) -> bool {
+        self.bar.is_hidden()
+    }
+
+    /// Sets the total number of steps (for work whose size is known only once it starts).
+    pub fn set_length(&self, len: u64) {
+        self.bar.set_length(len);
+    }
+
+    /// Replaces the label.
+    pub fn set_message(&self, what: impl Into<String>) {
+        self.bar.set_message(what.into());
+    }
+
+    /// Counts `n` finished steps.
+    pub fn inc(&self, n: u64) {
+        self.bar.inc(n);
+    }
+
+    /// Prints `line` above the display (or plainly to stderr when hidden), without tearing it.
+    pub fn println(&self, line: impl AsRef<str>) {
+        if self.bar.is_hidden() {
+            eprintln!("{}", line.as_ref());
+        } else {
+            self.bar.println(line.as_ref());
+        }
+    }
+
+    /// Removes the display from the terminal (the work is done or abandoned).
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+fn stderr_is_terminal() -> bool {
+    std::io::stderr().is_terminal()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hidden_progress_counts_without_drawing() {
+        // Off a terminal (CI, a pipe) every constructor gives a hidden display whose
+        // counting is still well defined.
+        let p = Progress::bar(10, "work", "steps");
+        p.inc(3);
+        p.finish();
+        assert!(Progress::hidden().is_hidden());
+        if !stderr_is_terminal() {
+            assert!(p.is_hidden());
+            assert!(Progress::spinner("x").is_hidden());
+        }
+    }
+}
