@@ -1,6 +1,6 @@
 //! `brdfkit cache` shows both caches and `cache clean` empties them, deleting nothing else.
 
-use std::process::Command;
+mod common;
 
 #[test]
 fn cache_shows_and_cleans_only_its_own_files() {
@@ -14,15 +14,12 @@ fn cache_shows_and_cleans_only_its_own_files() {
     std::fs::write(sweep.join("reference-0123456789abcdef.exr"), [0u8; 100]).unwrap();
     std::fs::write(sweep.join("reference-0123456789abcdef.exr.fnv1a"), "1").unwrap();
     let run = |args: &[&str]| {
-        let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
-            .arg("cache")
-            .args(args)
-            .args(["--sweep-cache", sweep.to_str().unwrap()])
-            .env("BRDFKIT_CACHE_DIR", &lights)
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{:?}", out);
-        String::from_utf8(out.stdout).unwrap()
+        let mut all = vec!["cache"];
+        all.extend(args);
+        all.extend(["--sweep-cache", sweep.to_str().unwrap()]);
+        let out = common::brdfkit(tmp.path()).cache(&lights).run(&all);
+        assert!(out.success(), "{}", out.stderr);
+        out.stdout
     };
     let shown = run(&[]);
     assert!(

@@ -2,34 +2,17 @@
 //! non-zero exit, and no output file (nor a temporary one) left behind.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-struct Run {
-    code: i32,
-    stderr: String,
-}
+mod common;
 
-fn brdfkit(dir: &Path, args: &[&str]) -> Run {
-    // Killed after 60 s, so a hang fails the test instead of stalling the run
-    // (`timeout` then exits 137).
-    let out = Command::new("timeout")
-        .args(["-s", "KILL", "60", env!("CARGO_BIN_EXE_brdfkit")])
-        .args(args)
-        .current_dir(dir)
-        // Never the user's light-set cache (`render --env` looks an entry up before it
-        // decodes the probe); nothing is written there by a failing run.
-        .env("BRDFKIT_CACHE_DIR", dir.join(".brdfkit-cache"))
-        .output()
-        .expect("run brdfkit under timeout (coreutils)");
-    assert_ne!(
-        out.status.code(),
-        Some(137),
-        "{args:?}: killed after 60 s (hung)"
-    );
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
+/// Runs `brdfkit args` in `dir`, killed after 60 s; never the user's light-set cache
+/// (`render --env` looks an entry up before it decodes the probe), and nothing is written
+/// there by a failing run.
+fn brdfkit(dir: &Path, args: &[&str]) -> common::Run {
+    common::brdfkit(dir)
+        .cache(&dir.join(".brdfkit-cache"))
+        .timeout(60)
+        .run(args)
 }
 
 /// Asserts an error run: exit 2, exactly one stderr line, containing every `needle`, and
@@ -38,9 +21,11 @@ fn assert_error(dir: &Path, args: &[&str], needles: &[&str]) {
     let before: Vec<PathBuf> = list(dir);
     let r = brdfkit(dir, args);
     assert_eq!(
-        r.code, 2,
-        "{args:?}: exit code {} (stderr: {})",
-        r.code, r.stderr
+        r.code,
+        Some(2),
+        "{args:?}: exit code {:?} (stderr: {})",
+        r.code,
+        r.stderr
     );
     let lines: Vec<&str> = r.stderr.lines().collect();
     assert_eq!(
@@ -263,14 +248,14 @@ fn unknown_output_format_and_unwritable_output() {
 fn good_input_writes_exactly_the_requested_files() {
     let d = dir_with(&[("s.toml", "[render]\nwidth = 40\nheight = 30\n")]);
     let r = brdfkit(d.path(), &["render", "s.toml", "-o", "x.exr"]);
-    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
     let names: Vec<String> = list(d.path())
         .iter()
         .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names, ["s.toml", "x.exr"]);
     let r = brdfkit(d.path(), &["render", "--width", "40", "--height", "30"]);
-    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert_eq!(r.code, Some(0), "{}", r.stderr);
     assert!(d.path().join("out.png").exists() && d.path().join("out.exr").exists());
     let png = image::open(d.path().join("out.png")).unwrap();
     assert_eq!((png.width(), png.height()), (40, 30));

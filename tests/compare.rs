@@ -1,27 +1,13 @@
 //! `brdfkit compare`: exit 0 on pass, 1 on fail (with a report image), 2 on unusable input.
 
 use std::path::Path;
-use std::process::Command;
 
+mod common;
+
+/// `brdfkit args` in `dir` (killed after 60 s): (exit code, stdout, stderr).
 fn run(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    // Killed after 60 s, so a hang fails the test instead of stalling the run
-    // (`timeout` then exits 137).
-    let out = Command::new("timeout")
-        .args(["-s", "KILL", "60", env!("CARGO_BIN_EXE_brdfkit")])
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert_ne!(
-        out.status.code(),
-        Some(137),
-        "{args:?}: killed after 60 s (hung)"
-    );
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let r = common::brdfkit(dir).timeout(60).run(args);
+    (r.code.unwrap_or(-1), r.stdout, r.stderr)
 }
 
 #[test]

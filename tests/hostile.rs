@@ -15,6 +15,7 @@
 //! stuck run: library calls run on a thread with a deadline ([`no_hang`]) and the binary
 //! under `timeout -s KILL` ([`CLI_TIMEOUT_S`]).
 
+mod common;
 use brdfkit::brdf::merl::{MerlBrdf, MERL_FILE_SIZE};
 use brdfkit::brdf::Lambert;
 use brdfkit::env::lightset_io::{read_csv, read_json, write_csv, write_json, LightSetHeader};
@@ -783,38 +784,19 @@ fn golden_manifest_hostile_files() {
 /// address space; every hostile case must stay under this.
 const CLI_AS_LIMIT: &str = "768MiB";
 
-struct Run {
-    code: Option<i32>,
-    stderr: String,
-}
-
 /// Seconds a `brdfkit` child may run before it is killed (a hang on a FIFO or a device is
 /// then a failing test, not a stuck CI job). Every case here takes well under a second.
 const CLI_TIMEOUT_S: u32 = 60;
 
-fn brdfkit_limited(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new("timeout")
-        .args(["-s", "KILL", &CLI_TIMEOUT_S.to_string()])
-        .arg("prlimit")
-        .arg(format!("--as={}", as_bytes()))
-        .arg("--")
-        .arg(env!("CARGO_BIN_EXE_brdfkit"))
-        .args(args)
-        .current_dir(dir)
-        .env("BRDFKIT_CACHE_DIR", dir.join(".cache-dir-unused"))
+/// `brdfkit args` in `dir` under the address-space limit, two rayon threads, killed after
+/// [`CLI_TIMEOUT_S`].
+fn brdfkit_limited(dir: &Path, args: &[&str]) -> common::Run {
+    common::brdfkit(dir)
+        .cache(&dir.join(".cache-dir-unused"))
+        .timeout(CLI_TIMEOUT_S)
+        .address_space(as_bytes())
         .env("RAYON_NUM_THREADS", "2")
-        .output()
-        .expect("run timeout (coreutils) and prlimit (util-linux)");
-    // `timeout` exits 128 + 9 when it had to kill the child.
-    assert_ne!(
-        out.status.code(),
-        Some(137),
-        "{args:?}: killed after {CLI_TIMEOUT_S} s (hung)"
-    );
-    Run {
-        code: out.status.code(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
+        .run(args)
 }
 
 fn as_bytes() -> u64 {

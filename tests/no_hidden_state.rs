@@ -5,7 +5,7 @@
 //! golden check if the check read it).
 //!
 //! Every child process gets its own `BRDFKIT_CACHE_DIR`, `XDG_CACHE_HOME` and `HOME` in a
-//! temporary directory ([`Command::env`]: this process's environment is never changed),
+//! temporary directory (set on the child only: this process's environment is never changed),
 //! so nothing here reads or writes the user's cache.
 
 use brdfkit::env::prepare::{lights_checksum, CacheEntry};
@@ -13,7 +13,6 @@ use brdfkit::golden::{self, KERNEL_DISPATCH};
 use brdfkit::image_io::read_exr;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// Golden entries lit by an environment (each entry's scene file is `<name>.toml`), both at
 /// the `kernel-dispatch` tolerance: median cut on the city probe, Lloyd on the studio probe.
@@ -23,21 +22,16 @@ fn golden_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("golden")
 }
 
+mod common;
+
 /// Runs the binary in `cwd` with every cache variable pointing into `cache` (which
 /// `BRDFKIT_CACHE_DIR` names, the first one consulted).
-fn brdfkit(cwd: &Path, cache: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_brdfkit"))
-        .args(args)
-        .current_dir(cwd)
-        .env("BRDFKIT_CACHE_DIR", cache)
+fn brdfkit(cwd: &Path, cache: &Path, args: &[&str]) -> common::Run {
+    common::brdfkit(cwd)
+        .cache(cache)
         .env("XDG_CACHE_HOME", cache.join("xdg"))
         .env("HOME", cache.join("home"))
-        .output()
-        .expect("run brdfkit")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+        .run(args)
 }
 
 /// Every file under `dir` (recursively) with its bytes.
@@ -71,8 +65,8 @@ fn render(cwd: &Path, cache: &Path, name: &str) -> (brdfkit::image_io::Image, St
             out.to_str().unwrap(),
         ],
     );
-    let err = text(&o.stderr);
-    assert!(o.status.success(), "render {name}: {err}");
+    let err = o.stderr.clone();
+    assert!(o.success(), "render {name}: {err}");
     (read_exr(&out).unwrap(), err)
 }
 
@@ -96,12 +90,8 @@ fn golden_check_ignores_cold_and_corrupted_caches_alike() {
 
     // 1. Cold cache: every entry passes, and nothing is written to any cache directory.
     let first = check(&cold);
-    let first_out = text(&first.stdout);
-    assert!(
-        first.status.success(),
-        "cold: {first_out}{}",
-        text(&first.stderr)
-    );
+    let first_out = first.stdout.clone();
+    assert!(first.success(), "cold: {first_out}{}", first.stderr);
     for name in ENTRIES {
         assert!(
             first_out
@@ -129,7 +119,7 @@ fn golden_check_ignores_cold_and_corrupted_caches_alike() {
             "nc.exr",
         ],
     );
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.success(), "{}", o.stderr);
     assert!(
         snapshot(&cold).is_empty(),
         "render --no-cache wrote a cache"
@@ -215,12 +205,8 @@ fn golden_check_ignores_cold_and_corrupted_caches_alike() {
     // 5. Golden check with the corrupted cache: the same verdicts, line for line, and the
     //    cache untouched (a reader that refused the truncated entry would rewrite it).
     let second = check(&warm);
-    let second_out = text(&second.stdout);
-    assert!(
-        second.status.success(),
-        "corrupted: {second_out}{}",
-        text(&second.stderr)
-    );
+    let second_out = second.stdout.clone();
+    assert!(second.success(), "corrupted: {second_out}{}", second.stderr);
     assert_eq!(
         first_out, second_out,
         "verdicts differ between a cold and a corrupted cache"

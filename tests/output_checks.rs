@@ -4,18 +4,14 @@
 //! leaves no file behind.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Bound on a refused run's wall time. Each refused command below would run for seconds
 /// (render 4096x4096, acquire 10 bands, the default sweep) before writing anything.
 const FAST: Duration = Duration::from_millis(800);
 
-struct Run {
-    code: Option<i32>,
-    stderr: String,
-    elapsed: Duration,
-}
+mod common;
+use common::Run;
 
 fn list(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = walk(dir);
@@ -35,20 +31,9 @@ fn walk(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// `brdfkit args` in `dir`, killed after 60 s.
 fn brdfkit(dir: &Path, args: &[&str]) -> Run {
-    let start = Instant::now();
-    let out = Command::new("timeout")
-        .args(["-s", "KILL", "60", env!("CARGO_BIN_EXE_brdfkit")])
-        .args(args)
-        .current_dir(dir)
-        .env("BRDFKIT_CACHE_DIR", dir.join("cache"))
-        .output()
-        .expect("run brdfkit under timeout (coreutils)");
-    Run {
-        code: out.status.code(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        elapsed: start.elapsed(),
-    }
+    common::brdfkit(dir).timeout(60).run(args)
 }
 
 /// What a refused output must look like; `Err` says what is wrong. Pure, so the seeded
@@ -245,6 +230,7 @@ fn seeded_faults_fail_the_judge() {
     let needles = ["x.png"];
     let error = |stderr: &str, code: i32, ms: u64| Run {
         code: Some(code),
+        stdout: String::new(),
         stderr: stderr.to_string(),
         elapsed: Duration::from_millis(ms),
     };

@@ -4,19 +4,13 @@
 use brdfkit::image_io::{write_exr, Image};
 use glam::Vec3;
 use std::path::Path;
-use std::process::Command;
 
-/// Runs `brdfkit args` in `dir`: (exit code, stderr).
+mod common;
+
+/// Runs `brdfkit args` in `dir` (its own light-set cache): (exit code, stderr).
 fn run(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let r = common::brdfkit(dir).run(args);
+    (r.code, r.stderr)
 }
 
 fn probe(dir: &Path, name: &str, w: u32, h: u32, value: f32) -> String {

@@ -9,18 +9,15 @@
 //! keep the test fast.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
+mod common;
+
+/// Runs `brdfkit args` in `dir` (light-set cache in `dir/env-cache`), asserting success;
+/// returns stderr.
 fn brdfkit(dir: &Path, args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
-        .args(args)
-        .current_dir(dir)
-        .env("BRDFKIT_CACHE_DIR", dir.join("env-cache"))
-        .output()
-        .expect("run brdfkit");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{args:?} failed: {stderr}");
-    stderr
+    let r = common::brdfkit(dir).cache(&dir.join("env-cache")).run(args);
+    assert!(r.success(), "{args:?} failed: {}", r.stderr);
+    r.stderr
 }
 
 /// A small probe: dim sky, a bright warm sun and a blue patch, 16x8 texels.
@@ -128,18 +125,11 @@ fn shards_merge_into_the_single_run() {
                     .map(|(_, p)| p.as_str()),
             );
             args.extend(["-o", "partial.csv"]);
-            let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
-                .args(&args)
-                .current_dir(dir)
-                .env("BRDFKIT_CACHE_DIR", dir.join("env-cache"))
-                .output()
-                .unwrap();
-            let err = String::from_utf8_lossy(&out.stderr);
-            assert_eq!(
-                out.status.code(),
-                Some(2),
-                "shard {left_out}/{n} left out: {err}"
-            );
+            let out = common::brdfkit(dir)
+                .cache(&dir.join("env-cache"))
+                .run(&args);
+            let err = out.stderr;
+            assert_eq!(out.code, Some(2), "shard {left_out}/{n} left out: {err}");
             assert!(
                 err.contains("missing from the merge")
                     && err.contains(&format!("rows {left_out} to")),
