@@ -54,8 +54,8 @@
 //! multiply-add is fused on both, every lane sum has one order. The golden check demands
 //! identical bits on the platform and path that blessed an entry and applies the entry's
 //! tolerance elsewhere ([`golden`]). The fast path's polynomial `acos`/`atan2` and FMA
-//! contractions are explicit, with stated error bounds; the scalar oracle
-//! ([`shade::shade_reference`]) and the f64 reference use neither.
+//! contractions are explicit, with stated error bounds; the scalar f32 oracle and the f64
+//! path ([`shade::ShadingPath`]) use neither.
 //!
 //! ## Where the thesis is corrected
 //! Every departure from the thesis a GPU port must follow (azimuth range, pole frame, probe

@@ -82,6 +82,11 @@ impl Progress {
         self.bar.inc(n);
     }
 
+    /// Steps counted so far (also on a hidden display).
+    pub fn position(&self) -> u64 {
+        self.bar.position()
+    }
+
     /// Prints `line` above the display (or plainly to stderr when hidden), without tearing it.
     pub fn println(&self, line: impl AsRef<str>) {
         if self.bar.is_hidden() {

@@ -11,6 +11,16 @@ use brdfkit::sh::Lookup;
 use std::collections::BTreeSet;
 use std::path::Path;
 
+/// The scalar f32 oracle's image of `s` ([`ShadingPath::ScalarOracle`]).
+fn scalar_oracle(
+    s: &brdfkit::scene::Scene,
+    vis: &brdfkit::raster::VisBuffer,
+) -> brdfkit::image_io::Image {
+    let opts = brdfkit::shade::ShadeOptions::default()
+        .with_path(brdfkit::shade::ShadingPath::ScalarOracle);
+    brdfkit::shade::shade(s, vis, &opts).image
+}
+
 fn golden_dir() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("golden")
 }
@@ -417,7 +427,7 @@ fn manifest_errors_name_the_file_entry_and_field() {
 
 #[test]
 fn scene_precision_and_lookup_fields() {
-    // precision = "f64" renders through the f64 reference path, bit for bit.
+    // precision = "f64" renders through the f64 path with no skips, bit for bit.
     let mut f = SceneFile::parse(
         "[mesh]\nsegments = 4\n[material]\nkind = \"library\"\nname = \"magenta-plastic\"\n\
          lookup = \"nearest\"\n[render]\nwidth = 24\nheight = 18\nprecision = \"f64\"\n",
@@ -425,11 +435,16 @@ fn scene_precision_and_lookup_fields() {
     .unwrap();
     let s = Scene::resolve(&f, Path::new(".")).unwrap();
     assert_eq!(s.material.as_sh().unwrap().coeff_lookup, Lookup::Nearest);
-    let f64_img = brdfkit::render::render(&s, None);
-    assert_eq!(f64_img, brdfkit::render::render_reference(&s));
+    let f64_img = brdfkit::render::render(&s, &Default::default()).image;
+    let f64_path = brdfkit::render::RenderOptions::default()
+        .with_path(brdfkit::shade::ShadingPath::F64NoSkips);
+    assert_eq!(f64_img, brdfkit::render::render(&s, &f64_path).image);
     f.render.precision = Precision::F32;
     let s32 = Scene::resolve(&f, Path::new(".")).unwrap();
-    assert_ne!(brdfkit::render::render(&s32, None), f64_img);
+    assert_ne!(
+        brdfkit::render::render(&s32, &Default::default()).image,
+        f64_img
+    );
     // Without a lookup the library's own (bilinear) stays.
     f.material = MaterialSpec::Library {
         name: "magenta-plastic".into(),
@@ -509,7 +524,7 @@ fn a_stale_manifest_is_caught() {
 
 #[test]
 fn the_scalar_oracle_passes_every_shaded_f32_entry() {
-    // Another dispatch path must pass the check: the scalar oracle (`shade_reference`, the
+    // Another dispatch path must pass the check: the scalar oracle (`ShadingPath::ScalarOracle`, the
     // per-light `Brdf::eval` loop, no SIMD, no culling, another summation order) is held
     // against each stored fast render at the entry's own tolerance.
     let dir = golden_dir();
@@ -522,7 +537,7 @@ fn the_scalar_oracle_passes_every_shaded_f32_entry() {
         }
         let scene = Scene::resolve(&f, &dir).unwrap();
         let vis = brdfkit::render::rasterize(&scene, false);
-        let oracle = brdfkit::shade::shade_reference(&scene, &vis);
+        let oracle = scalar_oracle(&scene, &vis);
         let stored = image_io::read_exr(&dir.join(format!("{}.exr", e.name))).unwrap();
         let tol = golden::tolerance_named(&e.tolerance).unwrap();
         let (max_abs, over) = golden::compare(&stored, &oracle, tol).unwrap();

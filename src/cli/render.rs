@@ -6,6 +6,7 @@ use crate::env::prepare::{CacheDir, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::materials::Representation;
+use crate::progress::Progress;
 use crate::raster::Cull;
 use crate::render;
 use crate::scene::{MaterialSpec, Scene, SceneFile, MAX_SIDE};
@@ -220,16 +221,28 @@ pub fn run(a: RenderArgs) -> Result<()> {
         return run_turntable(&a, &scene, n, a.output.clone().or(file.output.path.clone()));
     }
     let start = std::time::Instant::now();
-    let (img, stats) = if a.reference && a.aov.is_none() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(scene.render.threads)
-            .build()
-            .expect("thread pool");
-        (pool.install(|| render::render_reference(&scene)), None)
+    let reference = a.reference && a.aov.is_none();
+    let mut opts = if reference {
+        render::RenderOptions::converged_reference()
     } else {
-        let (img, stats) = render::render_with_threads_stats(&scene, a.aov, scene.render.threads);
-        (img, Some(stats))
+        render::RenderOptions::default()
     };
+    opts.aov = a.aov;
+    opts.threads = Some(scene.render.threads);
+    opts.stats = a.stats && !reference;
+    if a.aov.is_none() {
+        // Tiles counted by the shading loop: a bar with an ETA on a terminal, nothing
+        // off one (the reference takes minutes; a large fast render seconds).
+        let what = match (reference, scene.render.precision) {
+            (true, _) => "reference",
+            (false, crate::scene::Precision::F64) => "render (f64)",
+            (false, crate::scene::Precision::F32) => "render",
+        };
+        opts.shading.progress = Progress::bar(render::tile_count(&scene), what, "tiles");
+    }
+    let rendered = render::render(&scene, &opts);
+    opts.shading.progress.finish();
+    let (img, stats) = (rendered.image, rendered.stats);
     let elapsed = start.elapsed();
     if a.stats {
         match &stats {
@@ -343,19 +356,21 @@ fn run_turntable(a: &RenderArgs, scene: &Scene, n: usize, out: Option<PathBuf>) 
         .num_threads(scene.render.threads)
         .build()
         .expect("thread pool");
+    let opts = render::RenderOptions {
+        aov: a.aov,
+        ..if a.reference && a.aov.is_none() {
+            render::RenderOptions::converged_reference()
+        } else {
+            render::RenderOptions::default()
+        }
+    };
     let frames: Vec<usize> = (0..n).filter(|&k| shard.contains(k)).collect();
     let pb = super::spinner("turntable");
     let start = std::time::Instant::now();
     for (done, &k) in frames.iter().enumerate() {
         pb.set_message(format!("turntable frame {} of {} ({done} done)", k, n));
         let s = turntable::frame_scene(scene, env_lights, motion, k, n);
-        let img = pool.install(|| {
-            if a.reference && a.aov.is_none() {
-                render::render_reference(&s)
-            } else {
-                render::render(&s, a.aov)
-            }
-        });
+        let img = pool.install(|| render::render(&s, &opts)).image;
         let path = turntable::frame_path(&out, k, n);
         match a.aov {
             None => image_io::write_png(&path, &img, s.output.exposure, s.output.tonemap)?,
