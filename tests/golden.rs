@@ -1,6 +1,8 @@
 //! Golden images: every entry of golden/manifest.toml re-renders within its tolerance, and
 //! the check is able to fail (a perturbed reference is caught and leaves its report).
 
+mod shading_paths;
+
 use brdfkit::aov::Aov;
 use brdfkit::env::prepare::SamplerKind;
 use brdfkit::golden::{self, CheckOptions, CROSS_PLATFORM, KERNEL_DISPATCH};
@@ -8,18 +10,9 @@ use brdfkit::image_io;
 use brdfkit::kernel::lanes::KernelPath;
 use brdfkit::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use brdfkit::sh::Lookup;
+use shading_paths::scalar_oracle;
 use std::collections::BTreeSet;
 use std::path::Path;
-
-/// The scalar f32 oracle's image of `s` ([`ShadingPath::ScalarOracle`]).
-fn scalar_oracle(
-    s: &brdfkit::scene::Scene,
-    vis: &brdfkit::raster::VisBuffer,
-) -> brdfkit::image_io::Image {
-    let opts = brdfkit::shade::ShadeOptions::default()
-        .with_path(brdfkit::shade::ShadingPath::ScalarOracle);
-    brdfkit::shade::shade(s, vis, &opts).image
-}
 
 fn golden_dir() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("golden")

@@ -1,22 +1,15 @@
 //! The kernels against the scalar oracle, and the work they skip against not skipping it.
 
+mod shading_paths;
+
 use brdfkit::env::prepare::{EnvSpec, SamplerKind};
 use brdfkit::kernel::lanes::Dispatch;
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
 use brdfkit::shade::{self, FramePrep, ShadeOptions};
+use shading_paths::scalar_oracle;
 use std::path::Path;
-
-/// The scalar f32 oracle's image of `s` ([`ShadingPath::ScalarOracle`]).
-fn scalar_oracle(
-    s: &brdfkit::scene::Scene,
-    vis: &brdfkit::raster::VisBuffer,
-) -> brdfkit::image_io::Image {
-    let opts = brdfkit::shade::ShadeOptions::default()
-        .with_path(brdfkit::shade::ShadingPath::ScalarOracle);
-    brdfkit::shade::shade(s, vis, &opts).image
-}
 
 fn scene(material: MaterialSpec, lights: usize) -> Scene {
     let mut f = SceneFile::default();

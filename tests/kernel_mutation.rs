@@ -11,6 +11,8 @@
 //! its worst difference as a multiple of the tolerance. Light sets are prepared without
 //! any cache.
 
+mod shading_paths;
+
 use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::kernel::lanes::{Dispatch, LANES};
@@ -22,28 +24,9 @@ use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::sh::ShBasisTable;
 use brdfkit::shade::{self, FramePrep, KernelFault, ShadeOptions};
 use glam::Vec3;
+use shading_paths::{f64_no_skips, scalar_oracle};
 use std::path::Path;
 use std::sync::Arc;
-
-/// The scalar f32 oracle's image of `s` ([`ShadingPath::ScalarOracle`]).
-fn scalar_oracle(
-    s: &brdfkit::scene::Scene,
-    vis: &brdfkit::raster::VisBuffer,
-) -> brdfkit::image_io::Image {
-    let opts = brdfkit::shade::ShadeOptions::default()
-        .with_path(brdfkit::shade::ShadingPath::ScalarOracle);
-    brdfkit::shade::shade(s, vis, &opts).image
-}
-
-/// The f64 path's image of `s` ([`ShadingPath::F64NoSkips`]: every light, every band).
-fn f64_no_skips(
-    s: &brdfkit::scene::Scene,
-    vis: &brdfkit::raster::VisBuffer,
-) -> brdfkit::image_io::Image {
-    let opts =
-        brdfkit::shade::ShadeOptions::default().with_path(brdfkit::shade::ShadingPath::F64NoSkips);
-    brdfkit::shade::shade(s, vis, &opts).image
-}
 
 /// The fast path's image of `s` on instruction set `d`, with the seeded `fault` if any.
 fn fast(s: &Scene, vis: &VisBuffer, d: Dispatch, fault: Option<KernelFault>) -> Image {

@@ -16,6 +16,8 @@
 //! off by far more than the tolerance, and `table_basis_on_any_path_fails_the_check`
 //! shows the check catches that.
 
+mod shading_paths;
+
 use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::kernel::lanes::Dispatch;
@@ -26,28 +28,9 @@ use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::sh::{ShBasisTable, ShDataset};
 use brdfkit::shade::{self, FramePrep, KernelFault, ShadeOptions};
 use glam::Vec3;
+use shading_paths::{f64_no_skips, scalar_oracle};
 use std::path::Path;
 use std::sync::Arc;
-
-/// The scalar f32 oracle's image of `s` ([`ShadingPath::ScalarOracle`]).
-fn scalar_oracle(
-    s: &brdfkit::scene::Scene,
-    vis: &brdfkit::raster::VisBuffer,
-) -> brdfkit::image_io::Image {
-    let opts = brdfkit::shade::ShadeOptions::default()
-        .with_path(brdfkit::shade::ShadingPath::ScalarOracle);
-    brdfkit::shade::shade(s, vis, &opts).image
-}
-
-/// The f64 path's image of `s` ([`ShadingPath::F64NoSkips`]: every light, every band).
-fn f64_no_skips(
-    s: &brdfkit::scene::Scene,
-    vis: &brdfkit::raster::VisBuffer,
-) -> brdfkit::image_io::Image {
-    let opts =
-        brdfkit::shade::ShadeOptions::default().with_path(brdfkit::shade::ShadingPath::F64NoSkips);
-    brdfkit::shade::shade(s, vis, &opts).image
-}
 
 /// Distance of the point lights standing for directional ones (scene units).
 const FAR: f32 = 1e7;
