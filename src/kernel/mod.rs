@@ -28,8 +28,9 @@
 //!   (analytic, D-BRDF) or [`SH_KERNEL_TOLERANCE`] (SH) of the oracle (tests/kernel.rs, both
 //!   paths), which the golden check's `kernel-dispatch` tolerance builds on.
 //!   tests/kernel_mutation.rs measures the worst case on every golden scene and shows, by
-//!   faults seeded through the test-only `FramePrep::fault`, that the tolerance catches a
-//!   dropped band, a dropped lane, a skipped group and a tabulated basis.
+//!   faults seeded through the test-only `fault` of [`crate::shade::ShadeOptions`], that
+//!   the tolerance catches a dropped band, a dropped lane, a skipped group and a tabulated
+//!   basis.
 //! - **One SH basis.** Every light kind (directional, point, environment set) and every
 //!   path (per pixel, pixel-packed, oracle, f64) evaluates the analytic SH basis, also for a
 //!   data set that carries a basis table (the data set's definition:
