@@ -2,8 +2,9 @@
 //! per-tile visibility) and deferred shading measured separately, and the whole frame.
 
 use brdfkit::render;
+use brdfkit::render::RenderOptions;
 use brdfkit::scene::Scene;
-use brdfkit::shade;
+use brdfkit::shade::{self, ShadeOptions, ShadingPath};
 use criterion::{criterion_group, criterion_main, Criterion};
 
 /// The allocator the `brdfkit` binary uses (src/main.rs), so frames are timed as they run.
@@ -16,11 +17,14 @@ fn frame(c: &mut Criterion) {
     let vis = render::rasterize(&scene, false);
     let mut g = c.benchmark_group("default-640x480");
     g.bench_function("raster", |b| b.iter(|| render::rasterize(&scene, false)));
-    g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis)));
+    let fast = ShadeOptions::default();
+    g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis, &fast)));
+    let oracle = ShadeOptions::default().with_path(ShadingPath::ScalarOracle);
     g.bench_function("shade-scalar-oracle", |b| {
-        b.iter(|| shade::shade_reference(&scene, &vis))
+        b.iter(|| shade::shade(&scene, &vis, &oracle))
     });
-    g.bench_function("frame", |b| b.iter(|| render::render(&scene, None)));
+    let frame = RenderOptions::default();
+    g.bench_function("frame", |b| b.iter(|| render::render(&scene, &frame)));
     g.finish();
 }
 

@@ -190,7 +190,9 @@ fn frames(c: &mut Criterion) {
         ("dbrdf-128", lib("lindt-paper"), Some(128)),
     ] {
         let s = scene(material, env);
-        g.bench_function(name, |b| b.iter(|| render::render(&s, None)));
+        g.bench_function(name, |b| {
+            b.iter(|| render::render(&s, &Default::default()).image)
+        });
     }
     g.finish();
 }

@@ -16,17 +16,20 @@
 //!    their file format: thesis 2.3.3-2.3.4, 3.1.3-3.1.5).
 //! 3. **Triangles binned to tiles and visibility resolved**: [`raster`] (homogeneous
 //!    clipping, fixed-point edge functions with a top-left rule, binning, per-tile depth).
-//! 4. **Pixels shaded**: [`shade`] (deferred: one shading per visible pixel; the frame's
-//!    skips decided once in [`shade::FramePrep`]), [`kernel`] (8 lights per SIMD group from
+//! 4. **Pixels shaded**: [`shade`] (deferred: one shading per visible pixel, one entry point
+//!    [`shade::shade`] for the three paths of [`shade::ShadingPath`]: the kernels, the
+//!    scalar f32 oracle, the f64 path with no skips; the frame's skips decided once in
+//!    [`shade::FramePrep`]), [`kernel`] (8 lights per SIMD group from
 //!    structure-of-arrays buffers: SH sums, lane models for the analytic and D-BRDF
 //!    materials; [`kernel::lanes`] is the only SIMD code, [`kernel::skip`] bounds what each
 //!    skip changes, [`kernel::approx`] states the error of each approximation), [`aov`]
 //!    (debug outputs: normal, depth, coverage, view and light angles).
 //! 5. **Images out**: [`image_io`] (linear EXR; PNG via exposure, tone map and sRGB;
-//!    atomic writes), [`golden`] (reference images and their check), [`compare`] (error
+//!    atomic writes), [`golden`] (golden images and their check), [`compare`] (error
 //!    metrics and FLIP for a GPU build's CI).
 //!
-//! [`render`] strings the stages together; [`cli`] is the command line.
+//! [`render`] strings the stages together (one entry point, [`render::render`], its settings
+//! in one struct, [`render::RenderOptions`]); [`cli`] is the command line.
 //!
 //! Off the rendering path: [`acquire`] measures any BRDF as an SH data set (projection,
 //! least squares, error and ringing reports) or fits a D-BRDF to it (thesis 2.3.3-2.3.6);
@@ -54,8 +57,8 @@
 //! multiply-add is fused on both, every lane sum has one order. The golden check demands
 //! identical bits on the platform and path that blessed an entry and applies the entry's
 //! tolerance elsewhere ([`golden`]). The fast path's polynomial `acos`/`atan2` and FMA
-//! contractions are explicit, with stated error bounds; the scalar oracle
-//! ([`shade::shade_reference`]) and the f64 reference use neither.
+//! contractions are explicit, with stated error bounds; the scalar f32 oracle and the f64
+//! path ([`shade::ShadingPath`]) use neither.
 //!
 //! ## Where the thesis is corrected
 //! Every departure from the thesis a GPU port must follow (azimuth range, pole frame, probe

@@ -66,7 +66,7 @@ impl Light {
     }
 
     /// [`Light::at`] in f64 arithmetic (the light's f32 values widened exactly), for the
-    /// f64 path ([`crate::shade::shade_reference_f64`]); same formula, same fallbacks.
+    /// f64 path ([`crate::shade::ShadingPath::F64NoSkips`]); same formula, same fallbacks.
     #[inline]
     pub fn at_f64(&self, p: DVec3) -> (DVec3, DVec3) {
         towards_light!(self, p, DVec3)

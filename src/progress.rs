@@ -28,7 +28,7 @@ impl Progress {
         }
         let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
         let template = format!(
-            "{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta}})"
+            "{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta_precise}})"
         );
         bar.set_style(
             ProgressStyle::with_template(&template)
@@ -80,6 +80,11 @@ impl Progress {
     /// Counts `n` finished steps.
     pub fn inc(&self, n: u64) {
         self.bar.inc(n);
+    }
+
+    /// Steps counted so far (also on a hidden display).
+    pub fn position(&self) -> u64 {
+        self.bar.position()
     }
 
     /// Prints `line` above the display (or plainly to stderr when hidden), without tearing it.

@@ -1,5 +1,5 @@
 //! Closed-form images of a sphere under one delta light, through all three shading paths
-//! (f32 fast kernels, f32 scalar oracle `shade::shade_reference`, f64 path): Lambert under a
+//! (f32 fast kernels, f32 scalar oracle `ShadingPath::ScalarOracle`, f64 path): Lambert under a
 //! directional and under a point light, energy-normalised Blinn-Phong and a D-BRDF with a
 //! constant half-vector distribution under a directional light.
 //!
@@ -228,7 +228,7 @@ fn blinn_phong_sphere_directional_light() {
     // far outside the 256-segment bound (the issue measured 17%).
     let coarse = blinn_phong_scene(16, l, e);
     let exact = common_hits(&analytic_sphere(&coarse), &renderer_surfaces(&coarse));
-    let img = brdfkit::render::render(&coarse, None);
+    let img = brdfkit::render::render(&coarse, &Default::default()).image;
     let an = compare(
         &img,
         &exact,
@@ -305,7 +305,7 @@ fn dbrdf_constant_table_sphere_directional_light() {
     ));
     let surfaces = renderer_surfaces(&old);
     let err = compare(
-        &brdfkit::render::render(&old, None),
+        &brdfkit::render::render(&old, &Default::default()).image,
         &surfaces,
         |_| true,
         expected,
@@ -334,7 +334,7 @@ fn seeded_faults_fail_the_at_surface_check() {
     scene.render.precision = brdfkit::scene::Precision::F64;
     let surfaces = renderer_surfaces(&scene);
     let expected = lambert_directional(l.as_vec3().as_dvec3(), e);
-    let good = brdfkit::render::render(&scene, None);
+    let good = brdfkit::render::render(&scene, &Default::default()).image;
     assert!(compare(&good, &surfaces, |_| true, &expected).max_rel <= AT_SURFACE);
     // 0.05% gain.
     let mut gain = good.clone();
@@ -347,7 +347,7 @@ fn seeded_faults_fail_the_at_surface_check() {
     let mut mirrored = scene.clone();
     mirrored.lights = light(DVec3::new(-l.x, l.y, l.z));
     let m = compare(
-        &brdfkit::render::render(&mirrored, None),
+        &brdfkit::render::render(&mirrored, &Default::default()).image,
         &surfaces,
         |_| true,
         &expected,
@@ -366,7 +366,7 @@ fn seeded_faults_fail_the_at_surface_check() {
         DVec3::from(ALBEDO) / PI * 5.0 * h.normal.dot(d / r).max(0.0) / r
     };
     let f = compare(
-        &brdfkit::render::render(&point, None),
+        &brdfkit::render::render(&point, &Default::default()).image,
         &surfaces,
         |_| true,
         one_over_d,

@@ -72,7 +72,10 @@ fn white_furnace_full_sampler() {
         let paths = if w == 128 {
             render_paths(&scene)
         } else {
-            vec![("f32 fast", brdfkit::render::render(&scene, None))]
+            vec![(
+                "f32 fast",
+                brdfkit::render::render(&scene, &Default::default()).image,
+            )]
         };
         for (path, img) in paths {
             let (max, rms) = furnace_errors(&img, expected);
@@ -87,7 +90,10 @@ fn white_furnace_full_sampler() {
         // `albedo/pi`, i.e. `4e-3` of `albedo L` (the bound of `kernel::skip`).
         if w == 128 {
             scene.render.drop_lights = brdfkit::kernel::skip::DEFAULT_DROP_LIGHTS;
-            let (max, rms) = furnace_errors(&brdfkit::render::render(&scene, None), expected);
+            let (max, rms) = furnace_errors(
+                &brdfkit::render::render(&scene, &Default::default()).image,
+                expected,
+            );
             eprintln!(
                 "white furnace full {w}x{h} with the default drop_lights 1e-3: max rel {max:.3e}, rms rel {rms:.3e} (bound 2e-3 + 4e-3)"
             );
@@ -130,7 +136,10 @@ fn white_furnace_default_sampler() {
         lights,
     );
     scene.render.drop_lights = brdfkit::kernel::skip::DEFAULT_DROP_LIGHTS;
-    let (max, rms) = furnace_errors(&brdfkit::render::render(&scene, None), 1.4);
+    let (max, rms) = furnace_errors(
+        &brdfkit::render::render(&scene, &Default::default()).image,
+        1.4,
+    );
     eprintln!(
         "white furnace default sampler (lloyd, {} lights, drop_lights 1e-3): max rel {max:.3e}, rms rel {rms:.3e}",
         spec.count
@@ -149,7 +158,7 @@ fn documented_probe_direction(u: f64, v: f64) -> DVec3 {
 
 /// Normal of the brightest pixel of a render of the sphere (the renderer's own normal there).
 fn brightest_normal(scene: &brdfkit::scene::Scene) -> DVec3 {
-    let img = brdfkit::render::render(scene, None);
+    let img = brdfkit::render::render(scene, &Default::default()).image;
     let surfaces = renderer_surfaces(scene);
     let (i, _) = img
         .pixels

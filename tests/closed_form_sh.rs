@@ -36,7 +36,7 @@ mod closed_form_common;
 use brdfkit::acquire::{acquire, AcquireOptions, Method};
 use brdfkit::brdf::Lambert;
 use brdfkit::light::Light;
-use brdfkit::render::render_with_stats;
+use brdfkit::render::{render, RenderOptions};
 use closed_form_common::*;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -131,7 +131,11 @@ fn check(name: &str, ds: brdfkit::sh::ShDataset, coeffs: &[f64]) -> f64 {
         }],
     );
     // Every stored band is shaded (the acquisition declares no band threshold).
-    let (_, stats) = render_with_stats(&scene, None);
+    let opts = RenderOptions {
+        stats: true,
+        ..RenderOptions::default()
+    };
+    let stats = render(&scene, &opts).stats.unwrap();
     assert_eq!((stats.sh_bands_stored, stats.sh_bands_used), (bands, bands));
     let l32 = l.as_vec3().as_dvec3();
     let series = |z: f64| -> f64 {

@@ -1,9 +1,19 @@
 //! Determinism: the same scene gives the same bits for any thread count and tile size.
 
 use brdfkit::aov::Aov;
-use brdfkit::render::render_with_threads;
+use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
 use std::path::Path;
+
+/// `s` (or its AOV `aov`) rendered on a dedicated pool of `threads` threads.
+fn render_on(s: &Scene, aov: Option<Aov>, threads: usize) -> brdfkit::image_io::Image {
+    let opts = RenderOptions {
+        aov,
+        threads: Some(threads),
+        ..RenderOptions::default()
+    };
+    render(s, &opts).image
+}
 
 fn bytes(img: &brdfkit::image_io::Image) -> Vec<u8> {
     img.pixels
@@ -38,11 +48,11 @@ fn scene(tile: u32, mesh: &str) -> Scene {
 #[test]
 fn identical_bytes_for_any_threads_and_tile_size() {
     for mesh in ["teapot", "sphere"] {
-        let reference = bytes(&render_with_threads(&scene(32, mesh), None, 1));
+        let reference = bytes(&render_on(&scene(32, mesh), None, 1));
         assert!(reference.iter().any(|&b| b != 0));
         for tile in [32, 8, 13] {
             for threads in [1, 2, 3, 7] {
-                let got = bytes(&render_with_threads(&scene(tile, mesh), None, threads));
+                let got = bytes(&render_on(&scene(tile, mesh), None, threads));
                 assert!(
                     got == reference,
                     "{mesh}: tile {tile}, {threads} threads differ from tile 32, 1 thread"
@@ -61,8 +71,8 @@ fn aovs_are_deterministic_too() {
         Aov::ViewAzimuth,
         Aov::LightPolar,
     ] {
-        let a = bytes(&render_with_threads(&scene(32, "teapot"), Some(aov), 1));
-        let b = bytes(&render_with_threads(&scene(8, "teapot"), Some(aov), 3));
+        let a = bytes(&render_on(&scene(32, "teapot"), Some(aov), 1));
+        let b = bytes(&render_on(&scene(8, "teapot"), Some(aov), 3));
         assert!(
             a == b,
             "{aov:?} differs between tile 32 / 1 thread and tile 8 / 3 threads"
@@ -81,7 +91,7 @@ fn every_kernel_path_gives_the_same_bits() {
     eprintln!("kernel paths on this CPU: {paths:?}");
     for material in ["", "blue-silk", "lindt-paper", "red-velvet"] {
         let mut s = scene(32, "sphere");
-        let render = |s: &Scene| bytes(&render_with_threads(s, None, 2));
+        let render_bytes = |s: &Scene| bytes(&render_on(s, None, 2));
         if !material.is_empty() {
             let mut f = SceneFile::default();
             f.render.width = 120;
@@ -93,7 +103,7 @@ fn every_kernel_path_gives_the_same_bits() {
         let mut images = Vec::new();
         for &p in &paths {
             s.render.kernel = p;
-            images.push(render(&s));
+            images.push(render_bytes(&s));
         }
         assert!(images[0].iter().any(|&b| b != 0));
         for (p, img) in paths.iter().zip(&images) {

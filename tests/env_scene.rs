@@ -53,7 +53,7 @@ fn white_furnace_lambert_sphere_per_sampler() {
         let mut errs = Vec::new();
         for n in [16, 128, 1024] {
             let s = scene(&format!("[mesh]\nsource = \"sphere\"\nsegments = 24\n[material]\nkind = \"lambert\"\nalbedo = [0.5, 0.5, 0.5]\n[env]\nfile = \"{}\"\nsampler = \"{}\"\ncount = {n}\n", probe.display(), serde_plain(sampler)), 48, 48);
-            let img = render(&s, None);
+            let img = render(&s, &Default::default()).image;
             let px = covered(&img);
             assert!(px.len() > 800, "{sampler:?} N={n}: sphere not visible");
             let rms = (px
@@ -96,7 +96,7 @@ fn teapot_under_real_probes_with_every_sampler() {
         let toml = |sampler: &str, n: usize| {
             format!("[material]\nkind = \"lambert\"\nalbedo = [0.7, 0.7, 0.7]\n[render]\ncull = \"back\"\n[env]\nfile = \"{}\"\nsampler = \"{sampler}\"\ncount = {n}\n", file.display())
         };
-        let reference = render(&scene(&toml("full", 1), 40, 30), None);
+        let reference = render(&scene(&toml("full", 1), 40, 30), &Default::default()).image;
         let ref_px = covered(&reference);
         let mean: f64 = ref_px
             .iter()
@@ -105,7 +105,11 @@ fn teapot_under_real_probes_with_every_sampler() {
             / ref_px.len() as f64;
         assert!(ref_px.len() > 200 && mean > 0.0);
         for sampler in SAMPLERS {
-            let img = render(&scene(&toml(serde_plain(sampler), 256), 40, 30), None);
+            let img = render(
+                &scene(&toml(serde_plain(sampler), 256), 40, 30),
+                &Default::default(),
+            )
+            .image;
             assert!(img.pixels.iter().all(|p| p.is_finite()));
             let rel_rmse = (img
                 .pixels

@@ -1,6 +1,8 @@
 //! Golden images: every entry of golden/manifest.toml re-renders within its tolerance, and
 //! the check is able to fail (a perturbed reference is caught and leaves its report).
 
+mod shading_paths;
+
 use brdfkit::aov::Aov;
 use brdfkit::env::prepare::SamplerKind;
 use brdfkit::golden::{self, CheckOptions, CROSS_PLATFORM, KERNEL_DISPATCH};
@@ -8,6 +10,7 @@ use brdfkit::image_io;
 use brdfkit::kernel::lanes::KernelPath;
 use brdfkit::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use brdfkit::sh::Lookup;
+use shading_paths::scalar_oracle;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -417,7 +420,7 @@ fn manifest_errors_name_the_file_entry_and_field() {
 
 #[test]
 fn scene_precision_and_lookup_fields() {
-    // precision = "f64" renders through the f64 reference path, bit for bit.
+    // precision = "f64" renders through the f64 path with no skips, bit for bit.
     let mut f = SceneFile::parse(
         "[mesh]\nsegments = 4\n[material]\nkind = \"library\"\nname = \"magenta-plastic\"\n\
          lookup = \"nearest\"\n[render]\nwidth = 24\nheight = 18\nprecision = \"f64\"\n",
@@ -425,11 +428,16 @@ fn scene_precision_and_lookup_fields() {
     .unwrap();
     let s = Scene::resolve(&f, Path::new(".")).unwrap();
     assert_eq!(s.material.as_sh().unwrap().coeff_lookup, Lookup::Nearest);
-    let f64_img = brdfkit::render::render(&s, None);
-    assert_eq!(f64_img, brdfkit::render::render_reference(&s));
+    let f64_img = brdfkit::render::render(&s, &Default::default()).image;
+    let f64_path = brdfkit::render::RenderOptions::default()
+        .with_path(brdfkit::shade::ShadingPath::F64NoSkips);
+    assert_eq!(f64_img, brdfkit::render::render(&s, &f64_path).image);
     f.render.precision = Precision::F32;
     let s32 = Scene::resolve(&f, Path::new(".")).unwrap();
-    assert_ne!(brdfkit::render::render(&s32, None), f64_img);
+    assert_ne!(
+        brdfkit::render::render(&s32, &Default::default()).image,
+        f64_img
+    );
     // Without a lookup the library's own (bilinear) stays.
     f.material = MaterialSpec::Library {
         name: "magenta-plastic".into(),
@@ -509,7 +517,7 @@ fn a_stale_manifest_is_caught() {
 
 #[test]
 fn the_scalar_oracle_passes_every_shaded_f32_entry() {
-    // Another dispatch path must pass the check: the scalar oracle (`shade_reference`, the
+    // Another dispatch path must pass the check: the scalar oracle (`ShadingPath::ScalarOracle`, the
     // per-light `Brdf::eval` loop, no SIMD, no culling, another summation order) is held
     // against each stored fast render at the entry's own tolerance.
     let dir = golden_dir();
@@ -522,7 +530,7 @@ fn the_scalar_oracle_passes_every_shaded_f32_entry() {
         }
         let scene = Scene::resolve(&f, &dir).unwrap();
         let vis = brdfkit::render::rasterize(&scene, false);
-        let oracle = brdfkit::shade::shade_reference(&scene, &vis);
+        let oracle = scalar_oracle(&scene, &vis);
         let stored = image_io::read_exr(&dir.join(format!("{}.exr", e.name))).unwrap();
         let tol = golden::tolerance_named(&e.tolerance).unwrap();
         let (max_abs, over) = golden::compare(&stored, &oracle, tol).unwrap();

@@ -1105,7 +1105,7 @@ fn dbrdf_hostile_files() {
     );
     let f = SceneFile::parse(&s).unwrap();
     let scene = Scene::resolve(&f, d).unwrap();
-    let img = brdfkit::render::render(&scene, None);
+    let img = brdfkit::render::render(&scene, &Default::default()).image;
     assert!(img.pixels.iter().all(|p| p.is_finite()));
 }
 

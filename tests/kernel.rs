@@ -1,11 +1,14 @@
 //! The kernels against the scalar oracle, and the work they skip against not skipping it.
 
+mod shading_paths;
+
 use brdfkit::env::prepare::{EnvSpec, SamplerKind};
 use brdfkit::kernel::lanes::Dispatch;
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
-use brdfkit::shade::{self, FramePrep};
+use brdfkit::shade::{self, FramePrep, ShadeOptions};
+use shading_paths::scalar_oracle;
 use std::path::Path;
 
 fn scene(material: MaterialSpec, lights: usize) -> Scene {
@@ -92,16 +95,14 @@ fn both_paths(
     s: &Scene,
     vis: &brdfkit::raster::VisBuffer,
 ) -> [(String, brdfkit::image_io::Image); 2] {
-    let mut prep = FramePrep::new(s);
-    let detected = (
-        prep.dispatch.name().to_string(),
-        shade::shade_with(&prep, s, vis),
-    );
-    prep.dispatch = Dispatch::portable();
-    [
-        detected,
-        ("portable".into(), shade::shade_with(&prep, s, vis)),
-    ]
+    let on = |d: Dispatch| {
+        let opts = ShadeOptions {
+            kernel: Some(d.path()),
+            ..ShadeOptions::default()
+        };
+        (d.name().to_string(), shade::shade(s, vis, &opts).image)
+    };
+    [on(FramePrep::new(s).dispatch()), on(Dispatch::portable())]
 }
 
 #[test]
@@ -124,7 +125,7 @@ fn sh_kernel_matches_scalar_oracle_for_library_materials() {
             "{name} should be an SH data set"
         );
         let vis = render::rasterize(&s, false);
-        let oracle = shade::shade_reference(&s, &vis);
+        let oracle = scalar_oracle(&s, &vis);
         for (path, img) in both_paths(&s, &vis) {
             assert_close(
                 &img,
@@ -146,7 +147,7 @@ fn generic_kernel_matches_scalar_oracle_for_analytic_materials() {
         let spec = SceneFile::parse(m).unwrap().material;
         let s = scene(spec, 128);
         let vis = render::rasterize(&s, false);
-        let oracle = shade::shade_reference(&s, &vis);
+        let oracle = scalar_oracle(&s, &vis);
         for (path, img) in both_paths(&s, &vis) {
             let what = format!("{} {path}", m.trim());
             assert_close(&img, &oracle, KERNEL_TOLERANCE, &what);
@@ -165,10 +166,12 @@ fn normal_cone_culling_changes_no_bit_and_skips_work() {
             256,
         );
         let vis = render::rasterize(&s, false);
-        let culled = shade::shade(&s, &vis);
-        let mut prep = FramePrep::new(&s);
-        prep.cull_lights = false;
-        let full = shade::shade_with(&prep, &s, &vis);
+        let culled = shade::shade(&s, &vis, &ShadeOptions::default()).image;
+        let no_culling = ShadeOptions {
+            cull_lights: false,
+            ..ShadeOptions::default()
+        };
+        let full = shade::shade(&s, &vis, &no_culling).image;
         assert!(culled == full, "{name}: culling changed the image");
     }
     // And it does skip: city's lights are mostly in the sky, so a tile of downward normals
@@ -203,7 +206,7 @@ fn kernels_match_scalar_oracle_on_golden_light_sets() {
         let f = SceneFile::parse(&text).unwrap();
         let s = Scene::resolve(&f, &dir).unwrap();
         let vis = render::rasterize(&s, false);
-        let oracle = shade::shade_reference(&s, &vis);
+        let oracle = scalar_oracle(&s, &vis);
         for (path, img) in both_paths(&s, &vis) {
             assert_close(&img, &oracle, KERNEL_TOLERANCE, &format!("{name} {path}"));
         }
@@ -229,7 +232,7 @@ fn pixel_packed_point_light_path_matches_oracle_and_tile_size() {
             f.lights = Some(SceneFile::parse(points).unwrap().lights.unwrap());
             let s = Scene::resolve(&f, Path::new("/")).unwrap();
             let vis = render::rasterize(&s, false);
-            let oracle = shade::shade_reference(&s, &vis);
+            let oracle = scalar_oracle(&s, &vis);
             for (path, img) in both_paths(&s, &vis) {
                 let what = format!("{name} points tile {tile} {path}");
                 assert_close(&img, &oracle, SH_KERNEL_TOLERANCE, &what);

@@ -3,26 +3,40 @@
 //! golden check's `kernel-dispatch`) is tight enough to catch real kernel faults.
 //!
 //! First the real worst case: every golden scene, the kernel on the detected instruction
-//! set and on the portable one against the scalar oracle (`shade::shade_reference`). Then
-//! faults seeded into the SH path (`FramePrep::fault`, test only): each must exceed the
+//! set and on the portable one against the scalar oracle (`ShadingPath::ScalarOracle`). Then
+//! faults seeded into the SH path (`ShadeOptions::fault`, test only): each must exceed the
 //! tolerance against the oracle on realistic scenes, 8-band library data sets (blue-silk,
 //! teal-paint) under a 64-light environment set (per-pixel path, about 30 lights above a
 //! pixel's horizon) and under one point light (pixel-packed path). Every comparison prints
 //! its worst difference as a multiple of the tolerance. Light sets are prepared without
 //! any cache.
 
+mod shading_paths;
+
 use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::kernel::lanes::{Dispatch, LANES};
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
 use brdfkit::light::Light;
+use brdfkit::raster::VisBuffer;
 use brdfkit::render;
 use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::sh::ShBasisTable;
-use brdfkit::shade::{self, FramePrep, KernelFault};
+use brdfkit::shade::{self, FramePrep, KernelFault, ShadeOptions};
 use glam::Vec3;
+use shading_paths::{f64_no_skips, scalar_oracle};
 use std::path::Path;
 use std::sync::Arc;
+
+/// The fast path's image of `s` on instruction set `d`, with the seeded `fault` if any.
+fn fast(s: &Scene, vis: &VisBuffer, d: Dispatch, fault: Option<KernelFault>) -> Image {
+    let opts = ShadeOptions {
+        kernel: Some(d.path()),
+        fault,
+        ..ShadeOptions::default()
+    };
+    shade::shade(s, vis, &opts).image
+}
 
 /// Largest per-channel difference of `a` from `oracle` relative to the oracle pixel's
 /// largest channel or to 1% of the image's peak, whichever is larger, and the number of
@@ -92,9 +106,9 @@ fn kernel_worst_case_on_every_golden_scene() {
             let prep = FramePrep::new(&s);
             assert_eq!(prep.dropped.kept.len(), s.lights.len());
             assert_eq!(prep.sh_bands.0, prep.sh_bands.1);
-            shade::shade_reference_f64(&s, &vis)
+            f64_no_skips(&s, &vis)
         } else {
-            shade::shade_reference(&s, &vis)
+            scalar_oracle(&s, &vis)
         };
         let sh = s.material.as_sh().is_some();
         let tol = if sh {
@@ -103,16 +117,14 @@ fn kernel_worst_case_on_every_golden_scene() {
             KERNEL_TOLERANCE
         };
         for d in [Dispatch::detect(), Dispatch::portable()] {
-            let mut prep = FramePrep::new(&s);
-            prep.dispatch = d;
-            let (worst, over) = compare(&shade::shade_with(&prep, &s, &vis), &oracle, tol);
+            let (worst, over) = compare(&fast(&s, &vis, d, None), &oracle, tol);
             let name = file.file_stem().unwrap().to_string_lossy();
             eprintln!(
                 "{name} ({}, {} lights) {} vs {}: worst {worst:.2e} = {:.3} x tolerance {tol:e}",
                 if sh { "SH" } else { "other" },
                 s.lights.len(),
                 d.name(),
-                if many { "f64 reference" } else { "oracle" },
+                if many { "f64 path" } else { "oracle" },
                 worst / tol
             );
             assert_eq!(over, 0, "{name} {}: kernel off the oracle", d.name());
@@ -179,17 +191,11 @@ fn seeded_sh_kernel_faults_exceed_the_tolerance() {
         for (lighting, lights) in lightings() {
             let s = scene(name, lights);
             let vis = render::rasterize(&s, false);
-            let oracle = shade::shade_reference(&s, &vis);
+            let oracle = scalar_oracle(&s, &vis);
             let lit = oracle.pixels.iter().filter(|p| **p != Vec3::ZERO).count();
             assert!(lit > 300, "{name}, {lighting}: only {lit} lit pixels");
             for d in [Dispatch::detect(), Dispatch::portable()] {
-                let mut prep = FramePrep::new(&s);
-                prep.dispatch = d;
-                let (clean, over) = compare(
-                    &shade::shade_with(&prep, &s, &vis),
-                    &oracle,
-                    SH_KERNEL_TOLERANCE,
-                );
+                let (clean, over) = compare(&fast(&s, &vis, d, None), &oracle, SH_KERNEL_TOLERANCE);
                 assert_eq!(over, 0, "{name}, {lighting}, {}: unfaulted", d.name());
                 eprintln!(
                     "{name}, {lighting}, {}, no fault: worst {clean:.2e} = {:.3} x tolerance",
@@ -197,8 +203,7 @@ fn seeded_sh_kernel_faults_exceed_the_tolerance() {
                     clean / SH_KERNEL_TOLERANCE
                 );
                 for fault in faults {
-                    prep.fault = Some(fault);
-                    let img = shade::shade_with(&prep, &s, &vis);
+                    let img = fast(&s, &vis, d, Some(fault));
                     let (worst, over) = compare(&img, &oracle, SH_KERNEL_TOLERANCE);
                     eprintln!(
                         "{name}, {lighting}, {}, {fault:?}: worst {worst:.2e} = {:.1} x \

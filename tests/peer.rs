@@ -49,7 +49,7 @@ use brdfkit::env::{LoadOptions, Probe};
 use brdfkit::image_io::{read_exr, Image};
 use brdfkit::light::Light;
 use brdfkit::mesh::{sphere::uv_sphere, Mesh};
-use brdfkit::render::{render, render_reference};
+use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::camera::Camera;
 use brdfkit::scene::{OutputSpec, Precision, RenderSpec, Scene};
 use glam::{DVec3, Vec3};
@@ -214,8 +214,8 @@ fn scene(meta: &Value, config: Config, lights: Option<Vec<Light>>) -> Scene {
 
 fn render_config(s: &Scene, config: Config) -> Image {
     match config {
-        Config::Reference => render_reference(s),
-        Config::Default => render(s, None),
+        Config::Reference => render(s, &RenderOptions::converged_reference()).image,
+        Config::Default => render(s, &RenderOptions::default()).image,
     }
 }
 

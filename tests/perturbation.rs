@@ -69,8 +69,8 @@ fn rebuild(ds: &ShDataset, coeffs: Vec<f32>, includes_cosine: bool) -> ShDataset
 }
 
 fn verdict(expected: &Scene, actual: &Scene) -> (bool, compare::Metrics) {
-    let e = Loaded::from_linear(render::render(expected, None));
-    let a = Loaded::from_linear(render::render(actual, None));
+    let e = Loaded::from_linear(render::render(expected, &Default::default()).image);
+    let a = Loaded::from_linear(render::render(actual, &Default::default()).image);
     let (m, _) = compare::compare(&e, &a, &Thresholds::DEFAULT).unwrap();
     eprintln!(
         "FLIP mean {:.4}, p99 {:.4}, max abs {:.3e}",

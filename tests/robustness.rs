@@ -7,14 +7,21 @@ use brdfkit::scene::{Scene, SceneFile};
 use std::path::Path;
 
 fn check_finite(scene: &Scene, what: &str) -> usize {
-    let img = render(scene, None);
+    let img = render(scene, &Default::default()).image;
     assert!(
         img.pixels.iter().all(|p| p.is_finite()),
         "{what}: non-finite pixel"
     );
     // Every AOV the renderer has (the command line's list), so a new one is checked too.
     for &aov in <Aov as clap::ValueEnum>::value_variants() {
-        let a = render(scene, Some(aov));
+        let a = render(
+            scene,
+            &brdfkit::render::RenderOptions {
+                aov: Some(aov),
+                ..Default::default()
+            },
+        )
+        .image;
         assert!(
             a.pixels.iter().all(|p| p.is_finite()),
             "{what}: non-finite {aov:?}"
@@ -92,8 +99,8 @@ fn culling_back_faces_keeps_the_visible_surface() {
         let culled = scene_from(&format!(
             "[mesh]\nsource = \"{mesh}\"\n[render]\ncull = \"back\"\n"
         ));
-        let a = render(&two_sided, None);
-        let b = render(&culled, None);
+        let a = render(&two_sided, &Default::default()).image;
+        let b = render(&culled, &Default::default()).image;
         let covered = a.pixels.iter().filter(|p| p.max_element() > 0.0).count();
         let same = a
             .pixels

@@ -4,7 +4,7 @@
 //! the band skip on and off.
 //!
 //! Expected image, per lighting and band-skip setting: the scalar oracle
-//! (`shade::shade_reference`) of the data set *without* a table under the *directional* form
+//! (`ShadingPath::ScalarOracle`) of the data set *without* a table under the *directional* form
 //! of the lights. Each combination (light kind x path x skip) is one assertion at
 //! `SH_KERNEL_TOLERANCE` with the metric of tests/kernel.rs. A distant point light stands
 //! for a directional one: at distance `R = 1e7` from the origin, over a teapot within about 3
@@ -16,6 +16,8 @@
 //! off by far more than the tolerance, and `table_basis_on_any_path_fails_the_check`
 //! shows the check catches that.
 
+mod shading_paths;
+
 use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::kernel::lanes::Dispatch;
@@ -24,8 +26,9 @@ use brdfkit::light::Light;
 use brdfkit::render;
 use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::sh::{ShBasisTable, ShDataset};
-use brdfkit::shade::{self, FramePrep, KernelFault};
+use brdfkit::shade::{self, FramePrep, KernelFault, ShadeOptions};
 use glam::Vec3;
+use shading_paths::{f64_no_skips, scalar_oracle};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -126,10 +129,12 @@ fn lightings() -> Vec<(&'static str, Vec<Light>)> {
 /// Fast-path render of `s` on `dispatch`, with an optional seeded fault.
 fn fast(s: &Scene, dispatch: Dispatch, fault: Option<KernelFault>) -> Image {
     let vis = render::rasterize(s, false);
-    let mut prep = FramePrep::new(s);
-    prep.dispatch = dispatch;
-    prep.fault = fault;
-    shade::shade_with(&prep, s, &vis)
+    let opts = ShadeOptions {
+        kernel: Some(dispatch.path()),
+        fault,
+        ..ShadeOptions::default()
+    };
+    shade::shade(s, &vis, &opts).image
 }
 
 /// Every (path, image) of the tabled data set under `lights` in one light kind.
@@ -159,7 +164,7 @@ fn renders(
             out.push((format!("fast {}", d.name()), fast(&s, d, None)));
         }
     }
-    out.push(("scalar oracle".into(), shade::shade_reference(&s, &vis)));
+    out.push(("scalar oracle".into(), scalar_oracle(&s, &vis)));
     // The f64 path shades every stored band; with the band skip, it shades the truncated
     // data set the frame preparation made (its table truncated with it).
     let f64_scene = if band_skip {
@@ -170,7 +175,7 @@ fn renders(
     } else {
         s
     };
-    out.push(("f64".into(), shade::shade_reference_f64(&f64_scene, &vis)));
+    out.push(("f64".into(), f64_no_skips(&f64_scene, &vis)));
     out
 }
 
@@ -188,7 +193,7 @@ fn a_basis_table_renders_the_same_through_every_light_kind_path_and_band_skip() 
         for band_skip in [false, true] {
             let anchor_scene = scene(plain.clone(), lights.clone(), band_skip);
             let vis = render::rasterize(&anchor_scene, false);
-            let expected = shade::shade_reference(&anchor_scene, &vis);
+            let expected = scalar_oracle(&anchor_scene, &vis);
             let lit = expected.pixels.iter().filter(|p| **p != Vec3::ZERO).count();
             assert!(lit > 300, "{lighting}: only {lit} lit pixels");
             for points in [false, true] {
@@ -223,7 +228,7 @@ fn table_basis_on_any_path_fails_the_check() {
     let (_, lights) = lightings().remove(0);
     let expected = {
         let s = scene(plain.clone(), lights.clone(), false);
-        shade::shade_reference(&s, &render::rasterize(&s, false))
+        scalar_oracle(&s, &render::rasterize(&s, false))
     };
     let points = as_far_points(&lights);
     let mut with_dark = points.clone();

@@ -9,9 +9,9 @@ use brdfkit::image_io::Image;
 use brdfkit::kernel::skip::{band_tail_factor, summation_allowance};
 use brdfkit::light::Light;
 use brdfkit::raster::NO_TRIANGLE;
-use brdfkit::render::{self, render_with_stats, RenderStats};
+use brdfkit::render::{self, RenderOptions, RenderStats};
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
-use brdfkit::shade::{self, local_view, surface_at, FramePrep};
+use brdfkit::shade::{self, local_view, surface_at, FramePrep, ShadeOptions};
 use glam::Vec3;
 use std::path::Path;
 use std::sync::Arc;
@@ -56,6 +56,17 @@ fn within(a: &Image, b: &Image, bound: impl Fn(usize) -> (Vec3, Vec3), what: &st
     worst
 }
 
+/// `s` (or its AOV `aov`) rendered with the work done ([`RenderOptions::stats`]).
+fn render_counted(s: &Scene, aov: Option<brdfkit::aov::Aov>) -> (Image, RenderStats) {
+    let opts = RenderOptions {
+        aov,
+        stats: true,
+        ..RenderOptions::default()
+    };
+    let r = render::render(s, &opts);
+    (r.image, r.stats.expect("stats asked for"))
+}
+
 #[test]
 fn dropping_negligible_lights_stays_within_its_bound() {
     let lights = studio_uniform(256);
@@ -86,10 +97,10 @@ fn dropping_negligible_lights_stays_within_its_bound() {
         for fraction in [brdfkit::kernel::skip::DEFAULT_DROP_LIGHTS, 0.02] {
             let mut s = scene(m.clone(), lights.clone(), 48, 36);
             s.render.drop_lights = 0.0;
-            let (full, st_full) = render_with_stats(&s, None);
+            let (full, st_full) = render_counted(&s, None);
             assert_eq!(st_full.lights_dropped, 0);
             s.render.drop_lights = fraction;
-            let (skipped, st) = render_with_stats(&s, None);
+            let (skipped, st) = render_counted(&s, None);
             assert!(
                 st.lights_dropped > 0,
                 "{what} at {fraction}: nothing dropped"
@@ -100,7 +111,10 @@ fn dropping_negligible_lights_stays_within_its_bound() {
             let mut only_kept = s.clone();
             only_kept.lights = prep.dropped.kept.clone();
             only_kept.render.drop_lights = 0.0;
-            assert!(render::render(&only_kept, None) == skipped, "{what}");
+            assert!(
+                render::render(&only_kept, &Default::default()).image == skipped,
+                "{what}"
+            );
             // Bound: dropped irradiance x max |f cos|, plus the rounding of two f32 sums
             // over the full light set in different orders.
             let m = s.material.max_cosine_weighted().unwrap();
@@ -159,10 +173,10 @@ fn dropping_sh_bands_stays_within_the_addition_theorem_bound() {
         let mut s = scene(MaterialSpec::default(), lights.clone(), 48, 36);
         s.render.drop_lights = 0.0;
         s.material = Arc::new(ds.clone());
-        let (skipped, st) = render_with_stats(&s, None);
+        let (skipped, st) = render_counted(&s, None);
         assert_eq!((st.sh_bands_stored, st.sh_bands_used), (b, keep), "{name}");
         s.render.band_skip = false;
-        let (full, st_full) = render_with_stats(&s, None);
+        let (full, st_full) = render_counted(&s, None);
         assert_eq!(st_full.sh_bands_used, b);
         // Per pixel: sum_k E_k w_k over lights above the horizon, times the tail norm of
         // the pixel's view coefficients, times sqrt((B^2 - L^2)/(4 pi)).
@@ -227,7 +241,7 @@ fn occupied_and_covered(s: &Scene) -> (u64, u64) {
 fn counters_show_empty_tiles_and_unasked_aovs_skipped() {
     let s = scene(MaterialSpec::default(), studio_uniform(24), 64, 48);
     let (tiles, px) = occupied_and_covered(&s);
-    let (_, st) = render_with_stats(&s, None);
+    let (_, st) = render_counted(&s, None);
     assert_eq!(st.tiles, 12);
     assert!(tiles < st.tiles, "the teapot should leave some tile empty");
     assert_eq!(st.shade.tiles_shaded, tiles);
@@ -240,28 +254,37 @@ fn counters_show_empty_tiles_and_unasked_aovs_skipped() {
         "beauty computed an AOV"
     );
     // Without culling every shaded pixel meets every kept light.
-    let mut prep = FramePrep::new(&s);
-    prep.cull_lights = false;
+    let prep = FramePrep::new(&s);
     let vis = render::rasterize(&s, false);
-    let (_, c) = shade::shade_with_counts(&prep, &s, &vis);
+    let no_culling = ShadeOptions {
+        cull_lights: false,
+        ..ShadeOptions::default()
+    };
+    let c = shade::shade(&s, &vis, &no_culling).counts;
     assert_eq!(c.light_pairs, px * (24 - prep.dropped.dropped) as u64);
     // Counters do not depend on the thread count.
-    let one = render::render_with_threads_stats(&s, None, 1).1;
-    let two = render::render_with_threads_stats(&s, None, 2).1;
-    assert_eq!(one, two);
+    let on = |threads| {
+        let opts = RenderOptions {
+            threads: Some(threads),
+            stats: true,
+            ..RenderOptions::default()
+        };
+        render::render(&s, &opts).stats.unwrap()
+    };
+    assert_eq!(on(1), on(2));
 
     // An AOV render shades nothing; only the coverage AOV counts coverage.
-    let (_, a) = render_with_stats(&s, Some(brdfkit::aov::Aov::Normal));
+    let (_, a) = render_counted(&s, Some(brdfkit::aov::Aov::Normal));
     assert_eq!(a.shade, Default::default(), "an AOV render shaded");
     assert_eq!((a.aov_pixels, a.coverage_counted), (px, false));
-    let (_, c) = render_with_stats(&s, Some(brdfkit::aov::Aov::Coverage));
+    let (_, c) = render_counted(&s, Some(brdfkit::aov::Aov::Coverage));
     assert_eq!(c.shade, Default::default());
     assert_eq!((c.aov_pixels, c.coverage_counted), (64 * 48, true));
 
     // An empty scene (the camera looks away from the mesh) shades nothing.
     let mut empty = s.clone();
     empty.camera.target = empty.camera.position * 2.0;
-    let (img, e) = render_with_stats(&empty, None);
+    let (img, e) = render_counted(&empty, None);
     assert!(img.pixels.iter().all(|p| *p == Vec3::ZERO));
     let want = RenderStats {
         tiles: 12,

@@ -58,9 +58,9 @@ fn every_aov() -> &'static [Aov] {
 fn assert_finite(scene: &Scene, what: &str, aovs: bool) -> (Image, Image) {
     let mut s = scene.clone();
     s.render.precision = Precision::F32;
-    let fast = render(&s, None);
+    let fast = render(&s, &Default::default()).image;
     s.render.precision = Precision::F64;
-    let reference = render(&s, None);
+    let reference = render(&s, &Default::default()).image;
     for (img, p) in [(&fast, "f32"), (&reference, "f64")] {
         if let Some(i) = img.pixels.iter().position(|p| !p.is_finite()) {
             panic!("{what}: {p} pixel {i} is {}", img.pixels[i]);
@@ -68,7 +68,14 @@ fn assert_finite(scene: &Scene, what: &str, aovs: bool) -> (Image, Image) {
     }
     if aovs {
         for &a in every_aov() {
-            let img = render(scene, Some(a));
+            let img = render(
+                scene,
+                &brdfkit::render::RenderOptions {
+                    aov: Some(a),
+                    ..Default::default()
+                },
+            )
+            .image;
             assert!(
                 img.pixels.iter().all(|p| p.is_finite()),
                 "{what}: non-finite {a:?}"

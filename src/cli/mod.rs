@@ -229,7 +229,7 @@ pub struct RenderArgs {
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
-    /// Reference render: every light of the full probe (with an environment), no culling, f64 shading. Slow; the converged reference the fast path is measured against.
+    /// Render the converged reference: every texel of the probe a light (with an environment; --lights is ignored), every SH band, no skips, no culling, f64 shading. Minutes where the fast path takes milliseconds; shows a bar with an ETA on a terminal. The reference the fast path is measured against (golden bounds, sweep).
     #[arg(long)]
     pub reference: bool,
     /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's `[material]`.

@@ -6,13 +6,18 @@ use crate::env::prepare::{CacheDir, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::materials::Representation;
+use crate::progress::Progress;
 use crate::raster::Cull;
 use crate::render;
-use crate::scene::{MaterialSpec, Scene, SceneFile, MAX_SIDE};
+use crate::scene::{MaterialSpec, Precision, Scene, SceneFile, MAX_SIDE};
 use crate::sh::Lookup;
 use crate::shard::Shard;
 use crate::turntable::{self, Motion};
 use std::path::{Path, PathBuf};
+
+/// Pixels from which a render on the kernels shows a progress bar: about a second of
+/// shading (8192 x 8192, four times as many, takes 3.7 s on two cores).
+const FAST_BAR_PIXELS: u64 = 4096 * 4096;
 
 fn check_side(name: &str, v: u32) -> Result<u32> {
     if v == 0 || v > MAX_SIDE {
@@ -220,16 +225,33 @@ pub fn run(a: RenderArgs) -> Result<()> {
         return run_turntable(&a, &scene, n, a.output.clone().or(file.output.path.clone()));
     }
     let start = std::time::Instant::now();
-    let (img, stats) = if a.reference && a.aov.is_none() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(scene.render.threads)
-            .build()
-            .expect("thread pool");
-        (pool.install(|| render::render_reference(&scene)), None)
+    let reference = a.reference && a.aov.is_none();
+    let mut opts = if reference {
+        render::RenderOptions::converged_reference()
     } else {
-        let (img, stats) = render::render_with_threads_stats(&scene, a.aov, scene.render.threads);
-        (img, Some(stats))
+        render::RenderOptions::default()
     };
+    opts.aov = a.aov;
+    opts.threads = Some(scene.render.threads);
+    opts.stats = a.stats && !reference;
+    // Tiles counted by the shading loop: a bar with an ETA on a terminal, nothing off one,
+    // for the renders that can take more than about a second (the reference takes
+    // minutes, the f64 path seconds; the kernels only at FAST_BAR_PIXELS and beyond).
+    let what = match (reference, scene.render.precision) {
+        _ if a.aov.is_some() => None,
+        (true, _) => Some("reference"),
+        (false, Precision::F64) => Some("render (f64)"),
+        (false, Precision::F32) => {
+            let pixels = scene.render.width as u64 * scene.render.height as u64;
+            (pixels >= FAST_BAR_PIXELS).then_some("render")
+        }
+    };
+    if let Some(what) = what {
+        opts.shading.progress = Progress::bar(render::tile_count(&scene), what, "tiles");
+    }
+    let rendered = render::render(&scene, &opts);
+    opts.shading.progress.finish();
+    let (img, stats) = (rendered.image, rendered.stats);
     let elapsed = start.elapsed();
     if a.stats {
         match &stats {
@@ -343,19 +365,21 @@ fn run_turntable(a: &RenderArgs, scene: &Scene, n: usize, out: Option<PathBuf>) 
         .num_threads(scene.render.threads)
         .build()
         .expect("thread pool");
+    let opts = render::RenderOptions {
+        aov: a.aov,
+        ..if a.reference && a.aov.is_none() {
+            render::RenderOptions::converged_reference()
+        } else {
+            render::RenderOptions::default()
+        }
+    };
     let frames: Vec<usize> = (0..n).filter(|&k| shard.contains(k)).collect();
     let pb = super::spinner("turntable");
     let start = std::time::Instant::now();
     for (done, &k) in frames.iter().enumerate() {
         pb.set_message(format!("turntable frame {} of {} ({done} done)", k, n));
         let s = turntable::frame_scene(scene, env_lights, motion, k, n);
-        let img = pool.install(|| {
-            if a.reference && a.aov.is_none() {
-                render::render_reference(&s)
-            } else {
-                render::render(&s, a.aov)
-            }
-        });
+        let img = pool.install(|| render::render(&s, &opts)).image;
         let path = turntable::frame_path(&out, k, n);
         match a.aov {
             None => image_io::write_png(&path, &img, s.output.exposure, s.output.tonemap)?,

@@ -4,8 +4,8 @@
 use super::*;
 
 /// The measured difference between an entry's render and its reference render
-/// ([`crate::render::render_reference`]: f64, every light of the full probe, no light
-/// culling), over all pixels and channels of the linear images.
+/// (the converged reference, [`crate::render::RenderOptions::converged_reference`]: f64,
+/// every light of the full probe, no skips, no culling), over all pixels and channels of the linear images.
 /// Each value is rounded *up* to three significant digits, so it stays a bound.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -51,7 +51,8 @@ pub const BOUND_MARGIN: (f64, f64) = (0.1, 1e-6);
 /// images at 1/`scale` of the entry's width and height (at least 1 pixel each): the fast
 /// side is the f32 kernel render of the scene (for an f64 entry too, so it is never its own
 /// reference), the reference the same scene with the environment (if any) as the full
-/// probe, through [`render::render_reference`] (f64, every light, no culling). `None` for
+/// probe, through [`render::RenderOptions::converged_reference`] (f64, every light, no
+/// skips, no culling). `None` for
 /// debug outputs (nothing is shaded). Slow with an environment at full size (every probe
 /// texel is a light).
 pub fn measure(dir: &Path, entry: &Entry, scale: u32) -> Result<Option<Bound>> {
@@ -63,12 +64,16 @@ pub fn measure(dir: &Path, entry: &Entry, scale: u32) -> Result<Option<Bound>> {
     file.render.width = (file.render.width / scale.max(1)).max(1);
     file.render.height = (file.render.height / scale.max(1)).max(1);
     file.render.precision = Precision::F32;
-    let fast = render::render(&resolve_named(&file, dir, &scene_path)?, None);
+    let fast = render::render(
+        &resolve_named(&file, dir, &scene_path)?,
+        &RenderOptions::default(),
+    )
+    .image;
     if let Some(env) = file.env.as_mut() {
         env.sampler = SamplerKind::Full;
     }
     let scene = resolve_named(&file, dir, &scene_path)?;
-    let reference = render::render_reference(&scene);
+    let reference = render::render(&scene, &RenderOptions::converged_reference()).image;
     Ok(Some(bound(&fast, &reference)?))
 }
 

@@ -58,7 +58,7 @@ use crate::env::prepare::SamplerKind;
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image};
 use crate::kernel::lanes::{Dispatch, KernelPath};
-use crate::render;
+use crate::render::{self, RenderOptions};
 use crate::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use crate::sh::dataset::Lookup;
 use glam::Vec3;
@@ -126,11 +126,24 @@ pub(crate) fn resolve_named(file: &SceneFile, dir: &Path, scene_path: &Path) -> 
     })
 }
 
+/// Renders `scene` as a golden entry does: its AOV `aov`, or the shaded image at the
+/// scene's precision and kernel (the default [`RenderOptions`]).
+fn render_aov(scene: &Scene, aov: Option<Aov>) -> Image {
+    render::render(
+        scene,
+        &RenderOptions {
+            aov,
+            ..RenderOptions::default()
+        },
+    )
+    .image
+}
+
 /// Renders an entry: its AOV, or its shaded image at the scene's precision (threads: all
 /// cores; the result does not depend on it).
 pub fn render_entry(dir: &Path, entry: &Entry) -> Result<Image> {
     let (_, scene) = load_scene(dir, entry, KernelPath::Auto)?;
-    Ok(render::render(&scene, entry.aov))
+    Ok(render_aov(&scene, entry.aov))
 }
 
 /// Judges one entry's render `actual` against its stored image `expected` (whose content
@@ -257,7 +270,7 @@ pub fn check(
         let image_path = dir.join(format!("{}.exr", entry.name));
         let expected = image_io::read_exr(&image_path)?;
         let (file, scene) = load_scene(dir, entry, opts.kernel)?;
-        let actual = render::render(&scene, entry.aov);
+        let actual = render_aov(&scene, entry.aov);
         let config = summarize(&file, &scene, entry.aov);
         let outcome = judge(
             entry,
@@ -292,7 +305,7 @@ pub fn bless(dir: &Path, names: &[String], opts: &CheckOptions) -> Result<Vec<Pa
             continue;
         }
         let (file, scene) = load_scene(dir, entry, opts.kernel)?;
-        let img = render::render(&scene, entry.aov);
+        let img = render_aov(&scene, entry.aov);
         entry.config = summarize(&file, &scene, entry.aov);
         entry.blessed_on = blessing_path(entry, &scene);
         entry.fast_vs_reference = measure(dir, entry, 1)?;

@@ -1,6 +1,6 @@
 //! Polynomial approximations of the transcendental functions of the lane models, each with
 //! its maximum error against `std` stated here and tested below on a dense grid. Fast path
-//! only: the scalar oracle and the f64 reference use `std` (no approximation there).
+//! only: the scalar oracle and the f64 path use `std` (no approximation there).
 //!
 //! - [`acos_01`]: `acos(x)` for `x` in `[0, 1]` (clamped), Abramowitz & Stegun 4.4.46,
 //!   `sqrt(1-x) (a0 + a1 x + .. + a7 x^7)`, truncation error <= 2e-8 rad; evaluated in f32,

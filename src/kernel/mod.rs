@@ -22,14 +22,15 @@
 //!   thread takes the same path, and the two paths give the same bits (fused multiply-add
 //!   on both), so the image depends neither on the thread count nor on the path.
 //! - **Tolerance.** The kernel paths sum in another order than the scalar oracle
-//!   ([`crate::shade::shade_reference`], and the f64 reference, neither of which uses any
-//!   of this), use FMA, and the D-BRDF's `acos`/`atan2` are polynomials with stated,
+//!   ([`crate::shade::ShadingPath::ScalarOracle`], and the f64 path, neither of which uses
+//!   any of this), use FMA, and the D-BRDF's `acos`/`atan2` are polynomials with stated,
 //!   tested maximum errors ([`approx`]). Each path is held within [`KERNEL_TOLERANCE`]
 //!   (analytic, D-BRDF) or [`SH_KERNEL_TOLERANCE`] (SH) of the oracle (tests/kernel.rs, both
 //!   paths), which the golden check's `kernel-dispatch` tolerance builds on.
 //!   tests/kernel_mutation.rs measures the worst case on every golden scene and shows, by
-//!   faults seeded through the test-only `FramePrep::fault`, that the tolerance catches a
-//!   dropped band, a dropped lane, a skipped group and a tabulated basis.
+//!   faults seeded through the test-only `fault` of [`crate::shade::ShadeOptions`], that
+//!   the tolerance catches a dropped band, a dropped lane, a skipped group and a tabulated
+//!   basis.
 //! - **One SH basis.** Every light kind (directional, point, environment set) and every
 //!   path (per pixel, pixel-packed, oracle, f64) evaluates the analytic SH basis, also for a
 //!   data set that carries a basis table (the data set's definition:
@@ -66,9 +67,9 @@ use lanes::LANES;
 /// the result by much more. Measured (tests/kernel_mutation.rs, every golden scene without
 /// an SH data set, both instruction-set paths): at most 7.2e-6 against the oracle. Beyond
 /// about a thousand lights the oracle's own plain f32 running sum drifts (golden
-/// `fig3-8-full-studio`, 130519 lights: 4.0e-4 off the f64 reference of the same light set,
+/// `fig3-8-full-studio`, 130519 lights: 4.0e-4 off the f64 path on the same light set,
 /// while the kernel's eight lane sums stay within 1.7e-5 of it), so there the kernel is
-/// held to the f64 reference instead.
+/// held to the f64 path instead.
 pub const KERNEL_TOLERANCE: f32 = 1e-4;
 
 /// [`KERNEL_TOLERANCE`] for SH data sets: the sum `sum_lm c_lm Y_lm` of a specular data

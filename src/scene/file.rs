@@ -121,12 +121,15 @@ pub struct RenderSpec {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Precision {
-    /// The fast path: the kernels of [`crate::kernel`] in f32 ([`crate::shade::shade`]).
+    /// The fast path: the kernels of [`crate::kernel`] in f32, with the skips
+    /// ([`crate::shade::ShadingPath::Kernels`]).
     #[default]
     F32,
     /// Frames, directions, the BRDF ([`crate::brdf::Brdf::eval_f64`]) and the light sum in
     /// f64, every light, no light culling, rounded to f32 once per pixel
-    /// ([`crate::shade::shade_reference_f64`]). Several times slower.
+    /// ([`crate::shade::ShadingPath::F64NoSkips`]). This also turns off every skip: every
+    /// light is shaded (`drop_lights` ignored) with every SH band (`band_skip` ignored).
+    /// Several times slower.
     F64,
 }
 

@@ -4,7 +4,7 @@
 //! on the thread count or the order of the sum; tests read them to see each skip
 //! (tests/skips.rs), the command line reports them.
 
-/// Work done by one [`super::shade_with_counts`] call, gathered per tile and summed after
+/// Work done by the kernels' tile loop in one [`super::shade`] call, gathered per tile and summed after
 /// (integers: the totals do not depend on the thread count or the order of the sum).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ShadeCounts {

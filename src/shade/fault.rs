@@ -5,15 +5,16 @@
 //! inputs (per pixel, or per batch on the pixel-packed path) with exactly the effect a bug
 //! in the kernel's loops or basis would have: a zero coefficient or a zero weight adds an
 //! exact 0 to an FMA sum, which is what leaving the term or lane out of the loop gives. No
-//! scene setting or command-line option reaches it ([`super::FramePrep`]'s `fault` field).
+//! scene setting or command-line option reaches it: tests set it through
+//! [`super::ShadeOptions`]' hidden `fault` field.
 
 use crate::kernel::lanes::LANES;
 use crate::kernel::sh::Scratch;
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 
-/// **Test only**: a fault seeded into the SH path of [`super::FramePrep`] (its `fault`
-/// field), each with exactly the effect a bug in the kernel's loops or basis would have.
+/// **Test only**: a fault seeded into the SH path (through [`super::ShadeOptions`]' hidden
+/// `fault` field), each with exactly the effect a bug in the kernel's loops or basis would have.
 /// Applied to the kernel's inputs per pixel (or per batch on the pixel-packed path), so the
 /// kernel itself stays as shipped: a zero coefficient or a zero weight adds an exact 0 to an
 /// FMA sum, which is what leaving the term or lane out of the loop gives.

@@ -13,8 +13,13 @@
 //! kind goes through the same kernel with the same (analytic) SH basis, basis table or not
 //! (the data set's definition: [`crate::sh::dataset`], "Which basis defines a data set"). The image is
 //! written tile by tile in place (parallel over bands of one tile row). [`shade_point`],
-//! the plain per-light loop over [`crate::brdf::Brdf::eval`], is the scalar oracle the
+//! the plain per-light loop over [`crate::brdf::Brdf::eval`], is the scalar f32 oracle the
 //! kernels are tested against.
+//!
+//! One entry point, [`shade`], shades on any of three paths ([`ShadingPath`], chosen in
+//! [`ShadeOptions`]): the kernels (the fast path), the scalar f32 oracle (same skips, no
+//! kernel), and the f64 path with no skips (every light, every band; on the full probe, the
+//! converged reference).
 //!
 //! Per pixel: perspective-correct barycentrics of the source triangle give the world
 //! position and the interpolated normal; back faces (two-sided mode) get the normal flipped,
@@ -33,27 +38,35 @@
 //! - `view.rs`: the view direction in the shading frame lifted above the horizon
 //!   ([`local_view`], [`MIN_VIEW_COS`]); one body for f32 ([`lift_above_horizon`]) and f64
 //!   ([`lift_above_horizon_f64`]).
+//! - `options.rs`: what the caller chooses ([`ShadeOptions`], [`ShadingPath`]).
+//! - `entry.rs`: the one entry point ([`shade`]) and its result ([`Shaded`]).
 //! - `prep.rs`: what is decided once per frame ([`FramePrep`]).
-//! - `tile.rs`: the tile loop and the fast path's entry points ([`shade`], [`shade_with`],
-//!   [`shade_with_counts`]); per tile it runs one of
+//! - `tile.rs`: the tile loops, counting tiles into [`ShadeOptions::progress`]: the fast
+//!   path's, which per tile runs one of
 //!   - `pixel.rs`: the per-pixel kernel path ([`FramePrep::shade_surface`]), lights
 //!     across the lanes;
 //!   - `packed.rs`: the pixel-packed path, pixels across the lanes (SH data sets under
 //!     point lights only).
+//!
+//!   and the per-pixel one that the scalar oracle and the f64 path share.
 //! - `counts.rs`: the work counters ([`ShadeCounts`]).
-//! - `oracle.rs`: the scalar f32 oracle ([`shade_point`], [`shade_reference`]).
-//! - `reference_f64.rs`: the f64 path ([`shade_reference_f64`]); its point-light falloff
-//!   is [`crate::light::Light::at_f64`], the f64 twin of [`crate::light::Light::at`].
+//! - `scalar_oracle.rs`: the scalar f32 oracle ([`shade_point`] per pixel;
+//!   [`ShadingPath::ScalarOracle`]).
+//! - `f64_path.rs`: the f64 path with no skips ([`ShadingPath::F64NoSkips`]); its
+//!   point-light falloff is [`crate::light::Light::at_f64`], the f64 twin of
+//!   [`crate::light::Light::at`].
 //! - `fault.rs`: **test only**, faults seeded into the SH kernel path (`KernelFault`).
 
 mod counts;
+mod entry;
+mod f64_path;
 mod fault;
 mod gbuffer;
-mod oracle;
+mod options;
 mod packed;
 mod pixel;
 mod prep;
-mod reference_f64;
+mod scalar_oracle;
 mod tile;
 mod view;
 
@@ -61,10 +74,10 @@ mod view;
 pub use fault::KernelFault;
 pub use {
     counts::ShadeCounts,
+    entry::{shade, Shaded},
     gbuffer::{surface_at, surface_at_index, tile_pixels, Surface},
-    oracle::{shade_point, shade_reference},
+    options::{ShadeOptions, ShadingPath},
     prep::FramePrep,
-    reference_f64::shade_reference_f64,
-    tile::{shade, shade_with, shade_with_counts},
+    scalar_oracle::shade_point,
     view::{lift_above_horizon, lift_above_horizon_f64, local_view, MIN_VIEW_COS},
 };

@@ -4,10 +4,11 @@
 //! negligible lights and the SH bands a material does not need, within the bounds of
 //! [`crate::kernel::skip`], lays the directional lights out for the kernels
 //! ([`DirLights`]), and chooses the instruction set once ([`Dispatch::choose`]), so the
-//! image does not depend on the thread count. Its `pub` fields are how tests switch an
-//! optimisation off (or seed a [`KernelFault`]); nothing else writes them.
+//! image does not depend on the thread count. The caller's choices (instruction set, light
+//! culling, a seeded [`KernelFault`]) come in through [`ShadeOptions`] and are read-only
+//! afterwards; tests read the other fields to see what was decided.
 
-use super::KernelFault;
+use super::{KernelFault, ShadeOptions};
 use crate::brdf::Brdf;
 use crate::kernel::lanes::{Dispatch, LANES};
 use crate::kernel::models::LaneModel;
@@ -27,9 +28,8 @@ pub struct FramePrep<'a> {
     /// and its recurrence constants.
     pub sh: Option<(Cow<'a, ShDataset>, ShRecurrence)>,
     pub eye: Vec3,
-    /// Per-tile normal-cone culling of light chunks (on by default; it changes no bit, and
-    /// a test proves it by turning it off).
-    pub cull_lights: bool,
+    /// Per-tile normal-cone culling of light chunks ([`ShadeOptions::cull_lights`]).
+    pub(crate) cull_lights: bool,
     /// Live (non-padding, non-black) lights per chunk of `dir`, for the work counters.
     pub chunk_live: Vec<u32>,
     /// Directional lights in the scene, before dropping.
@@ -41,28 +41,34 @@ pub struct FramePrep<'a> {
     pub sh_bands: (usize, usize),
     /// The material's lane form ([`LaneModel::of`]), used when it is not an SH data set.
     pub model: LaneModel<'a>,
-    /// The instruction set of the kernels, chosen once per frame from the scene's
-    /// `render.kernel` ([`Dispatch::choose`]); the same for every tile and thread, so the
-    /// image does not depend on the thread count.
-    pub dispatch: Dispatch,
+    /// The instruction set of the kernels, chosen once per frame from
+    /// [`ShadeOptions::kernel`] or else the scene's `render.kernel` ([`Dispatch::choose`]);
+    /// the same for every tile and thread, so the image does not depend on the thread count.
+    pub(crate) dispatch: Dispatch,
     /// **Test only**: a seeded fault of the SH kernel path ([`KernelFault`]), for the
     /// mutation tests that show [`crate::kernel::SH_KERNEL_TOLERANCE`] catches real faults
-    /// (tests/kernel_mutation.rs). Always `None` from [`FramePrep::new`]; no scene setting or
-    /// command-line option reaches it. Tested once per pixel (a predictable branch beside
+    /// (tests/kernel_mutation.rs), from [`ShadeOptions`]'s hidden `fault` field; no scene
+    /// setting or command-line option reaches it. Tested once per pixel (a predictable branch beside
     /// the pixel's lights x `bands^2` x 3 FMAs; on the packed path, twice per pixel and once
     /// per batch), never per light or term.
-    #[doc(hidden)]
-    pub fault: Option<KernelFault>,
+    pub(crate) fault: Option<KernelFault>,
 }
 
 impl<'a> FramePrep<'a> {
+    /// Prepares a frame of `scene` with the default [`ShadeOptions`]
+    /// (what [`crate::shade::shade`] prepares), to see what the frame decides.
+    pub fn new(scene: &'a Scene) -> FramePrep<'a> {
+        FramePrep::with_options(scene, &ShadeOptions::default())
+    }
+
     /// Prepares a frame of `scene`, applying the scene's skips (`render.drop_lights`,
-    /// `render.band_skip`; see [`crate::kernel::skip`]).
+    /// `render.band_skip`; see [`crate::kernel::skip`]) and the caller's choices `opts`.
     ///
     /// # Panics
-    /// If the scene's `render.kernel` names a path this CPU cannot run: [`Scene::resolve`]
-    /// refuses such a scene, so only a scene built in code can get here.
-    pub fn new(scene: &'a Scene) -> FramePrep<'a> {
+    /// If the kernel path (`opts.kernel`, else the scene's `render.kernel`) names a path
+    /// this CPU cannot run: [`Scene::resolve`] refuses such a scene, so only a scene built
+    /// in code (or such options) can get here.
+    pub(crate) fn with_options(scene: &'a Scene, opts: &ShadeOptions) -> FramePrep<'a> {
         let brdf = scene.material.as_ref();
         let fraction = match brdf.max_cosine_weighted() {
             Some(_) => scene.render.drop_lights,
@@ -105,16 +111,16 @@ impl<'a> FramePrep<'a> {
                 .filter(|l| matches!(l, Light::Point { .. }))
                 .collect(),
             model: LaneModel::of(brdf),
-            dispatch: Dispatch::choose(scene.render.kernel).unwrap_or_else(|| {
-                panic!(
-                    "render.kernel = {}: not available on this CPU",
-                    scene.render.kernel.name()
-                )
-            }),
-            fault: None,
+            dispatch: {
+                let kernel = opts.kernel.unwrap_or(scene.render.kernel);
+                Dispatch::choose(kernel).unwrap_or_else(|| {
+                    panic!("kernel {}: not available on this CPU", kernel.name())
+                })
+            },
+            fault: opts.fault,
             sh,
             eye: scene.camera.position,
-            cull_lights: true,
+            cull_lights: opts.cull_lights,
             chunk_live,
             lights_total: scene
                 .lights
@@ -123,5 +129,10 @@ impl<'a> FramePrep<'a> {
                 .count(),
             dropped,
         }
+    }
+
+    /// The instruction set the kernels run on (see the `dispatch` field).
+    pub fn dispatch(&self) -> Dispatch {
+        self.dispatch
     }
 }

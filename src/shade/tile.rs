@@ -1,36 +1,35 @@
-//! The tile loop of the fast (f32) path: the entry points [`shade`], [`shade_with`] and
-//! [`shade_with_counts`].
+//! The tile loops: the fast (f32) path's ([`shade_kernels`]) and the one the per-pixel
+//! paths share ([`shade_per_pixel`]: the scalar oracle, the f64 path).
 //!
 //! Design rule: each visible pixel is shaded exactly once, independently of every other,
 //! so the image does not depend on the thread count or the tile size. The image is written
 //! tile by tile in place, parallel over bands of one tile row; tiles no triangle touched
-//! are skipped without looking at a pixel. The whole tile ([`ShadeTile`]) is one
-//! [`Kernel`], compiled for the instruction set dispatched once per frame: per tile, its
-//! surfaces (`gbuffer.rs`), the normal cone that culls light chunks (provably
-//! changing no bit), then the per-pixel path (`pixel.rs`) or, for SH data sets under
-//! point lights only, the pixel-packed one (`packed.rs`).
+//! are skipped without looking at a pixel. Every tile, shaded or skipped, is counted once
+//! into the caller's [`Progress`] (per tile, never per pixel: an atomic add beside a tile's
+//! thousand pixels). On the fast path the whole tile ([`ShadeTile`]) is one [`Kernel`],
+//! compiled for the instruction set dispatched once per frame: per tile, its surfaces
+//! (`gbuffer.rs`), the normal cone that culls light chunks (provably changing no bit), then
+//! the per-pixel path (`pixel.rs`) or, for SH data sets under point lights only, the
+//! pixel-packed one (`packed.rs`).
 
 use super::{surface_at_index, tile_pixels, FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES};
 use crate::kernel::{self, Cone};
+use crate::progress::Progress;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// Shades every visible pixel of `vis` into a linear radiance image (background black).
-pub fn shade(scene: &Scene, vis: &VisBuffer) -> Image {
-    shade_with(&FramePrep::new(scene), scene, vis)
-}
-
-/// [`shade`] with explicit frame preparation (to switch optimisations off in tests).
-pub fn shade_with(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> Image {
-    shade_with_counts(prep, scene, vis).0
-}
-
-/// [`shade_with`], also returning the work done ([`ShadeCounts`]).
-pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (Image, ShadeCounts) {
+/// The fast path: shades every visible pixel of `vis` through the kernels, as `prep`
+/// decided, into a linear radiance image (background black), with the work done.
+pub(super) fn shade_kernels(
+    prep: &FramePrep,
+    scene: &Scene,
+    vis: &VisBuffer,
+    progress: &Progress,
+) -> (Image, ShadeCounts) {
     let mut img = Image::new(vis.width, vis.height);
     let band_len = (vis.width * vis.tile_size) as usize;
     // Per-pixel lists, or the pixel-packed point-light path's eight lanes per light.
@@ -49,6 +48,7 @@ pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (I
                     let t = ty * vis.tiles_x as usize + tx;
                     if !vis.tile_occupied[t] {
                         counts.tiles_skipped += 1;
+                        progress.inc(1);
                         continue;
                     }
                     scratch.reserve(room);
@@ -63,6 +63,7 @@ pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (I
                             scratch,
                             surfaces,
                         });
+                    progress.inc(1);
                 }
                 counts
             },
@@ -72,6 +73,40 @@ pub fn shade_with_counts(prep: &FramePrep, scene: &Scene, vis: &VisBuffer) -> (I
         .into_iter()
         .fold(ShadeCounts::default(), |a, b| a + b);
     (img, total)
+}
+
+/// The tile loop of the per-pixel paths (the scalar oracle, the f64 path): `radiance` of
+/// the surface seen through each visible pixel, into a linear radiance image (background
+/// black). Which tile a pixel is in changes only the order of the work, never a pixel.
+pub(super) fn shade_per_pixel(
+    scene: &Scene,
+    vis: &VisBuffer,
+    progress: &Progress,
+    radiance: impl Fn(&Surface) -> Vec3 + Sync,
+) -> Image {
+    let mut img = Image::new(vis.width, vis.height);
+    let band_len = (vis.width * vis.tile_size) as usize;
+    let per_tile = (vis.tile_size * vis.tile_size) as usize;
+    img.pixels
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .for_each(|(ty, band)| {
+            let y0 = ty as u32 * vis.tile_size;
+            for tx in 0..vis.tiles_x as usize {
+                let t = ty * vis.tiles_x as usize + tx;
+                if vis.tile_occupied[t] {
+                    for (i, x, y) in tile_pixels(vis, t) {
+                        let at = ((y - y0) * vis.width + x) as usize;
+                        if let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y)
+                        {
+                            band[at] = radiance(&s);
+                        }
+                    }
+                }
+                progress.inc(1);
+            }
+        });
+    img
 }
 
 /// One occupied tile, as a [`Kernel`] so the whole tile loop is compiled for the

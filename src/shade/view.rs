@@ -6,7 +6,7 @@
 //! it, keeping its azimuth (src/conventions.rs, "view direction"). The f32 form
 //! ([`lift_above_horizon`], through [`local_view`]) serves the kernels and the scalar
 //! oracle; the f64 form ([`lift_above_horizon_f64`]) serves the f64 path
-//! ([`super::shade_reference_f64`]). Both are expanded from the one body in
+//! (`f64_path.rs`). Both are expanded from the one body in
 //! `lift_above_horizon!`, each in its own arithmetic (the f32 form rounds in f32, as the
 //! fast path always has).
 

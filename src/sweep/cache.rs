@@ -10,11 +10,11 @@ use crate::image_io::{self, Image};
 use crate::scene::{MaterialSpec, SceneFile};
 use std::path::{Path, PathBuf};
 
-/// Version of the algorithm behind a cached reference render: [`crate::render::render_reference`]
-/// (rasterization, the f64 shading path, [`crate::brdf::Brdf::eval_f64`] of every model,
+/// Version of the algorithm behind a cached reference render:
+/// [`crate::render::RenderOptions::converged_reference`] (rasterization, the f64 shading path, [`crate::brdf::Brdf::eval_f64`] of every model,
 /// the SH and D-BRDF evaluation). Part of [`reference_key`].
 ///
-/// Bump when the output of `render_reference` changes for the same scene, so no reference
+/// Bump when the output of the converged reference changes for the same scene, so no reference
 /// rendered by older code is read. (Light-set changes are covered by
 /// [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`], also in the key.)
 pub const REFERENCE_ALGORITHM_VERSION: u32 = 1;

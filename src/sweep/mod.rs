@@ -15,8 +15,8 @@
 //!
 //! # The reference
 //! The scene with every texel of its probe as a light (sampler `full`), f64 shading, no
-//! culling and no skips ([`crate::render::render_reference`]), the same reference as
-//! `brdfkit render --reference`. It renders the material as the scene stores it (every
+//! culling and no skips ([`crate::render::RenderOptions::converged_reference`]), the same
+//! reference as `brdfkit render --reference`. It renders the material as the scene stores it (every
 //! band, its own lookup), so a row with fewer orders or the other lookup measures that
 //! difference too: for SH materials the truncation, not the light count, dominates the error
 //! at low orders. It takes minutes for the default scene, so it is cached (`--cache DIR`,

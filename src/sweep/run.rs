@@ -112,7 +112,10 @@ impl Sweep {
             Some(img) => (img, false),
             None => {
                 on_reference(reference_file.as_deref());
-                let img = pool.install(|| crate::render::render_reference(&full));
+                let img = pool.install(|| {
+                    let opts = crate::render::RenderOptions::converged_reference();
+                    crate::render::render(&full, &opts).image
+                });
                 if let Some(f) = &reference_file {
                     write_cached_reference(f, &img)?;
                 }
@@ -219,7 +222,9 @@ impl Sweep {
             let mut image = None;
             for _ in 0..self.frames {
                 let start = Instant::now();
-                let img = self.pool.install(|| crate::render::render(&scene, None));
+                let img = self.pool.install(|| {
+                    crate::render::render(&scene, &crate::render::RenderOptions::default()).image
+                });
                 times.push(start.elapsed().as_secs_f64() * 1e3);
                 image.get_or_insert(img);
             }

@@ -14,7 +14,7 @@ use brdfkit::image_io::Image;
 use brdfkit::light::Light;
 use brdfkit::render::{rasterize, render};
 use brdfkit::scene::{Precision, Scene, SceneFile};
-use brdfkit::shade::{shade_reference, surface_at};
+use brdfkit::shade::{shade, surface_at, ShadeOptions, ShadingPath};
 use glam::{DVec3, Vec3};
 use std::path::Path;
 use std::sync::Arc;
@@ -53,17 +53,18 @@ pub fn sphere_scene(
 }
 
 /// The three shading paths of the renderer on one scene: the f32 fast path (kernels), the
-/// f32 scalar oracle (`shade::shade_reference`) and the f64 path (`render.precision = f64`).
+/// f32 scalar oracle (`ShadingPath::ScalarOracle`) and the f64 path (`render.precision = f64`).
 pub fn render_paths(scene: &Scene) -> Vec<(&'static str, Image)> {
     let mut fast = scene.clone();
     fast.render.precision = Precision::F32;
     let mut f64s = scene.clone();
     f64s.render.precision = Precision::F64;
     let vis = rasterize(scene, false);
+    let oracle = ShadeOptions::default().with_path(ShadingPath::ScalarOracle);
     vec![
-        ("f32 fast", render(&fast, None)),
-        ("f32 oracle", shade_reference(scene, &vis)),
-        ("f64", render(&f64s, None)),
+        ("f32 fast", render(&fast, &Default::default()).image),
+        ("f32 oracle", shade(scene, &vis, &oracle).image),
+        ("f64", render(&f64s, &Default::default()).image),
     ]
 }
 

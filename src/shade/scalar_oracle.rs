@@ -1,4 +1,4 @@
-//! The scalar oracle: the plain per-light loop over [`Brdf::eval`], in f32, that the
+//! The scalar f32 oracle: the plain per-light loop over [`Brdf::eval`], in f32, that the
 //! kernels are tested against.
 //!
 //! Design rule: no kernel, no lanes, no culling, nothing shared with the fast path but the
@@ -6,19 +6,20 @@
 //! per-scene decisions ([`FramePrep::new`]), so the two differ only by the kernel's
 //! arithmetic.
 
-use super::{local_view, surface_at, FramePrep, Surface};
+use super::tile::shade_per_pixel;
+use super::{local_view, FramePrep, Surface};
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::ShadingFrame;
 use crate::image_io::Image;
 use crate::light::Light;
+use crate::progress::Progress;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
 use glam::Vec3;
-use rayon::prelude::*;
 
 /// Reflected radiance at one surface point: `sum_k f(l_k, v) cos E_k` (thesis Def. 10).
-#[inline]
 /// `lights` is the frame's light set (the scene's, less any dropped as negligible).
+#[inline]
 pub fn shade_point(brdf: &dyn Brdf, lights: &[Light], surface: &Surface, eye: Vec3) -> Vec3 {
     let frame = ShadingFrame::from_normal(surface.normal);
     let wo = local_view(&frame, surface, eye);
@@ -33,30 +34,25 @@ pub fn shade_point(brdf: &dyn Brdf, lights: &[Light], surface: &Surface, eye: Ve
     sum
 }
 
-/// The scalar oracle: [`shade_point`] at every visible pixel, no kernel, no culling.
+/// The scalar oracle ([`super::ShadingPath::ScalarOracle`]): [`shade_point`] at every
+/// visible pixel, no kernel, no culling; every tile counted into `progress`.
 ///
-/// It shades what the fast path shades: the light set and SH bands that [`FramePrep::new`]
-/// kept (dropping negligible lights and bands is a decision about the scene, bounded in
+/// It shades what the fast path shades: the light set and SH bands that `prep` kept
+/// (dropping negligible lights and bands is a decision about the scene, bounded in
 /// [`crate::kernel::skip`], not about the kernel), so the two differ only by the kernel's
-/// arithmetic. [`super::shade_reference_f64`] is the other reference: every light, every
-/// band, f64.
-pub fn shade_reference(scene: &Scene, vis: &VisBuffer) -> Image {
-    let mut img = Image::new(vis.width, vis.height);
-    let prep = FramePrep::new(scene);
+/// arithmetic. The f64 path (`f64_path.rs`) is the other check: every light, every band, f64.
+pub(super) fn shade_scalar_oracle(
+    prep: &FramePrep,
+    scene: &Scene,
+    vis: &VisBuffer,
+    progress: &Progress,
+) -> Image {
     let brdf: &dyn Brdf = match &prep.sh {
         Some((ds, _)) => ds.as_ref(),
         None => scene.material.as_ref(),
     };
     let lights = &prep.dropped.kept;
-    img.pixels
-        .par_chunks_mut(vis.width as usize)
-        .enumerate()
-        .for_each(|(y, row)| {
-            for (x, out) in row.iter_mut().enumerate() {
-                if let Some(s) = surface_at(&scene.mesh, vis, x as u32, y as u32) {
-                    *out = shade_point(brdf, lights, &s, scene.camera.position);
-                }
-            }
-        });
-    img
+    shade_per_pixel(scene, vis, progress, |s| {
+        shade_point(brdf, lights, s, scene.camera.position)
+    })
 }

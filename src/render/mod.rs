@@ -1,0 +1,116 @@
+//! The frame pipeline: scene in, image out. Stages in order: vertices to clip space,
+//! rasterization (`raster`: clip, set-up, binning, per-tile visibility), deferred shading
+//! (`shade`) or a debug output (`aov`).
+//!
+//! One entry point, [`render`], takes the settings in one struct ([`RenderOptions`]) and
+//! returns the image with, when asked, the work done ([`Rendered`]).
+//!
+//! # Layout
+//!
+//! - `mod.rs`: the pipeline ([`clip_positions`], [`rasterize`], [`tile_count`], [`render`]).
+//! - `options.rs`: the settings ([`RenderOptions`]).
+//! - `stats.rs`: the work done ([`RenderStats`]).
+
+mod options;
+mod stats;
+
+pub use options::RenderOptions;
+pub use stats::RenderStats;
+
+use crate::aov::{self, Aov};
+use crate::image_io::Image;
+use crate::raster::{self, RasterConfig, VisBuffer};
+use crate::scene::Scene;
+use crate::shade;
+use glam::Vec4;
+
+/// Clip-space positions of the scene's mesh vertices (`clip_from_world` applied).
+pub fn clip_positions(scene: &Scene) -> Vec<Vec4> {
+    let r = &scene.render;
+    let aspect = r.width as f32 / r.height as f32;
+    let clip_from_world = scene.camera.clip_from_view(aspect) * scene.camera.view_from_world();
+    scene
+        .mesh
+        .positions
+        .iter()
+        .map(|p| clip_from_world * p.extend(1.0))
+        .collect()
+}
+
+/// Rasterizes the scene into a visibility buffer.
+pub fn rasterize(scene: &Scene, count_coverage: bool) -> VisBuffer {
+    let r = &scene.render;
+    let cfg = RasterConfig {
+        width: r.width,
+        height: r.height,
+        tile_size: r.tile_size,
+        cull: r.cull,
+        near: scene.camera.near,
+        count_coverage,
+    };
+    raster::rasterize(&clip_positions(scene), &scene.mesh.triangles, &cfg)
+}
+
+/// Tiles of the frame `scene` renders to (its `render.width` x `render.height` in tiles of
+/// `render.tile_size`): the length of a progress bar over [`render`]'s tiles
+/// ([`crate::shade::ShadeOptions::progress`]).
+pub fn tile_count(scene: &Scene) -> u64 {
+    let r = &scene.render;
+    r.width.div_ceil(r.tile_size) as u64 * r.height.div_ceil(r.tile_size) as u64
+}
+
+/// A rendered image and, when [`RenderOptions::stats`] asked for it, the work done.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The beauty image (linear radiance) or the AOV asked for.
+    pub image: Image,
+    /// The work done ([`RenderStats`]); `None` unless [`RenderOptions::stats`].
+    pub stats: Option<RenderStats>,
+}
+
+/// Renders `scene` as `opts` says: the beauty image (linear radiance) on the shading path
+/// chosen ([`crate::shade::shade`]: the scene's `render.precision` unless
+/// `opts.shading.path` overrides it) or, with `opts.aov`, that debug output. A beauty render
+/// computes no AOV and counts no coverage; an AOV render shades nothing. With
+/// `opts.threads`, on a dedicated pool of that many threads; the image is the same for any
+/// thread count.
+pub fn render(scene: &Scene, opts: &RenderOptions) -> Rendered {
+    match opts.threads {
+        None => render_here(scene, opts),
+        Some(threads) => rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool")
+            .install(|| render_here(scene, opts)),
+    }
+}
+
+/// [`render`] on the current rayon pool.
+fn render_here(scene: &Scene, opts: &RenderOptions) -> Rendered {
+    let vis = rasterize(scene, opts.aov.is_some_and(Aov::needs_coverage));
+    let mut stats = RenderStats {
+        tiles: vis.tile_occupied.len() as u64,
+        coverage_counted: vis.coverage.is_some(),
+        ..RenderStats::default()
+    };
+    let image = match opts.aov {
+        None => {
+            let shaded = shade::shade(scene, &vis, &opts.shading);
+            stats.shade = shaded.counts;
+            stats.lights = shaded.lights;
+            stats.lights_dropped = shaded.lights_dropped;
+            stats.dropped_fraction = shaded.dropped_fraction;
+            (stats.sh_bands_stored, stats.sh_bands_used) = shaded.sh_bands;
+            shaded.image
+        }
+        Some(a) => {
+            let (img, n) = aov::compute_counted(scene, &vis, a);
+            stats.aov_pixels = n;
+            img
+        }
+    };
+    Rendered {
+        image,
+        stats: opts.stats.then_some(stats),
+    }
+}

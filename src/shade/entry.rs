@@ -1,0 +1,78 @@
+//! The one entry point of shading, [`shade`], and what it returns ([`Shaded`]).
+//!
+//! Design rule: one function for every shading path; the caller's choices are
+//! [`ShadeOptions`] (path, instruction set, culling, progress). The frame's decisions are made
+//! once ([`FramePrep`]) for the paths that use them (the kernels, the scalar oracle); the f64
+//! path uses none of them (no skips).
+
+use super::f64_path::shade_f64_no_skips;
+use super::scalar_oracle::shade_scalar_oracle;
+use super::tile::shade_kernels;
+use super::{FramePrep, ShadeCounts, ShadeOptions, ShadingPath};
+use crate::image_io::Image;
+use crate::raster::VisBuffer;
+use crate::scene::Scene;
+
+/// A shaded image and what shading did.
+#[derive(Clone, Debug)]
+pub struct Shaded {
+    /// Linear radiance per pixel (background black).
+    pub image: Image,
+    /// The path that shaded it.
+    pub path: ShadingPath,
+    /// Work done by the kernels' tile loop ([`ShadingPath::Kernels`]; all zero otherwise).
+    pub counts: ShadeCounts,
+    /// Lights in the scene: the directional ones (before dropping) on the kernels and the
+    /// scalar oracle, every light on the f64 path.
+    pub lights: usize,
+    /// Directional lights dropped as negligible (0 on the f64 path).
+    pub lights_dropped: usize,
+    /// Dropped irradiance over total irradiance, largest over the channels (0 if none).
+    pub dropped_fraction: f32,
+    /// SH bands stored in the material's data set and bands shaded (0, 0 if not SH or on
+    /// the f64 path).
+    pub sh_bands: (usize, usize),
+}
+
+/// Shades every visible pixel of `vis` (rasterized from `scene`) on the path `opts` chooses
+/// ([`ShadeOptions::path_for`]): the kernels, the scalar f32 oracle or the f64 path with no
+/// skips. Every tile of the frame is counted once into `opts.progress`.
+///
+/// # Panics
+/// If the kernel path chosen (by `opts.kernel` or the scene's `render.kernel`) is not
+/// available on this CPU; [`Scene::resolve`] refuses such a scene file.
+pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
+    let path = opts.path_for(scene);
+    if path == ShadingPath::F64NoSkips {
+        return Shaded {
+            image: shade_f64_no_skips(scene, vis, &opts.progress),
+            path,
+            counts: ShadeCounts::default(),
+            lights: scene.lights.len(),
+            lights_dropped: 0,
+            dropped_fraction: 0.0,
+            sh_bands: (0, 0),
+        };
+    }
+    let prep = FramePrep::with_options(scene, opts);
+    let (image, counts) = match path {
+        ShadingPath::Kernels => shade_kernels(&prep, scene, vis, &opts.progress),
+        _ => (
+            shade_scalar_oracle(&prep, scene, vis, &opts.progress),
+            ShadeCounts::default(),
+        ),
+    };
+    let d = &prep.dropped;
+    Shaded {
+        image,
+        path,
+        counts,
+        lights: prep.lights_total,
+        lights_dropped: d.dropped,
+        dropped_fraction: (0..3)
+            .filter(|&c| d.total_irradiance[c] > 0.0)
+            .map(|c| d.dropped_irradiance[c] / d.total_irradiance[c])
+            .fold(0.0, f32::max),
+        sh_bands: prep.sh_bands,
+    }
+}
