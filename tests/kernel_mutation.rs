@@ -22,7 +22,6 @@ use brdfkit::sh::ShBasisTable;
 use brdfkit::shade::{self, FramePrep, KernelFault};
 use glam::Vec3;
 use std::path::Path;
-use std::sync::Arc;
 
 /// Largest per-channel difference of `a` from `oracle` relative to the oracle pixel's
 /// largest channel or to 1% of the image's peak, whichever is larger, and the number of
@@ -135,7 +134,7 @@ fn scene(name: &str, lights: Vec<Light>) -> Scene {
     f.render.height = 48;
     f.render.drop_lights = 0.0;
     let mut s = Scene::resolve(&f, Path::new("/")).unwrap();
-    let mut ds = brdfkit::materials::build(name)
+    let mut ds = brdfkit::library::build(name)
         .unwrap()
         .as_sh()
         .unwrap()
@@ -144,7 +143,7 @@ fn scene(name: &str, lights: Vec<Light>) -> Scene {
     let (nu, nv) = ds.grid();
     ds.set_basis_table(Some(ShBasisTable::tabulate(nu, nv, 8).unwrap()))
         .unwrap();
-    s.material = Arc::new(ds);
+    s.material = brdfkit::material::Material::from(ds);
     s.lights = lights;
     s
 }

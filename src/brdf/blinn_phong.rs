@@ -53,12 +53,4 @@ impl Brdf for BlinnPhong {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.kd / PI + self.ks * ((self.exponent + 8.0) / (8.0 * PI)))
     }
-
-    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
-        Some(crate::kernel::models::LaneModel::BlinnPhong {
-            kd: self.kd,
-            ks: self.ks,
-            exponent: self.exponent,
-        })
-    }
 }

@@ -35,10 +35,4 @@ impl Brdf for Lambert {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.albedo * FRAC_1_PI)
     }
-
-    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
-        Some(crate::kernel::models::LaneModel::Lambert {
-            albedo: self.albedo,
-        })
-    }
 }

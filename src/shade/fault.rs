@@ -7,8 +7,8 @@
 //! exact 0 to an FMA sum, which is what leaving the term or lane out of the loop gives. No
 //! scene setting or command-line option reaches it ([`super::FramePrep`]'s `fault` field).
 
+use crate::kernel::gather::Scratch;
 use crate::kernel::lanes::LANES;
-use crate::kernel::sh::Scratch;
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 

@@ -45,7 +45,7 @@ pub fn shade_reference(scene: &Scene, vis: &VisBuffer) -> Image {
     let prep = FramePrep::new(scene);
     let brdf: &dyn Brdf = match &prep.sh {
         Some((ds, _)) => ds.as_ref(),
-        None => scene.material.as_ref(),
+        None => scene.material.as_brdf(),
     };
     let lights = &prep.dropped.kept;
     img.pixels

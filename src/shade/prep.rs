@@ -11,7 +11,7 @@ use super::KernelFault;
 use crate::brdf::Brdf;
 use crate::kernel::lanes::{Dispatch, LANES};
 use crate::kernel::models::LaneModel;
-use crate::kernel::{sh::ShRecurrence, skip, DirLights};
+use crate::kernel::{cluster::DirLights, sh::ShRecurrence, skip};
 use crate::light::Light;
 use crate::scene::Scene;
 use crate::sh::dataset::ShDataset;
@@ -63,7 +63,7 @@ impl<'a> FramePrep<'a> {
     /// If the scene's `render.kernel` names a path this CPU cannot run: [`Scene::resolve`]
     /// refuses such a scene, so only a scene built in code can get here.
     pub fn new(scene: &'a Scene) -> FramePrep<'a> {
-        let brdf = scene.material.as_ref();
+        let brdf = scene.material.as_brdf();
         let fraction = match brdf.max_cosine_weighted() {
             Some(_) => scene.render.drop_lights,
             None => 0.0,
@@ -77,7 +77,7 @@ impl<'a> FramePrep<'a> {
                     .count() as u32
             })
             .collect();
-        let sh = brdf.as_sh().map(|ds| {
+        let sh = scene.material.as_sh().map(|ds| {
             let keep = if scene.render.band_skip {
                 ds.effective_bands()
             } else {
@@ -93,7 +93,7 @@ impl<'a> FramePrep<'a> {
         });
         FramePrep {
             brdf,
-            sh_bands: match (brdf.as_sh(), &sh) {
+            sh_bands: match (scene.material.as_sh(), &sh) {
                 (Some(full), Some((used, _))) => (full.bands(), used.bands()),
                 _ => (0, 0),
             },
@@ -104,7 +104,7 @@ impl<'a> FramePrep<'a> {
                 .copied()
                 .filter(|l| matches!(l, Light::Point { .. }))
                 .collect(),
-            model: LaneModel::of(brdf),
+            model: LaneModel::of(&scene.material),
             dispatch: Dispatch::choose(scene.render.kernel).unwrap_or_else(|| {
                 panic!(
                     "render.kernel = {}: not available on this CPU",

@@ -23,7 +23,7 @@ use rayon::prelude::*;
 /// measurements.
 pub fn shade_reference_f64(scene: &Scene, vis: &VisBuffer) -> Image {
     let mut img = Image::new(vis.width, vis.height);
-    let brdf = scene.material.as_ref();
+    let brdf = scene.material.as_brdf();
     let eye = scene.camera.position.as_dvec3();
     img.pixels
         .par_chunks_mut(vis.width as usize)

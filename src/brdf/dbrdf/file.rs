@@ -1,7 +1,7 @@
 //! The brdfkit D-BRDF file: the half-vector table `p(h)` of a [`DBrdf`] as a single-channel
 //! OpenEXR image, with `c` and `R_s` in the header (thesis 2.3.6).
 //!
-//! Design rule: self-describing, like the SH file ([`crate::sh::file`]): the reader checks
+//! Design rule: self-describing, like the SH file (`sh::file`): the reader checks
 //! every attribute and refuses a file that is missing one rather than guessing.
 //!
 //! # Format, version 1
@@ -19,7 +19,7 @@
 //! Reading fails with a [`DbrdfFileError`] naming the file and the problem; writing goes to
 //! a temporary file in the same directory that is renamed over the target.
 
-use crate::brdf::DBrdf;
+use super::DBrdf;
 use crate::image_io::exr_guard::{self, text, Attributes, ExrGuardError};
 use exr::prelude::{
     AnyChannel, AnyChannels, AttributeValue, Encoding, FlatSamples, Image, Layer, LayerAttributes,
