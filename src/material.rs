@@ -158,6 +158,11 @@ mod tests {
         let rd = Vec3::new(0.5, 0.3, 0.2);
         let dbrdf = DBrdf::from_fn(8, 4, Vec3::splat(0.1), |h| h.z.powi(4));
         let sh = crate::sh::ShDataset::zeros(2, 4, 2, true, "test").unwrap();
+        let merl = MerlBrdf::tabulate(&BlinnPhong {
+            kd: Vec3::splat(0.1),
+            ks: Vec3::splat(0.5),
+            exponent: 5.0,
+        });
         let models: Vec<(Material, Box<dyn Brdf>)> = vec![
             (
                 Lambert { albedo: rd }.into(),
@@ -209,6 +214,7 @@ mod tests {
                 LambertDbrdf::velvet(rd, Vec3::splat(0.9)).into(),
                 Box::new(LambertDbrdf::velvet(rd, Vec3::splat(0.9))),
             ),
+            (merl.clone().into(), Box::new(merl.clone())),
             (sh.clone().into(), Box::new(sh.clone())),
         ];
         let wi = local_direction(0.4, 0.7);
@@ -225,8 +231,9 @@ mod tests {
             assert_eq!(m.max_cosine_weighted(), b.max_cosine_weighted());
             assert_eq!(m.as_sh().is_some(), b.name() == "sh-dataset");
         }
-        // The analytic models differ from each other here, so a crossed variant would show.
-        let values: Vec<Vec3> = models[..6].iter().map(|(m, _)| m.eval(wi, wo)).collect();
+        // The models (all but the zero SH set) differ from each other here, so a variant wired
+        // to another model would show.
+        let values: Vec<Vec3> = models[..7].iter().map(|(m, _)| m.eval(wi, wo)).collect();
         for i in 0..values.len() {
             for j in 0..i {
                 assert_ne!(

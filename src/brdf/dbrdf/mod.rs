@@ -53,8 +53,9 @@
 //! which moves the bilinear weights by < 1e-5 of a texel.
 //!
 //! # File format
-//! [`file`]: the table as a single-channel OpenEXR image with `c` and `R_s` in the header,
-//! beside the type it stores (as `sh::file` sits beside the SH data set).
+//! The file format, [`mod@file`], stores the table as a single-channel OpenEXR image with
+//! `c` and `R_s` in the header; it sits beside the type it stores (as `sh::file` sits
+//! beside the SH data set).
 
 pub mod file;
 
