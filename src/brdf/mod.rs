@@ -16,7 +16,8 @@
 //!
 //! Layout: one file per model ([`lambert`], [`phong`], [`blinn_phong`],
 //! [`ashikhmin_shirley`], [`dbrdf`] with its file format, [`merl`], [`lambert_dbrdf`] the
-//! Lambert + D-BRDF lobe); [`stand_ins`] the library's source models by name.
+//! Lambert + D-BRDF lobe); [`stand_ins`] the library's source models by name; [`real`]
+//! the f32/f64 operations an analytic model's one generic formula uses.
 
 pub mod ashikhmin_shirley;
 pub mod blinn_phong;
@@ -25,6 +26,7 @@ pub mod lambert;
 pub mod lambert_dbrdf;
 pub mod merl;
 pub mod phong;
+pub mod real;
 pub mod stand_ins;
 #[cfg(test)]
 mod tests_analytic;
@@ -75,6 +77,8 @@ pub trait Brdf: Send + Sync {
     /// evaluation (Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley, the D-BRDF except its f32
     /// table lookup, MERL, SH data sets, the library's source models), so an f64 render is
     /// an f64 reference of the formula; `tests_analytic` checks each against its f32 `eval`.
+    /// The analytic models (Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley) write the
+    /// formula once, generic over the precision ([`real`]), and both methods call it.
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
         self.eval(wi.as_vec3(), wo.as_vec3()).as_dvec3()
     }
