@@ -6,9 +6,10 @@
 
 use brdfkit::conventions::ShadingFrame;
 use brdfkit::env::prepare::{EnvSpec, SamplerKind};
+use brdfkit::kernel::cluster::DirLights;
+use brdfkit::kernel::gather::Scratch;
 use brdfkit::kernel::lanes::{Dispatch, F32x8, Isa, Kernel, LANES};
-use brdfkit::kernel::sh::{shade_pixel, Scratch, ShRecurrence};
-use brdfkit::kernel::DirLights;
+use brdfkit::kernel::sh::{shade_pixel, ShRecurrence};
 use brdfkit::light::Light;
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};

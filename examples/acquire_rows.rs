@@ -54,7 +54,7 @@ fn main() {
         .map(|s| s.split(',').map(|x| x.parse().unwrap()).collect())
         .unwrap_or(vec![2, 5, 8]);
     let rowsonly = args.get(3).is_some();
-    let src = brdfkit::acquire::source::parse_source(name).unwrap();
+    let src = brdfkit::cli::source::parse_source(name).unwrap();
     let (nu, nv) = (16, 8);
     let grid = ErrorGrid::default();
     let dirs = grid.directions();

@@ -12,31 +12,49 @@
 //!    [`env`](mod@env) (light probes collapsed into delta-light sets: uniform, importance sampling,
 //!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2),
 //!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
-//!    D-BRDF, MERL tables), [`sh`] (real spherical harmonics, SH coefficient data sets and
-//!    their file format: thesis 2.3.3-2.3.4, 3.1.3-3.1.5).
+//!    D-BRDF with its file format [`brdf::dbrdf::file`], Lambert + D-BRDF lobe, MERL tables,
+//!    and the library's stand-in source models [`brdf::stand_ins`]), [`sh`] (real spherical
+//!    harmonics, SH coefficient data sets, which implement the trait, and their file format
+//!    [`sh::file`] beside them: thesis 2.3.3-2.3.4, 3.1.3-3.1.5). [`library`] builds the
+//!    materials after the thesis's figures 3.9-3.15 (a source model plus the representation it
+//!    is rendered with). [`material`] is the closed set of models the renderer shades: one
+//!    [`material::Material`] per scene, built once by [`scene::Scene::resolve`] and dispatched
+//!    by tag (the pbrt-v4 way), so the models know nothing of the kernels that shade them.
 //! 3. **Triangles binned to tiles and visibility resolved**: [`raster`] (homogeneous
 //!    clipping, fixed-point edge functions with a top-left rule, binning, per-tile depth).
 //! 4. **Pixels shaded**: [`shade`] (deferred: one shading per visible pixel, one entry point
 //!    [`shade::shade`] for the three paths of [`shade::ShadingPath`]: the kernels, the
 //!    scalar f32 oracle, the f64 path with no skips; the frame's skips decided once in
 //!    [`shade::FramePrep`]), [`kernel`] (8 lights per SIMD group from
-//!    structure-of-arrays buffers: SH sums, lane models for the analytic and D-BRDF
-//!    materials; [`kernel::lanes`] is the only SIMD code, [`kernel::skip`] bounds what each
-//!    skip changes, [`kernel::approx`] states the error of each approximation), [`aov`]
-//!    (debug outputs: normal, depth, coverage, view and light angles).
+//!    structure-of-arrays buffers: light clustering and culling [`kernel::cluster`], a pixel's
+//!    lights gathered for every material [`kernel::gather`], SH sums [`kernel::sh`], lane
+//!    models for the analytic and D-BRDF materials [`kernel::models`], chosen by matching on
+//!    the [`material::Material`]; [`kernel::lanes`] is the only SIMD code, [`kernel::skip`]
+//!    bounds what each skip changes, [`kernel::approx`] states the error of each
+//!    approximation), [`aov`] (debug outputs: normal, depth, coverage, view and light angles).
 //! 5. **Images out**: [`image_io`] (linear EXR; PNG via exposure, tone map and sRGB;
 //!    atomic writes), [`golden`] (golden images and their check), [`compare`] (error
 //!    metrics and FLIP for a GPU build's CI).
 //!
 //! [`render`] strings the stages together (one entry point, [`render::render`], its settings
-//! in one struct, [`render::RenderOptions`]); [`cli`] is the command line.
+//! in one struct, [`render::RenderOptions`]); [`cli`] is the command line (including the
+//! `SOURCE` argument of `acquire` and `fit-dbrdf`, [`cli::source`]).
 //!
 //! Off the rendering path: [`acquire`] measures any BRDF as an SH data set (projection,
-//! least squares, error and ringing reports) or fits a D-BRDF to it (thesis 2.3.3-2.3.6);
-//! [`materials`] is the library of materials after the thesis's figures 3.9-3.15, each a
-//! source model plus the representation it is rendered with. [`sweep`] renders a grid of
-//! configurations against the converged reference (run time against error, Pareto front);
-//! [`turntable`] renders animated sequences; [`shard`] splits either over machines.
+//! least squares, error and ringing reports) or fits a D-BRDF to it (thesis 2.3.3-2.3.6).
+//! [`sweep`] renders a grid of configurations against the converged reference (run time
+//! against error, Pareto front); [`turntable`] renders animated sequences; [`shard`] splits
+//! either over machines.
+//!
+//! ## Layering
+//! Dependencies point one way, leaf first, with no import cycle between modules:
+//! [`conventions`] -> [`brdf`] -> [`sh`] -> [`material`] -> [`kernel`] -> [`shade`] ->
+//! [`render`] -> tools ([`golden`], [`sweep`], [`turntable`]) -> [`cli`]; off that path,
+//! [`acquire`] (after [`sh`]) -> [`library`] (after [`material`], which it builds) ->
+//! [`scene`] (which resolves a library name). A file format sits beside the type it stores
+//! ([`sh::file`], [`brdf::dbrdf::file`], [`env::lightset_io`]); a model never names a
+//! consumer (the BRDF trait has no hooks for the kernels: they match on
+//! [`material::Material`]).
 //!
 //! ## Conventions
 //! Every coordinate convention (world axes, spherical angle names, the shading frame and
@@ -81,8 +99,9 @@ pub mod error;
 pub mod golden;
 pub mod image_io;
 pub mod kernel;
+pub mod library;
 pub mod light;
-pub mod materials;
+pub mod material;
 pub mod mesh;
 pub mod progress;
 pub mod raster;

@@ -235,9 +235,9 @@ fn dbrdf_fit_of_ashikhmin_shirley_is_within_stated_error() {
 /// exists.
 #[test]
 fn library_materials_build_finite_and_lit() {
-    for m in brdfkit::materials::LIBRARY {
-        let b = brdfkit::materials::build(m.name).unwrap();
-        assert!(brdfkit::materials::source_model(m.name).is_some());
+    for m in brdfkit::library::LIBRARY {
+        let b = brdfkit::library::build(m.name).unwrap();
+        assert!(brdfkit::brdf::stand_ins::source_model(m.name).is_some());
         let wo = local_direction_f64(0.5, 1.0).as_vec3();
         let mut sum = Vec3::ZERO;
         for (p, a) in [
@@ -247,7 +247,7 @@ fn library_materials_build_finite_and_lit() {
             (0.5, 1.0 + std::f64::consts::PI),
         ] {
             let v = brdfkit::brdf::eval_cosine_weighted(
-                b.as_ref(),
+                b.as_brdf(),
                 local_direction_f64(p, a).as_vec3(),
                 wo,
             );
@@ -256,7 +256,7 @@ fn library_materials_build_finite_and_lit() {
         }
         assert!(sum.max_element() > 0.01, "{}: {sum}", m.name);
     }
-    assert!(brdfkit::materials::build("no-such").is_err());
+    assert!(brdfkit::library::build("no-such").is_err());
 }
 
 /// Scene material kinds: library names resolve, unknown names and missing files give errors
@@ -294,7 +294,8 @@ fn scene_material_kinds_name_their_fields() {
 /// blue silk (sharp A-S lobe across the threads, `n_v = 160`) are flagged at 8 bands.
 #[test]
 fn library_ringing_flags_match_the_thesis() {
-    use brdfkit::materials::{source_model, Representation, LIBRARY, VIEW_GRID};
+    use brdfkit::brdf::stand_ins::source_model;
+    use brdfkit::library::{Representation, LIBRARY, VIEW_GRID};
     let (nu, nv) = VIEW_GRID;
     for m in LIBRARY {
         let expect = match m.name {
@@ -307,7 +308,7 @@ fn library_ringing_flags_match_the_thesis() {
             Representation::Dbrdf => 8,
         };
         let src = source_model(m.name).unwrap();
-        let opts = AcquireOptions::new(bands, nu, nv, brdfkit::materials::LIBRARY_METHOD);
+        let opts = AcquireOptions::new(bands, nu, nv, brdfkit::library::LIBRARY_METHOD);
         let ds = acquire(src.as_ref(), &opts).unwrap();
         let r = hemisphere_error(src.as_ref(), &ds, nu, nv, SMALL);
         assert_eq!(

@@ -24,7 +24,6 @@ use brdfkit::scene::Scene;
 use closed_form_common::*;
 use glam::{DVec3, Vec3};
 use std::f64::consts::PI;
-use std::sync::Arc;
 
 /// Relative error allowed at the renderer's own surfaces: f32 arithmetic on O(1) values
 /// (frame, dot products, `powf`) is good to a few 1e-7; the Blinn-Phong lobe amplifies the
@@ -111,8 +110,8 @@ fn check_paths(name: &str, scene: &Scene, expected: &dyn Fn(&Hit) -> DVec3, slop
 
 const ALBEDO: [f64; 3] = [0.8, 0.5, 0.25];
 
-fn lambert() -> Arc<Lambert> {
-    Arc::new(Lambert {
+fn lambert() -> Material {
+    Material::from(Lambert {
         albedo: DVec3::from(ALBEDO).as_vec3(),
     })
 }
@@ -198,7 +197,7 @@ fn blinn_phong_scene(segments: u32, l: DVec3, e: DVec3) -> brdfkit::scene::Scene
         segments,
         SIZE,
         SIZE,
-        Arc::new(BlinnPhong {
+        Material::from(BlinnPhong {
             kd: DVec3::from(KD).as_vec3(),
             ks: DVec3::from(KS).as_vec3(),
             exponent: EXPONENT as f32,
@@ -265,7 +264,7 @@ fn dbrdf_constant_table_sphere_directional_light() {
         32,
         SIZE,
         SIZE,
-        Arc::new(dbrdf),
+        Material::from(dbrdf),
         vec![Light::Directional {
             to_light: l.as_vec3(),
             irradiance: e.as_vec3(),
@@ -297,7 +296,7 @@ fn dbrdf_constant_table_sphere_directional_light() {
         })
         .sum();
     let mut old = scene.clone();
-    old.material = Arc::new(DBrdf::new(
+    old.material = brdfkit::material::Material::from(DBrdf::new(
         16,
         nv,
         vec![(1.0 / midpoint) as f32; 16 * nv],

@@ -14,7 +14,6 @@ use closed_form_common::*;
 use glam::{DVec3, Vec3};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// Writes an equirectangular EXR probe whose texel (row, col) has radiance `f(row, col)`
 /// (row 0 is the top line of the image).
@@ -64,7 +63,7 @@ fn white_furnace_full_sampler() {
             24,
             48,
             48,
-            Arc::new(Lambert {
+            Material::from(Lambert {
                 albedo: Vec3::splat(albedo as f32),
             }),
             lights,
@@ -130,7 +129,7 @@ fn white_furnace_default_sampler() {
         24,
         48,
         48,
-        Arc::new(Lambert {
+        Material::from(Lambert {
             albedo: Vec3::splat(0.7),
         }),
         lights,
@@ -192,7 +191,7 @@ fn probe_orientation_matches_conventions() {
     let eye = Vec3::from(EYE).as_dvec3().normalize();
     assert!(expected.dot(eye) > 0.8, "the spot must face the camera");
 
-    let lambert = Arc::new(Lambert { albedo: Vec3::ONE });
+    let lambert = Material::from(Lambert { albedo: Vec3::ONE });
     let angle_deg = |a: DVec3, b: DVec3| a.dot(b).clamp(-1.0, 1.0).acos().to_degrees();
     const BOUND_DEG: f64 = 4.0;
 

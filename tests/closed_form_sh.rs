@@ -40,7 +40,6 @@ use brdfkit::render::{render, RenderOptions};
 use closed_form_common::*;
 use glam::DVec3;
 use std::f64::consts::PI;
-use std::sync::Arc;
 
 const TOLERANCE: f64 = 1e-5;
 const ALBEDO: [f64; 3] = [0.9, 0.6, 0.3];
@@ -124,7 +123,7 @@ fn check(name: &str, ds: brdfkit::sh::ShDataset, coeffs: &[f64]) -> f64 {
         32,
         48,
         48,
-        Arc::new(ds),
+        Material::from(ds),
         vec![Light::Directional {
             to_light: l.as_vec3(),
             irradiance: e.as_vec3(),

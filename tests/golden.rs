@@ -277,8 +277,8 @@ fn the_set_covers_every_configuration() {
             MaterialSpec::Lambert { .. } => ("lambert", None),
             MaterialSpec::BlinnPhong { .. } => ("blinn-phong", None),
             MaterialSpec::Library { name, lookup } => {
-                let sh = brdfkit::materials::find(name).unwrap().representation
-                    != brdfkit::materials::Representation::Dbrdf;
+                let sh = brdfkit::library::find(name).unwrap().representation
+                    != brdfkit::library::Representation::Dbrdf;
                 if sh {
                     ("library SH", Some(lookup.unwrap_or(Lookup::Bilinear)))
                 } else {

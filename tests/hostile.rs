@@ -986,7 +986,7 @@ fn probe_exr_scanlines() -> Vec<u8> {
 // ---------------------------------------------------------------------------------------
 // D-BRDF tables, huge finite values, special files
 
-use brdfkit::acquire::dbrdf_file::{read_dbrdf, write_dbrdf};
+use brdfkit::brdf::dbrdf::file::{read_dbrdf, write_dbrdf};
 
 /// The bytes of a small valid D-BRDF file (8 x 4 table).
 fn dbrdf_bytes() -> Vec<u8> {

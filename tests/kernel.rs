@@ -184,7 +184,7 @@ fn normal_cone_culling_changes_no_bit_and_skips_work() {
         256,
     );
     let prep = FramePrep::new(&s);
-    let down = brdfkit::kernel::Cone::around(
+    let down = brdfkit::kernel::cluster::Cone::around(
         [-glam::Vec3::Y, glam::Vec3::new(0.1, -0.99, 0.0).normalize()].into_iter(),
     )
     .unwrap();

@@ -26,7 +26,6 @@ use brdfkit::shade::{self, FramePrep, KernelFault, ShadeOptions};
 use glam::Vec3;
 use shading_paths::{f64_no_skips, scalar_oracle};
 use std::path::Path;
-use std::sync::Arc;
 
 /// The fast path's image of `s` on instruction set `d`, with the seeded `fault` if any.
 fn fast(s: &Scene, vis: &VisBuffer, d: Dispatch, fault: Option<KernelFault>) -> Image {
@@ -147,7 +146,7 @@ fn scene(name: &str, lights: Vec<Light>) -> Scene {
     f.render.height = 48;
     f.render.drop_lights = 0.0;
     let mut s = Scene::resolve(&f, Path::new("/")).unwrap();
-    let mut ds = brdfkit::materials::build(name)
+    let mut ds = brdfkit::library::build(name)
         .unwrap()
         .as_sh()
         .unwrap()
@@ -156,7 +155,7 @@ fn scene(name: &str, lights: Vec<Light>) -> Scene {
     let (nu, nv) = ds.grid();
     ds.set_basis_table(Some(ShBasisTable::tabulate(nu, nv, 8).unwrap()))
         .unwrap();
-    s.material = Arc::new(ds);
+    s.material = brdfkit::material::Material::from(ds);
     s.lights = lights;
     s
 }

@@ -41,13 +41,14 @@
 //! The lights are built through explicit APIs ([`prepare`] with no cache directory, or a
 //! light set built from a probe in code): this file never reads or writes any cache.
 
-use brdfkit::brdf::{BlinnPhong, Brdf, Lambert};
+use brdfkit::brdf::{BlinnPhong, Lambert};
 use brdfkit::conventions::{probe_direction, texel_center_f64};
 use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
 use brdfkit::env::sampling::full_probe;
 use brdfkit::env::{LoadOptions, Probe};
 use brdfkit::image_io::{read_exr, Image};
 use brdfkit::light::Light;
+use brdfkit::material::Material;
 use brdfkit::mesh::{sphere::uv_sphere, Mesh};
 use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::camera::Camera;
@@ -145,13 +146,13 @@ fn camera(meta: &Value) -> Camera {
     }
 }
 
-fn material(meta: &Value) -> Arc<dyn Brdf> {
+fn material(meta: &Value) -> Material {
     let m = &meta["material"];
     match m["kind"].as_str().unwrap() {
-        "lambert" => Arc::new(Lambert {
+        "lambert" => Material::from(Lambert {
             albedo: v3(&m["albedo"]),
         }),
-        "blinn-phong" => Arc::new(BlinnPhong {
+        "blinn-phong" => Material::from(BlinnPhong {
             kd: v3(&m["kd"]),
             ks: v3(&m["ks"]),
             exponent: m["exponent"].as_f64().unwrap() as f32,
@@ -461,7 +462,7 @@ fn check_reference(st: &Stats) -> Result<(), String> {
     }
 }
 
-fn reference_stats(peer: &Peer, lights: Option<Vec<Light>>, brdf: Option<Arc<dyn Brdf>>) -> Stats {
+fn reference_stats(peer: &Peer, lights: Option<Vec<Light>>, brdf: Option<Material>) -> Stats {
     let mut s = scene(&peer.meta, Config::Reference, lights);
     if let Some(b) = brdf {
         s.material = b;
@@ -600,7 +601,7 @@ fn seeded_faults_fail_the_reference_check() {
     for name in ["blinn-city", "blinn-directional"] {
         let peer = load_peer(name);
         let m = &peer.meta["material"];
-        let wrong: Arc<dyn Brdf> = Arc::new(BlinnPhong {
+        let wrong: Material = Material::from(BlinnPhong {
             kd: v3(&m["kd"]),
             ks: v3(&m["ks"]),
             exponent: m["exponent"].as_f64().unwrap() as f32 + 1.0,

@@ -21,7 +21,6 @@ use brdfkit::sh::basis::sh_lm;
 use brdfkit::sh::dataset::{Lookup, ShDataset};
 use glam::{Quat, Vec3};
 use std::path::Path;
-use std::sync::Arc;
 
 /// A BRDF turned 45 degrees about the normal: not symmetric under azimuth -> -azimuth.
 struct Turned45<B: Brdf>(B);
@@ -55,7 +54,7 @@ fn base_scene() -> Scene {
 
 fn with_material(s: &Scene, ds: ShDataset) -> Scene {
     let mut s = s.clone();
-    s.material = Arc::new(ds);
+    s.material = brdfkit::material::Material::from(ds);
     s
 }
 

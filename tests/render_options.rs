@@ -107,7 +107,7 @@ fn the_scalar_oracle_path_is_shade_point_at_every_pixel() {
         assert!(prep.dropped.dropped > 0, "{material}: nothing dropped");
         let brdf: &dyn brdfkit::brdf::Brdf = match &prep.sh {
             Some((ds, _)) => ds.as_ref(),
-            None => s.material.as_ref(),
+            None => s.material.as_brdf(),
         };
         let mut expected = Vec::new();
         for y in 0..vis.height {

@@ -58,7 +58,7 @@ fn compare(a: &Image, expected: &Image, tol: f32) -> (f32, bool) {
 /// blue-silk (8 bands) with a declared band threshold, so the band skip does drop bands;
 /// without and with a basis table on its own grid.
 fn datasets() -> (Arc<ShDataset>, Arc<ShDataset>) {
-    let lib = brdfkit::materials::build("blue-silk").unwrap();
+    let lib = brdfkit::library::build("blue-silk").unwrap();
     let mut plain = lib.as_sh().unwrap().clone();
     plain.set_band_threshold(0.02).unwrap();
     let mut tabled = plain.clone();
@@ -77,7 +77,7 @@ fn scene(material: Arc<ShDataset>, lights: Vec<Light>, band_skip: bool) -> Scene
     f.render.drop_lights = 0.0;
     f.render.band_skip = band_skip;
     let mut s = Scene::resolve(&f, Path::new("/")).unwrap();
-    s.material = material;
+    s.material = material.into();
     s.lights = lights;
     s
 }

@@ -14,7 +14,6 @@ use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
 use brdfkit::shade::{self, local_view, surface_at, FramePrep, ShadeOptions};
 use glam::Vec3;
 use std::path::Path;
-use std::sync::Arc;
 
 /// Lights from the uniform sampler on the studio probe: a wide spread of powers.
 fn studio_uniform(count: usize) -> Vec<Light> {
@@ -153,7 +152,7 @@ fn dropping_negligible_lights_stays_within_its_bound() {
 fn dropping_sh_bands_stays_within_the_addition_theorem_bound() {
     let lights = studio_uniform(64);
     for (name, want) in [("teal-paint", 7), ("magenta-plastic", 4)] {
-        let lib = brdfkit::materials::build(name).unwrap();
+        let lib = brdfkit::library::build(name).unwrap();
         let full_ds = lib.as_sh().unwrap().clone();
         let b = full_ds.bands();
         let e = full_ds.band_energies();
@@ -172,7 +171,7 @@ fn dropping_sh_bands_stays_within_the_addition_theorem_bound() {
         assert_eq!(keep, want, "{name} at threshold {thr}");
         let mut s = scene(MaterialSpec::default(), lights.clone(), 48, 36);
         s.render.drop_lights = 0.0;
-        s.material = Arc::new(ds.clone());
+        s.material = brdfkit::material::Material::from(ds.clone());
         let (skipped, st) = render_counted(&s, None);
         assert_eq!((st.sh_bands_stored, st.sh_bands_used), (b, keep), "{name}");
         s.render.band_skip = false;

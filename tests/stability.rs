@@ -17,7 +17,7 @@
 //! reproducible; case counts keep the file at ~10-20 s in the test profile (opt-level 2).
 
 use brdfkit::aov::Aov;
-use brdfkit::brdf::{eval_cosine_weighted, Brdf};
+use brdfkit::brdf::eval_cosine_weighted;
 use brdfkit::conventions::ShadingFrame;
 use brdfkit::env::prepare::EnvSpec;
 use brdfkit::env::{
@@ -26,6 +26,7 @@ use brdfkit::env::{
 };
 use brdfkit::image_io::Image;
 use brdfkit::light::Light;
+use brdfkit::material::Material;
 use brdfkit::render::render;
 use brdfkit::scene::{Precision, Scene, SceneFile};
 use brdfkit::sh::ShDataset;
@@ -90,14 +91,14 @@ fn scene_from(toml: &str, base: &Path) -> Scene {
 }
 
 /// Library materials, built once (building acquires an SH data set or fits a D-BRDF).
-fn library(name: &'static str) -> Arc<dyn Brdf> {
-    type Built = Vec<(&'static str, Arc<dyn Brdf>)>;
+fn library(name: &'static str) -> Material {
+    type Built = Vec<(&'static str, Material)>;
     static CACHE: OnceLock<std::sync::Mutex<Built>> = OnceLock::new();
     let mut c = CACHE.get_or_init(Default::default).lock().unwrap();
     if let Some((_, m)) = c.iter().find(|(n, _)| *n == name) {
         return m.clone();
     }
-    let m = brdfkit::materials::build(name).unwrap();
+    let m = brdfkit::library::build(name).unwrap();
     c.push((name, m.clone()));
     m
 }
@@ -179,10 +180,10 @@ fn build(r: &RandomScene) -> Scene {
         Path::new("."),
     );
     s.material = match MATERIALS[r.material] {
-        "lambert" => Arc::new(brdfkit::brdf::Lambert {
+        "lambert" => Material::from(brdfkit::brdf::Lambert {
             albedo: Vec3::splat(0.8),
         }),
-        "blinn-phong" => Arc::new(brdfkit::brdf::BlinnPhong {
+        "blinn-phong" => Material::from(brdfkit::brdf::BlinnPhong {
             kd: Vec3::splat(0.3),
             ks: Vec3::splat(0.7),
             exponent: 5000.0,
@@ -231,17 +232,17 @@ fn random_scenes_are_finite_at_every_scale() {
 // The BRDF kernels near +-up and at grazing angles
 
 /// Every BRDF kind the renderer evaluates: analytic models, a D-BRDF, SH data sets.
-fn all_brdfs() -> Vec<(&'static str, Arc<dyn Brdf>)> {
-    let mut v: Vec<(&'static str, Arc<dyn Brdf>)> = vec![
+fn all_brdfs() -> Vec<(&'static str, Material)> {
+    let mut v: Vec<(&'static str, Material)> = vec![
         (
             "lambert",
-            Arc::new(brdfkit::brdf::Lambert {
+            Material::from(brdfkit::brdf::Lambert {
                 albedo: Vec3::splat(0.5),
             }),
         ),
         (
             "blinn-phong",
-            Arc::new(brdfkit::brdf::BlinnPhong {
+            Material::from(brdfkit::brdf::BlinnPhong {
                 kd: Vec3::splat(0.3),
                 ks: Vec3::splat(0.7),
                 exponent: 1e4,
@@ -249,7 +250,7 @@ fn all_brdfs() -> Vec<(&'static str, Arc<dyn Brdf>)> {
         ),
         (
             "ashikhmin-shirley",
-            Arc::new(brdfkit::brdf::AshikhminShirley {
+            Material::from(brdfkit::brdf::AshikhminShirley {
                 nu: 1e4,
                 nv: 1.0,
                 rs: Vec3::splat(0.5),
@@ -299,7 +300,7 @@ fn kernels_near_up_and_at_grazing_angles() {
         prop_assert!(wi.is_finite() && wo.is_finite(), "frame of {n}: {wi} {wo}");
         prop_assert!((wi.length() - 1.0).abs() < 1e-5 && (wo.length() - 1.0).abs() < 1e-5);
         for (name, b) in &brdfs {
-            let v = eval_cosine_weighted(b.as_ref(), wi, wo);
+            let v = eval_cosine_weighted(b.as_brdf(), wi, wo);
             prop_assert!(v.is_finite(), "{name} f32 at n {n}, wi {wi}, wo {wo}: {v}");
             let d = b.eval_f64(wi.as_dvec3(), wo.as_dvec3());
             prop_assert!(d.is_finite(), "{name} f64 at n {n}, wi {wi}, wo {wo}: {d}");
@@ -427,10 +428,10 @@ fn max_diff(a: &Image, b: &Image) -> (f64, f64) {
 fn gold_dust_10_bands() -> &'static ShDataset {
     static DS: OnceLock<ShDataset> = OnceLock::new();
     DS.get_or_init(|| {
-        let src = brdfkit::materials::source_model("gold-dust-paint").unwrap();
-        let (nu, nv) = brdfkit::materials::VIEW_GRID;
+        let src = brdfkit::brdf::stand_ins::source_model("gold-dust-paint").unwrap();
+        let (nu, nv) = brdfkit::library::VIEW_GRID;
         let opts =
-            brdfkit::acquire::AcquireOptions::new(10, nu, nv, brdfkit::materials::LIBRARY_METHOD);
+            brdfkit::acquire::AcquireOptions::new(10, nu, nv, brdfkit::library::LIBRARY_METHOD);
         brdfkit::acquire::acquire(src.as_ref(), &opts).unwrap()
     })
 }
@@ -454,7 +455,7 @@ fn sh_orders_1_to_10_under_sky_and_studio_f32_within_bound_of_f64() {
         s.lights = env_scene.lights.clone();
         assert_eq!(s.lights.len(), 64, "{probe}");
         for bands in 1..=10 {
-            s.material = Arc::new(ds.truncated(bands).unwrap());
+            s.material = brdfkit::material::Material::from(ds.truncated(bands).unwrap());
             // Arithmetic only: the f32 path drops no light and skips no band (the f64 path
             // never does), so the difference is rounding, not an approximation.
             s.render.drop_lights = 0.0;

@@ -1,5 +1,5 @@
 #![no_main]
-//! D-BRDF table reader (`acquire::dbrdf_file::read_dbrdf`, a single-part EXR): any bytes give
+//! D-BRDF table reader (`brdf::dbrdf::file::read_dbrdf`, a single-part EXR): any bytes give
 //! a table or an error, never a panic, and never an allocation the file's length does not
 //! justify (run with `-malloc_limit_mb`).
 use libfuzzer_sys::fuzz_target;
@@ -9,5 +9,5 @@ mod common;
 
 fuzz_target!(|data: &[u8]| {
     let p = common::scratch("exr", data);
-    let _ = brdfkit::acquire::dbrdf_file::read_dbrdf(&p);
+    let _ = brdfkit::brdf::dbrdf::file::read_dbrdf(&p);
 });

@@ -69,17 +69,18 @@
 //! the paper's formula to 3.6e-6 relative. Weighting alone does not rescue A-S plastic
 //! (weighted rel L2 0.30, weighted ringing -6.2 % at order 5): its grazing spike is a
 //! property of the model, not of measured plastic, so the library's plastic and fabric now
-//! use a D-BRDF lobe instead ([`crate::materials`]).
+//! use a D-BRDF lobe instead ([`crate::brdf::stand_ins`]).
 //!
 //! Layout: this file holds the options and [`acquire`] itself; [`quadrature`] the split
 //! product quadrature and projection; [`measure`] the error grid, report and ringing flag;
-//! [`fit`] the D-BRDF fit; [`dbrdf_file`] its file format; [`source`] the BRDF sources.
+//! [`fit`] the D-BRDF fit. The D-BRDF file format sits beside its type
+//! ([`crate::brdf::dbrdf::file`]); the `SOURCE` argument of the commands is parsed by the
+//! command line (`cli::source`); the library's source models are
+//! [`crate::brdf::stand_ins`].
 
-pub mod dbrdf_file;
 pub mod fit;
 pub mod measure;
 pub mod quadrature;
-pub mod source;
 
 pub use measure::*;
 pub use quadrature::*;

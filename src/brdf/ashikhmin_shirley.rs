@@ -15,9 +15,9 @@
 //! derive `p_d` so that the sum conserves energy for `R_s, R_d` in [0, 1]; the tests check
 //! directional albedo <= 1 by quadrature for such parameters.
 
+use super::real::{Scalar, Vector3};
 use super::Brdf;
 use glam::Vec3;
-use std::f32::consts::PI;
 
 /// Parameters: `nu`, `nv` >= 0 lobe exponents (tangent, bitangent), `rs` specular and `rd`
 /// diffuse RGB reflectance in [0, 1]. Never fails: zero below the horizon.
@@ -31,78 +31,62 @@ pub struct AshikhminShirley {
 
 /// Schlick's Fresnel approximation `R_s + (1 - R_s)(1 - c)^5` for `c = k.h` in [0, 1].
 #[inline]
-pub fn schlick_fresnel(rs: Vec3, c: f32) -> Vec3 {
-    let m = (1.0 - c.clamp(0.0, 1.0)).powi(5);
-    rs + (Vec3::ONE - rs) * m
+pub fn schlick_fresnel<V: Vector3>(rs: V, c: V::S) -> V {
+    let m = (V::S::ONE - c.clamp(V::S::ZERO, V::S::ONE)).powi(5);
+    rs + (V::ONE - rs) * m
 }
 
-impl Brdf for AshikhminShirley {
-    fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return Vec3::ZERO;
+impl AshikhminShirley {
+    /// The formula (module doc) in the precision of `V`, with its guards: the one body of
+    /// [`Brdf::eval`] and [`Brdf::eval_f64`] ([`super::real`]).
+    #[inline]
+    pub fn f<V: Vector3>(&self, wi: V, wo: V) -> V {
+        let (zero, one) = (V::S::ZERO, V::S::ONE);
+        if wi.z() <= zero || wo.z() <= zero {
+            return V::ZERO;
         }
-        let (n1, n2) = (wi.z.min(1.0), wo.z.min(1.0));
-        let d = (28.0 / (23.0 * PI))
-            * self.rd
-            * (Vec3::ONE - self.rs)
-            * (1.0 - (1.0 - 0.5 * n1).powi(5))
-            * (1.0 - (1.0 - 0.5 * n2).powi(5));
+        let (rs, rd) = (V::from_vec3(self.rs), V::from_vec3(self.rd));
+        let (nu, nv) = (V::S::from_f32(self.nu), V::S::from_f32(self.nv));
+        let (half, eps) = (V::S::lit(0.5), V::S::lit(1e-6));
+        let (n1, n2) = (wi.z().min(one), wo.z().min(one));
+        let d = rd
+            * (V::S::lit(28.0) / (V::S::lit(23.0) * V::S::PI))
+            * (V::ONE - rs)
+            * (one - (one - half * n1).powi(5))
+            * (one - (one - half * n2).powi(5));
         // `k.h = |k1 + k2| / 2` for unit k1, k2: symmetric in floating point (k1 + k2 is
         // computed identically both ways), unlike `k1.h`, which breaks reciprocity near
         // grazing opposite directions.
         let sum = wi + wo;
         let len = sum.length();
-        if len <= 1e-6 {
+        if len <= eps {
             return d;
         }
         let h = sum / len;
-        let kh = (0.5 * len).clamp(1e-6, 1.0);
-        let s2 = h.x * h.x + h.y * h.y;
-        let e = if s2 > 0.0 {
-            (self.nu * h.x * h.x + self.nv * h.y * h.y) / s2
+        let kh = (half * len).clamp(eps, one);
+        let s2 = h.x() * h.x() + h.y() * h.y();
+        let e = if s2 > zero {
+            (nu * h.x() * h.x() + nv * h.y() * h.y()) / s2
         } else {
-            0.0
+            zero
         };
-        let norm = ((self.nu + 1.0) * (self.nv + 1.0)).sqrt() / (8.0 * PI);
-        let spec = norm * h.z.max(0.0).powf(e) / (kh * n1.max(n2));
-        d + spec * schlick_fresnel(self.rs, kh)
+        let norm = ((nu + one) * (nv + one)).sqrt() / (V::S::lit(8.0) * V::S::PI);
+        let spec = norm * h.z().max(zero).powf(e) / (kh * n1.max(n2));
+        d + schlick_fresnel(rs, kh) * spec
+    }
+}
+
+impl Brdf for AshikhminShirley {
+    fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        self.f(wi, wo)
     }
 
     fn name(&self) -> &str {
         "ashikhmin-shirley"
     }
 
-    /// The same formula (module doc) in f64, with the same guards.
+    /// The same formula (module doc) in f64, with the same guards ([`AshikhminShirley::f`]).
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
-        use glam::DVec3;
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return DVec3::ZERO;
-        }
-        let pi = std::f64::consts::PI;
-        let (rs, rd) = (self.rs.as_dvec3(), self.rd.as_dvec3());
-        let (nu, nv) = (self.nu as f64, self.nv as f64);
-        let (n1, n2) = (wi.z.min(1.0), wo.z.min(1.0));
-        let d = (28.0 / (23.0 * pi))
-            * rd
-            * (DVec3::ONE - rs)
-            * (1.0 - (1.0 - 0.5 * n1).powi(5))
-            * (1.0 - (1.0 - 0.5 * n2).powi(5));
-        let sum = wi + wo;
-        let len = sum.length();
-        if len <= 1e-6 {
-            return d;
-        }
-        let h = sum / len;
-        let kh = (0.5 * len).clamp(1e-6, 1.0);
-        let s2 = h.x * h.x + h.y * h.y;
-        let e = if s2 > 0.0 {
-            (nu * h.x * h.x + nv * h.y * h.y) / s2
-        } else {
-            0.0
-        };
-        let norm = ((nu + 1.0) * (nv + 1.0)).sqrt() / (8.0 * pi);
-        let spec = norm * h.z.max(0.0).powf(e) / (kh * n1.max(n2));
-        let fresnel = rs + (DVec3::ONE - rs) * (1.0 - kh).powi(5);
-        d + spec * fresnel
+        self.f(wi, wo)
     }
 }

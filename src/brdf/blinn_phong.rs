@@ -7,6 +7,7 @@
 //! lobe's peak albedo close to `k_s` for every exponent; `(L.N)` is the cosine the renderer
 //! applies. `h = normalize(wi + wo)`.
 
+use super::real::{Scalar, Vector3};
 use super::Brdf;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -20,15 +21,27 @@ pub struct BlinnPhong {
     pub exponent: f32,
 }
 
+impl BlinnPhong {
+    /// The formula (module doc) in the precision of `V` (half vector, `powf`,
+    /// normalisation): the one body of [`Brdf::eval`] and [`Brdf::eval_f64`]
+    /// ([`super::real`]).
+    #[inline]
+    pub fn f<V: Vector3>(&self, wi: V, wo: V) -> V {
+        if wi.z() <= V::S::ZERO || wo.z() <= V::S::ZERO {
+            return V::ZERO;
+        }
+        let (pi, a) = (V::S::PI, V::S::from_f32(self.exponent));
+        let eight = V::S::lit(8.0);
+        let h = (wi + wo).normalize_or_zero();
+        let nh = h.z().max(V::S::ZERO);
+        let spec = (a + eight) / (eight * pi) * nh.powf(a);
+        V::from_vec3(self.kd) / pi + V::from_vec3(self.ks) * spec
+    }
+}
+
 impl Brdf for BlinnPhong {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let h = (wi + wo).normalize_or_zero();
-        let nh = h.z.max(0.0);
-        let spec = (self.exponent + 8.0) / (8.0 * PI) * nh.powf(self.exponent);
-        self.kd / PI + self.ks * spec
+        self.f(wi, wo)
     }
 
     fn name(&self) -> &str {
@@ -37,28 +50,12 @@ impl Brdf for BlinnPhong {
 
     /// The same formula in f64 (half vector, `powf`, normalisation).
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return glam::DVec3::ZERO;
-        }
-        let pi = std::f64::consts::PI;
-        let a = self.exponent as f64;
-        let h = (wi + wo).normalize_or_zero();
-        let nh = h.z.max(0.0);
-        let spec = (a + 8.0) / (8.0 * pi) * nh.powf(a);
-        self.kd.as_dvec3() / pi + self.ks.as_dvec3() * spec
+        self.f(wi, wo)
     }
 
     /// `k_d / pi + k_s (alpha + 8) / (8 pi)`: `(n.h)^alpha <= 1` and `cos(polar_i) <= 1`
     /// (reached at `wi = wo = n`).
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.kd / PI + self.ks * ((self.exponent + 8.0) / (8.0 * PI)))
-    }
-
-    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
-        Some(crate::kernel::models::LaneModel::BlinnPhong {
-            kd: self.kd,
-            ks: self.ks,
-            exponent: self.exponent,
-        })
     }
 }

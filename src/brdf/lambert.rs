@@ -1,5 +1,6 @@
 //! Lambertian diffuse reflection (thesis 2.2.1): `f_r = albedo / pi`.
 
+use super::real::{Scalar, Vector3};
 use super::Brdf;
 use glam::Vec3;
 use std::f32::consts::FRAC_1_PI;
@@ -11,12 +12,21 @@ pub struct Lambert {
     pub albedo: Vec3,
 }
 
+impl Lambert {
+    /// `albedo / pi` (zero below either horizon), in the precision of `V`: the one body of
+    /// [`Brdf::eval`] and [`Brdf::eval_f64`] ([`super::real`]).
+    #[inline]
+    pub fn f<V: Vector3>(&self, wi: V, wo: V) -> V {
+        if wi.z() <= V::S::ZERO || wo.z() <= V::S::ZERO {
+            return V::ZERO;
+        }
+        V::from_vec3(self.albedo) * V::S::FRAC_1_PI
+    }
+}
+
 impl Brdf for Lambert {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return Vec3::ZERO;
-        }
-        self.albedo * FRAC_1_PI
+        self.f(wi, wo)
     }
 
     fn name(&self) -> &str {
@@ -25,20 +35,11 @@ impl Brdf for Lambert {
 
     /// `albedo / pi` in f64 (zero below either horizon).
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return glam::DVec3::ZERO;
-        }
-        self.albedo.as_dvec3() * std::f64::consts::FRAC_1_PI
+        self.f(wi, wo)
     }
 
     /// `albedo / pi`: `f_r` is constant and `cos(polar_i) <= 1`.
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.albedo * FRAC_1_PI)
-    }
-
-    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
-        Some(crate::kernel::models::LaneModel::Lambert {
-            albedo: self.albedo,
-        })
     }
 }

@@ -7,13 +7,27 @@
 //!
 //! Tabulated models (SH coefficient tables, D-BRDF half-vector tables, MERL data) implement
 //! the same trait, so the renderer does not care where a BRDF came from.
+//!
+//! Layering: this module is the leaf after [`crate::conventions`]. The trait names none of
+//! its consumers (no kernel, SH, shading or scene types): the renderer's closed set of
+//! shadeable materials is `crate::material::Material`, which wraps these models and
+//! dispatches on its own tag. A file format sits beside the type it stores
+//! ([`dbrdf::file`]; MERL's reader is [`MerlBrdf::read`]).
+//!
+//! Layout: one file per model ([`lambert`], [`phong`], [`blinn_phong`],
+//! [`ashikhmin_shirley`], [`dbrdf`] with its file format, [`merl`], [`lambert_dbrdf`] the
+//! Lambert + D-BRDF lobe); [`stand_ins`] the library's source models by name; [`real`]
+//! the f32/f64 operations an analytic model's one generic formula uses.
 
 pub mod ashikhmin_shirley;
 pub mod blinn_phong;
 pub mod dbrdf;
 pub mod lambert;
+pub mod lambert_dbrdf;
 pub mod merl;
 pub mod phong;
+pub mod real;
+pub mod stand_ins;
 #[cfg(test)]
 mod tests_analytic;
 
@@ -33,6 +47,7 @@ pub use ashikhmin_shirley::AshikhminShirley;
 pub use blinn_phong::BlinnPhong;
 pub use dbrdf::DBrdf;
 pub use lambert::Lambert;
+pub use lambert_dbrdf::LambertDbrdf;
 pub use merl::MerlBrdf;
 pub use phong::Phong;
 
@@ -62,29 +77,19 @@ pub trait Brdf: Send + Sync {
     /// evaluation (Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley, the D-BRDF except its f32
     /// table lookup, MERL, SH data sets, the library's source models), so an f64 render is
     /// an f64 reference of the formula; `tests_analytic` checks each against its f32 `eval`.
+    /// The analytic models (Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley) write the
+    /// formula once, generic over the precision ([`real`]), and both methods call it.
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
         self.eval(wi.as_vec3(), wo.as_vec3()).as_dvec3()
-    }
-
-    /// The SH data set behind this BRDF, if it is one: the renderer then uses the SH
-    /// kernel ([`crate::kernel::sh`]) instead of calling [`Brdf::eval`] per light.
-    fn as_sh(&self) -> Option<&crate::sh::dataset::ShDataset> {
-        None
     }
 
     /// An upper bound `M` (RGB, 1/sr) on `|f_r(wi, wo) cos(polar_i)|` over all pairs of
     /// directions above the horizon, i.e. on the absolute value of
     /// [`eval_cosine_weighted`]. One directional light of irradiance `E` then changes any
     /// pixel by at most `E M` (thesis Def. 10: the pixel is `sum_k f cos E_k`), which is the
-    /// bound of dropping negligible lights ([`crate::kernel::skip`]). `None` when the model
+    /// bound of dropping negligible lights (the renderer's `kernel::skip`). `None` when the model
     /// has no derived bound; the renderer then drops no light for it.
     fn max_cosine_weighted(&self) -> Option<Vec3> {
-        None
-    }
-
-    /// The model's lane form for the fast kernel ([`crate::kernel::models`]), evaluating
-    /// eight lights at once; `None` (the default) evaluates [`Brdf::eval`] per light.
-    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
         None
     }
 }

@@ -10,6 +10,7 @@
 //! most `k_s` elsewhere, so `k_d + k_s <= 1` conserves energy. `r.wo = wi.r'` with `r'` the
 //! mirror of `wo`, so the model is reciprocal. `(L.N)` is the cosine the renderer applies.
 
+use super::real::{Scalar, Vector3};
 use super::Brdf;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -23,15 +24,27 @@ pub struct Phong {
     pub exponent: f32,
 }
 
+impl Phong {
+    /// The formula (module doc) in the precision of `V` (mirror direction, `powf`,
+    /// normalisation): the one body of [`Brdf::eval`] and [`Brdf::eval_f64`]
+    /// ([`super::real`]).
+    #[inline]
+    pub fn f<V: Vector3>(&self, wi: V, wo: V) -> V {
+        if wi.z() <= V::S::ZERO || wo.z() <= V::S::ZERO {
+            return V::ZERO;
+        }
+        let (pi, a) = (V::S::PI, V::S::from_f32(self.exponent));
+        let two = V::S::lit(2.0);
+        let r = V::new(-wi.x(), -wi.y(), wi.z());
+        let rv = r.dot(wo).max(V::S::ZERO);
+        let spec = (a + two) / (two * pi) * rv.powf(a);
+        V::from_vec3(self.kd) / pi + V::from_vec3(self.ks) * spec
+    }
+}
+
 impl Brdf for Phong {
     fn eval(&self, wi: Vec3, wo: Vec3) -> Vec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let r = Vec3::new(-wi.x, -wi.y, wi.z);
-        let rv = r.dot(wo).max(0.0);
-        let spec = (self.exponent + 2.0) / (2.0 * PI) * rv.powf(self.exponent);
-        self.kd / PI + self.ks * spec
+        self.f(wi, wo)
     }
 
     fn name(&self) -> &str {
@@ -40,15 +53,7 @@ impl Brdf for Phong {
 
     /// The same formula in f64 (mirror direction, `powf`, normalisation).
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
-            return glam::DVec3::ZERO;
-        }
-        let pi = std::f64::consts::PI;
-        let a = self.exponent as f64;
-        let r = glam::DVec3::new(-wi.x, -wi.y, wi.z);
-        let rv = r.dot(wo).max(0.0);
-        let spec = (a + 2.0) / (2.0 * pi) * rv.powf(a);
-        self.kd.as_dvec3() / pi + self.ks.as_dvec3() * spec
+        self.f(wi, wo)
     }
 
     /// `k_d / pi + k_s (alpha + 2) / (2 pi)`: `max(0, r.wo)^alpha <= 1`, `cos(polar_i) <= 1`.

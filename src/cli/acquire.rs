@@ -1,15 +1,15 @@
 //! `brdfkit acquire`, `brdfkit fit-dbrdf` and `brdfkit materials`.
 
+use super::source::parse_source;
 use super::{AcquireArgs, FitDbrdfArgs};
-use crate::acquire::dbrdf_file::write_dbrdf;
 use crate::acquire::fit::{fit_dbrdf, FitOptions};
-use crate::acquire::source::parse_source;
 use crate::acquire::{
     acquire_with_progress, hemisphere_error, ringing_flagged, AcquireOptions, ErrorGrid,
     ErrorReport, Method, RINGING_THRESHOLD,
 };
+use crate::brdf::dbrdf::file::write_dbrdf;
 use crate::error::{Error, Result};
-use crate::materials::{Representation, LIBRARY};
+use crate::library::{Representation, LIBRARY};
 use crate::sh::write_sh_dataset;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;

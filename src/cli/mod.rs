@@ -8,6 +8,7 @@ mod compare;
 mod golden;
 mod lights;
 mod render;
+pub mod source;
 mod sweep;
 
 use crate::aov::Aov;
@@ -60,7 +61,7 @@ pub enum Command {
     Acquire(AcquireArgs),
     /// Fit a D-BRDF (p(h) table, c, R_s) to a BRDF, print its error and write it.
     #[command(
-        after_help = "Example:\n  brdfkit fit-dbrdf lindt-paper -o lindt.exr\n\nSOURCE as for `brdfkit acquire`. The file is a single-channel EXR (see acquire::dbrdf_file)."
+        after_help = "Example:\n  brdfkit fit-dbrdf lindt-paper -o lindt.exr\n\nSOURCE as for `brdfkit acquire`. The file is a single-channel EXR (see brdf::dbrdf::file)."
     )]
     FitDbrdf(FitDbrdfArgs),
     /// List the material library (name, representation, description).

@@ -5,7 +5,7 @@ use crate::aov;
 use crate::env::prepare::{CacheDir, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
-use crate::materials::Representation;
+use crate::library::Representation;
 use crate::progress::Progress;
 use crate::raster::Cull;
 use crate::render;
@@ -304,7 +304,7 @@ fn set_lookup(material: &mut MaterialSpec, l: LookupArg) -> Result<()> {
         )
     };
     match material {
-        MaterialSpec::Library { name, lookup } => match crate::materials::find(name) {
+        MaterialSpec::Library { name, lookup } => match crate::library::find(name) {
             Some(m) if matches!(m.representation, Representation::Dbrdf) => {
                 Err(not_sh(&format!("the D-BRDF library material {name:?}")))
             }

@@ -1,5 +1,5 @@
 //! The one guarded OpenEXR reader: every EXR file brdfkit opens (SH data sets
-//! [`crate::sh::file`], D-BRDF tables [`crate::acquire::dbrdf_file`], light probes
+//! [`crate::sh::file`], D-BRDF tables [`crate::brdf::dbrdf::file`], light probes
 //! [`crate::env::Probe`], images [`super::read_exr`]) is read through [`read_headers`] and
 //! [`ExrHeaders::decode`], and its part attributes through [`Attributes`].
 //!

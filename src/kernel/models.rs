@@ -1,14 +1,19 @@
 //! Lane models: analytic BRDFs and the D-BRDF evaluated for eight lights at once (one light
-//! per lane), over the lights [`super::sh::gather_dir`] left in a [`Scratch`] (local
+//! per lane), over the lights [`super::gather::gather_dir`] left in a [`Scratch`] (local
 //! directions, weights `E cos(theta)`). Each is the same formula as the model's scalar
 //! `Brdf::eval` (thesis 2.2 and 2.3.6), tested against the scalar oracle at
 //! [`super::KERNEL_TOLERANCE`]. Models without a lane form go through `Brdf::eval` per light
 //! ([`LaneModel::Scalar`]).
+//!
+//! Design rule: the lane form is chosen by matching on the closed set of
+//! [`Material`] variants ([`LaneModel::of`]); the BRDF models themselves know nothing of
+//! the kernel.
 
 use super::approx;
+use super::gather::Scratch;
 use super::lanes::{F32x8, Isa, LANES};
-use super::sh::Scratch;
 use crate::brdf::{Brdf, DBrdf};
+use crate::material::Material;
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
@@ -27,9 +32,24 @@ pub enum LaneModel<'a> {
 }
 
 impl<'a> LaneModel<'a> {
-    /// The lane form of `brdf`, if it has one (by [`Brdf::name`] and its parameters).
-    pub fn of(brdf: &'a dyn Brdf) -> LaneModel<'a> {
-        brdf.lane_model().unwrap_or(LaneModel::Scalar(brdf))
+    /// The lane form of `material`: Lambert, Blinn-Phong and the D-BRDF have one; every
+    /// other variant evaluates `Brdf::eval` per light ([`LaneModel::Scalar`]; an SH data
+    /// set is shaded by the SH kernel instead, [`super::sh`]).
+    pub fn of(material: &'a Material) -> LaneModel<'a> {
+        match material {
+            Material::Lambert(m) => LaneModel::Lambert { albedo: m.albedo },
+            Material::BlinnPhong(m) => LaneModel::BlinnPhong {
+                kd: m.kd,
+                ks: m.ks,
+                exponent: m.exponent,
+            },
+            Material::DBrdf(m) => LaneModel::DBrdf(m),
+            Material::Phong(_)
+            | Material::AshikhminShirley(_)
+            | Material::LambertDbrdf(_)
+            | Material::Merl(_)
+            | Material::Sh(_) => LaneModel::Scalar(material.as_brdf()),
+        }
     }
 
     /// `sum_k f(l_k, wo) w_k` (RGB) over the lights of `sc` (weights `w_k = E_k cos`, or

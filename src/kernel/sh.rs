@@ -1,9 +1,9 @@
 //! The SH kernel: `sum_k E_k w_k sum_lm c_lm(view) Y_lm(l_k)` for one pixel (thesis 3.1.5,
 //! Def. 10 and 12, Code 4), eight lights at a time, one light per lane.
 //!
-//! Per pixel, [`Scratch`] first receives the lights above the horizon in local coordinates
+//! Per pixel, a [`Scratch`] first receives the lights above the horizon in local coordinates
 //! with their weights `E_k w_k` (`w_k = cos(theta_k)`, or 1 when the data set includes the
-//! cosine), compacted in light order ([`gather_dir`], [`Scratch::push`]). [`sh_sum`] then
+//! cosine), compacted in light order ([`super::gather`], shared with every material). [`sh_sum`] then
 //! runs, per group of eight, one fused pass over (m, l): the rescaled associated-Legendre
 //! recurrence of [`crate::sh::basis`] on eight lanes, accumulating `c_lm Y_lm` per colour at
 //! once, so the basis is never stored. The band count is a literal in each of the
@@ -11,8 +11,9 @@
 //! have fixed trip counts and unroll. Units: `E` irradiance (W/m^2) at normal incidence,
 //! coefficients in 1/sr, result radiance.
 
+use super::cluster::DirLights;
+use super::gather::{gather_dir, Scratch};
 use super::lanes::{F32x8, Isa, LANES};
-use super::DirLights;
 use crate::conventions::{hemi_bilinear_texels, hemi_nearest_texel, ShadingFrame};
 use crate::sh::dataset::{Lookup, ShDataset};
 use glam::Vec3;
@@ -141,127 +142,6 @@ fn sh_dot<S: Isa>(
         }
     }
     (ar, ag, ab)
-}
-
-/// Per-worker scratch space, reused across the pixels of a tile (and across tiles): the
-/// lights above one pixel's horizon as a structure of arrays, local direction `(x, y, z)`
-/// and RGB weight, `n` of them. Sized once by [`Scratch::reserve`]; nothing is pushed or
-/// allocated per pixel.
-#[derive(Clone, Debug, Default)]
-pub struct Scratch {
-    pub x: Vec<f32>,
-    pub y: Vec<f32>,
-    pub z: Vec<f32>,
-    pub wr: Vec<f32>,
-    pub wg: Vec<f32>,
-    pub wb: Vec<f32>,
-    pub n: usize,
-}
-
-impl Scratch {
-    /// Room for `lights` lights (plus a group of padding); never shrinks.
-    pub fn reserve(&mut self, lights: usize) {
-        let len = lights + 2 * LANES;
-        if self.x.len() < len {
-            for v in [
-                &mut self.x,
-                &mut self.y,
-                &mut self.z,
-                &mut self.wr,
-                &mut self.wg,
-                &mut self.wb,
-            ] {
-                v.resize(len, 0.0);
-            }
-        }
-        self.n = 0;
-    }
-
-    /// Empties the list (keeps the room).
-    #[inline(always)]
-    pub fn clear(&mut self) {
-        self.n = 0;
-    }
-
-    /// Appends one light (local direction, RGB weight). Panics past the reserved room.
-    #[inline(always)]
-    pub fn push(&mut self, l: Vec3, w: Vec3) {
-        let i = self.n;
-        self.x[i] = l.x;
-        self.y[i] = l.y;
-        self.z[i] = l.z;
-        self.wr[i] = w.x;
-        self.wg[i] = w.y;
-        self.wb[i] = w.z;
-        self.n += 1;
-    }
-
-    /// Pads the list to whole groups of [`LANES`] with lights of zero weight pointing
-    /// along the normal (so every basis value stays finite), and returns the padded count.
-    #[inline(always)]
-    pub fn pad(&mut self) -> usize {
-        let end = self.n.div_ceil(LANES) * LANES;
-        for i in self.n..end {
-            self.x[i] = 0.0;
-            self.y[i] = 0.0;
-            self.z[i] = 1.0;
-            self.wr[i] = 0.0;
-            self.wg[i] = 0.0;
-            self.wb[i] = 0.0;
-        }
-        end
-    }
-}
-
-/// Appends to `sc` the lights of chunks `chunks` of `lights` that lie above the horizon of
-/// `frame` (and carry power), in light order, as local directions with weights `E cos`
-/// (`E` when `includes_cosine`). Lights at or below the horizon weigh exactly zero in the
-/// oracle and are not kept, so what is kept (and the result) depends only on the pixel and
-/// the lights, never on which chunks a tile's culling dropped.
-#[inline(always)]
-pub fn gather_dir<S: Isa>(
-    s: S,
-    frame: &ShadingFrame,
-    includes_cosine: bool,
-    lights: &DirLights,
-    chunks: &[u32],
-    sc: &mut Scratch,
-) {
-    let (t, b, n) = (frame.t, frame.b, frame.n);
-    let (tx, ty, tz) = (s.splat(t.x), s.splat(t.y), s.splat(t.z));
-    let (bx, by, bz) = (s.splat(b.x), s.splat(b.y), s.splat(b.z));
-    let (nx, ny, nz) = (s.splat(n.x), s.splat(n.y), s.splat(n.z));
-    let zero = s.zero();
-    for &ch in chunks {
-        let o = ch as usize * LANES;
-        let dx = s.load(&lights.dx[o..]);
-        let dy = s.load(&lights.dy[o..]);
-        let dz = s.load(&lights.dz[o..]);
-        let z = dz.mul_add(nz, dy.mul_add(ny, dx * nx));
-        let mask = z.gt_mask(zero) & lights.chunk_live_mask[ch as usize] as u32;
-        if mask == 0 {
-            continue;
-        }
-        let x = dz.mul_add(tz, dy.mul_add(ty, dx * tx));
-        let y = dz.mul_add(bz, dy.mul_add(by, dx * bx));
-        let (er, eg, eb) = (
-            s.load(&lights.er[o..]),
-            s.load(&lights.eg[o..]),
-            s.load(&lights.eb[o..]),
-        );
-        let (wr, wg, wb) = if includes_cosine {
-            (er, eg, eb)
-        } else {
-            (er * z, eg * z, eb * z)
-        };
-        let at = sc.n;
-        x.compress_store(mask, &mut sc.x, at);
-        y.compress_store(mask, &mut sc.y, at);
-        z.compress_store(mask, &mut sc.z, at);
-        wr.compress_store(mask, &mut sc.wr, at);
-        wg.compress_store(mask, &mut sc.wg, at);
-        sc.n += wb.compress_store(mask, &mut sc.wb, at);
-    }
 }
 
 /// `sum_k w_k sum_lm c_lm Y_lm(l_k)` (RGB) over the lights in `sc`, for view coefficients

@@ -3,16 +3,16 @@
 //!
 //! Design rule: every way a scene names a material (analytic model, library name, SH file,
 //! D-BRDF file) is one [`MaterialSpec`] variant, and [`resolve_material`] is the one place
-//! that turns a spec into a [`Brdf`], checking its values once with errors naming the
-//! `material.*` field.
+//! that turns a spec into a [`Material`] (the renderer's closed set of models), checking its
+//! values once with errors naming the `material.*` field.
 
 use super::resolve::{nonneg, rgb, strip_field};
-use crate::brdf::{BlinnPhong, Brdf, Lambert};
+use crate::brdf::{BlinnPhong, Lambert};
 use crate::error::{Error, Result};
+use crate::material::Material;
 use crate::sh::dataset::Lookup;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
@@ -30,7 +30,7 @@ pub enum MaterialSpec {
         exponent: f32,
     },
     /// A library material by name (`brdfkit materials`), built at load time
-    /// ([`crate::materials::build`]).
+    /// ([`crate::library::build`]).
     Library {
         name: String,
         /// Coefficient-table filter for SH materials; `None` keeps the library's (bilinear).
@@ -46,7 +46,7 @@ pub enum MaterialSpec {
         #[serde(default)]
         lookup: Option<Lookup>,
     },
-    /// A D-BRDF file ([`crate::acquire::dbrdf_file::read_dbrdf`]), path relative to the
+    /// A D-BRDF file ([`crate::brdf::dbrdf::file::read_dbrdf`]), path relative to the
     /// scene file.
     DbrdfFile { path: PathBuf },
 }
@@ -56,7 +56,7 @@ impl MaterialSpec {
     /// data set or D-BRDF) is read from its `brdfkit.format` header. Fails with a field
     /// error naming `--material` when the value is neither.
     pub fn from_cli(value: &str) -> Result<MaterialSpec> {
-        if crate::materials::find(value).is_some() {
+        if crate::library::find(value).is_some() {
             return Ok(MaterialSpec::Library {
                 name: value.to_string(),
                 lookup: None,
@@ -89,7 +89,7 @@ impl MaterialSpec {
             .first()
             .and_then(|h| Attributes(&h.own_attributes.other).string("brdfkit.format"));
         let (dbrdf, sh) = (
-            crate::acquire::dbrdf_file::FORMAT_NAME,
+            crate::brdf::dbrdf::file::FORMAT_NAME,
             crate::sh::file::FORMAT_NAME,
         );
         match format.as_deref() {
@@ -133,18 +133,18 @@ impl Default for MaterialSpec {
 
 /// Builds the material a [`MaterialSpec`] names, its file paths relative to `base`. Field
 /// errors name the field (`material.kd`, `material.path`, ...).
-pub(super) fn resolve_material(spec: &MaterialSpec, base: &Path) -> Result<Arc<dyn Brdf>> {
+pub(super) fn resolve_material(spec: &MaterialSpec, base: &Path) -> Result<Material> {
     Ok(match spec {
-        MaterialSpec::Lambert { albedo } => Arc::new(Lambert {
+        MaterialSpec::Lambert { albedo } => Material::from(Lambert {
             albedo: rgb("material.albedo", *albedo)?,
         }),
-        MaterialSpec::BlinnPhong { kd, ks, exponent } => Arc::new(BlinnPhong {
+        MaterialSpec::BlinnPhong { kd, ks, exponent } => Material::from(BlinnPhong {
             kd: rgb("material.kd", *kd)?,
             ks: rgb("material.ks", *ks)?,
             exponent: nonneg("material.exponent", *exponent)?,
         }),
         MaterialSpec::Library { name, lookup } => {
-            let m = crate::materials::build(name)
+            let m = crate::library::build(name)
                 .map_err(|e| Error::field("material.name", strip_field(e)))?;
             match lookup {
                 None => m,
@@ -160,7 +160,7 @@ pub(super) fn resolve_material(spec: &MaterialSpec, base: &Path) -> Result<Arc<d
                         )
                     })?;
                     ds.coeff_lookup = *mode;
-                    Arc::new(ds)
+                    Material::from(ds)
                 }
             }
         }
@@ -170,10 +170,10 @@ pub(super) fn resolve_material(spec: &MaterialSpec, base: &Path) -> Result<Arc<d
             if let Some(mode) = lookup {
                 ds.coeff_lookup = *mode;
             }
-            Arc::new(ds)
+            Material::from(ds)
         }
-        MaterialSpec::DbrdfFile { path } => Arc::new(
-            crate::acquire::dbrdf_file::read_dbrdf(&base.join(path))
+        MaterialSpec::DbrdfFile { path } => Material::from(
+            crate::brdf::dbrdf::file::read_dbrdf(&base.join(path))
                 .map_err(|e| Error::field("material.path", e.to_string()))?
                 .0,
         ),

@@ -9,11 +9,11 @@
 use super::camera::{self, Camera};
 use super::material::resolve_material;
 use super::{default_lights, LightSpec, OutputSpec, RenderSpec, SceneFile};
-use crate::brdf::Brdf;
 use crate::env::prepare::{self, CacheDir};
 use crate::error::{Error, Result};
 use crate::kernel::lanes::KernelPath;
 use crate::light::Light;
+use crate::material::Material;
 use crate::mesh::{self, Mesh};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -27,7 +27,8 @@ pub const MAX_SIDE: u32 = 16384;
 pub struct Scene {
     pub mesh: Arc<Mesh>,
     pub camera: Camera,
-    pub material: Arc<dyn Brdf>,
+    /// The material, built once here ([`Material`], the closed set of shadeable models).
+    pub material: Material,
     pub lights: Vec<Light>,
     pub render: RenderSpec,
     pub output: OutputSpec,

@@ -25,7 +25,7 @@ use glam::DVec3;
 /// set is the full probe this is the converged reference (`brdfkit render --reference`, the
 /// golden bounds, the sweep's error measurements).
 pub(super) fn shade_f64_no_skips(scene: &Scene, vis: &VisBuffer, progress: &Progress) -> Image {
-    let brdf = scene.material.as_ref();
+    let brdf = scene.material.as_brdf();
     let eye = scene.camera.position.as_dvec3();
     shade_per_pixel(scene, vis, progress, |s| {
         let f = ShadingFrame::from_normal(s.normal);

@@ -8,8 +8,8 @@
 //! scene setting or command-line option reaches it: tests set it through
 //! [`super::ShadeOptions`]' hidden `fault` field.
 
+use crate::kernel::gather::Scratch;
 use crate::kernel::lanes::LANES;
-use crate::kernel::sh::Scratch;
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 

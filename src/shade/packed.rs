@@ -29,7 +29,7 @@ impl FramePrep<'_> {
         rec: &ShRecurrence,
         batch: &[(usize, Surface)],
         buf: &mut Vec<f32>,
-        sc: &mut kernel::sh::Scratch,
+        sc: &mut kernel::gather::Scratch,
     ) -> [Vec3; LANES] {
         let t3 = 3 * ds.bands() * ds.bands();
         buf.resize(t3 * (LANES + 1), 0.0);

@@ -28,13 +28,13 @@ impl FramePrep<'_> {
         surf: &Surface,
         chunks: &[u32],
         coeff_buf: &mut Vec<f32>,
-        scratch: &mut kernel::sh::Scratch,
+        scratch: &mut kernel::gather::Scratch,
     ) -> Vec3 {
         let frame = ShadingFrame::from_normal(surf.normal);
         let wo = local_view(&frame, surf, self.eye);
         scratch.clear();
         let includes_cosine = self.brdf.includes_cosine();
-        kernel::sh::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
+        kernel::gather::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
         for light in &self.points {
             let (l, e) = light.at(surf.position);
             let wi = frame.to_local(l);

@@ -12,7 +12,7 @@ use super::{KernelFault, ShadeOptions};
 use crate::brdf::Brdf;
 use crate::kernel::lanes::{Dispatch, LANES};
 use crate::kernel::models::LaneModel;
-use crate::kernel::{sh::ShRecurrence, skip, DirLights};
+use crate::kernel::{cluster::DirLights, sh::ShRecurrence, skip};
 use crate::light::Light;
 use crate::scene::Scene;
 use crate::sh::dataset::ShDataset;
@@ -69,7 +69,7 @@ impl<'a> FramePrep<'a> {
     /// this CPU cannot run: [`Scene::resolve`] refuses such a scene, so only a scene built
     /// in code (or such options) can get here.
     pub(crate) fn with_options(scene: &'a Scene, opts: &ShadeOptions) -> FramePrep<'a> {
-        let brdf = scene.material.as_ref();
+        let brdf = scene.material.as_brdf();
         let fraction = match brdf.max_cosine_weighted() {
             Some(_) => scene.render.drop_lights,
             None => 0.0,
@@ -83,7 +83,7 @@ impl<'a> FramePrep<'a> {
                     .count() as u32
             })
             .collect();
-        let sh = brdf.as_sh().map(|ds| {
+        let sh = scene.material.as_sh().map(|ds| {
             let keep = if scene.render.band_skip {
                 ds.effective_bands()
             } else {
@@ -99,7 +99,7 @@ impl<'a> FramePrep<'a> {
         });
         FramePrep {
             brdf,
-            sh_bands: match (brdf.as_sh(), &sh) {
+            sh_bands: match (scene.material.as_sh(), &sh) {
                 (Some(full), Some((used, _))) => (full.bands(), used.bands()),
                 _ => (0, 0),
             },
@@ -110,7 +110,7 @@ impl<'a> FramePrep<'a> {
                 .copied()
                 .filter(|l| matches!(l, Light::Point { .. }))
                 .collect(),
-            model: LaneModel::of(brdf),
+            model: LaneModel::of(&scene.material),
             dispatch: {
                 let kernel = opts.kernel.unwrap_or(scene.render.kernel);
                 Dispatch::choose(kernel).unwrap_or_else(|| {

@@ -49,7 +49,7 @@ pub(super) fn shade_scalar_oracle(
 ) -> Image {
     let brdf: &dyn Brdf = match &prep.sh {
         Some((ds, _)) => ds.as_ref(),
-        None => scene.material.as_ref(),
+        None => scene.material.as_brdf(),
     };
     let lights = &prep.dropped.kept;
     shade_per_pixel(scene, vis, progress, |s| {

@@ -15,7 +15,7 @@
 use super::{surface_at_index, tile_pixels, FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES};
-use crate::kernel::{self, Cone};
+use crate::kernel::{self, cluster::Cone};
 use crate::progress::Progress;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
@@ -41,7 +41,7 @@ pub(super) fn shade_kernels(
         .par_chunks_mut(band_len)
         .enumerate()
         .map_init(
-            || (Vec::new(), kernel::sh::Scratch::default(), Vec::new()),
+            || (Vec::new(), kernel::gather::Scratch::default(), Vec::new()),
             |(buf, scratch, surfaces), (ty, band)| {
                 let mut counts = ShadeCounts::default();
                 for tx in 0..vis.tiles_x as usize {
@@ -119,7 +119,7 @@ struct ShadeTile<'p, 'a, 'o> {
     t: usize,
     band: &'o mut [Vec3],
     buf: &'o mut Vec<f32>,
-    scratch: &'o mut kernel::sh::Scratch,
+    scratch: &'o mut kernel::gather::Scratch,
     surfaces: &'o mut Vec<(usize, Surface)>,
 }
 

@@ -19,7 +19,6 @@ use crate::scene::{Precision, Scene, SceneFile};
 use crate::sh::dataset::ShDataset;
 use crate::shard::Shard;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 /// What a prepared sweep holds: the scene template, the probe, the reference.
@@ -199,7 +198,7 @@ impl Sweep {
             if let Some(l) = c.lookup {
                 d.coeff_lookup = l;
             }
-            s.material = Arc::new(d);
+            s.material = d.into();
         }
         Ok(s)
     }

@@ -9,15 +9,14 @@
 //! written in f64 by each test.
 #![allow(dead_code)]
 
-use brdfkit::brdf::Brdf;
 use brdfkit::image_io::Image;
 use brdfkit::light::Light;
+pub use brdfkit::material::Material;
 use brdfkit::render::{rasterize, render};
 use brdfkit::scene::{Precision, Scene, SceneFile};
 use brdfkit::shade::{shade, surface_at, ShadeOptions, ShadingPath};
 use glam::{DVec3, Vec3};
 use std::path::Path;
-use std::sync::Arc;
 
 /// Camera of every closed-form scene: looking at the unit sphere at the origin from
 /// front-right-above (not along an axis, so no symmetry hides a mirrored convention).
@@ -36,7 +35,7 @@ pub fn sphere_scene(
     segments: u32,
     w: u32,
     h: u32,
-    material: Arc<dyn Brdf>,
+    material: Material,
     lights: Vec<Light>,
 ) -> Scene {
     let toml = format!(

@@ -86,10 +86,6 @@ impl Brdf for ShDataset {
         "sh-dataset"
     }
 
-    fn as_sh(&self) -> Option<&ShDataset> {
-        Some(self)
-    }
-
     /// Cauchy-Schwarz and the SH addition theorem (`sum_m Y_lm(w)^2 = (2l+1)/(4 pi)` for
     /// every direction, so `sum_{l<L} sum_m Y_lm^2 = L^2/(4 pi)`):
     /// `|sum_k c_k Y_k(wi)| <= |c| L / sqrt(4 pi)`, with `|c|` at most the largest texel

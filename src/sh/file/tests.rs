@@ -359,3 +359,20 @@ fn a_stored_basis_table_that_is_not_the_analytic_basis_is_refused() {
     );
     assert!(e.to_string().contains("basis.exr"), "{e}");
 }
+
+/// Each format's reader refuses the other's file with a message naming the file and the
+/// format found: the D-BRDF reader ([`crate::brdf::dbrdf::file`]) given an SH data set.
+#[test]
+fn the_dbrdf_reader_refuses_an_sh_file() {
+    let tmp = tmpdir();
+    let sh = tmp.path().join("sh.exr");
+    let ds = ShDataset::zeros(2, 2, 1, true, "x").unwrap();
+    write_sh_dataset(&sh, &ds).unwrap();
+    let e = crate::brdf::dbrdf::file::read_dbrdf(&sh)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("not a brdfkit D-BRDF file") && e.contains("sh.exr"),
+        "{e}"
+    );
+}

@@ -51,6 +51,13 @@
 //! module that owns texel conventions has no f64 bilinear lookup): the table holds f32 data,
 //! and the f32 texture coordinates are within 1 ulp of angle (~1e-7 rad) of the f64 ones,
 //! which moves the bilinear weights by < 1e-5 of a texel.
+//!
+//! # File format
+//! The file format, [`mod@file`], stores the table as a single-channel OpenEXR image with
+//! `c` and `R_s` in the header; it sits beside the type it stores (as `sh::file` sits
+//! beside the SH data set).
+
+pub mod file;
 
 use super::ashikhmin_shirley::schlick_fresnel;
 use super::Brdf;
@@ -248,10 +255,6 @@ impl Brdf for DBrdf {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         let pmax = self.p.iter().copied().fold(0.0f32, f32::max);
         Some(self.c * pmax * self.rs.max(Vec3::ONE))
-    }
-
-    fn lane_model(&self) -> Option<crate::kernel::models::LaneModel<'_>> {
-        Some(crate::kernel::models::LaneModel::DBrdf(self))
     }
 }
 

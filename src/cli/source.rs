@@ -1,8 +1,8 @@
 //! The `SOURCE` argument of `brdfkit acquire` and `brdfkit fit-dbrdf`: which BRDF to measure.
 //!
 //! Design rule: one parser, tried in a fixed order, each form unambiguous:
-//! 1. a library material name ([`crate::materials::LIBRARY`], e.g. `blue-silk`): its
-//!    *source model* (not its rendering representation);
+//! 1. a library material name ([`crate::library::LIBRARY`], e.g. `blue-silk`): its
+//!    *source model* ([`crate::brdf::stand_ins`], not its rendering representation);
 //! 2. a path ending in `.binary`: a MERL table ([`crate::brdf::MerlBrdf::read`]);
 //! 3. an analytic spec `KIND[:KEY=VALUE,...]` with KIND `lambert` (albedo),
 //!    `blinn-phong` / `phong` (kd, ks, exponent) or `ashikhmin-shirley` (nu, nv, rs, rd).
@@ -49,7 +49,7 @@ fn colour(key: &str, v: &str) -> Result<Vec3> {
 /// Parses `SOURCE` (module doc). Fails with a field error naming `SOURCE` or the key, or
 /// with the MERL reader's error naming the file.
 pub fn parse_source(s: &str) -> Result<Arc<dyn Brdf>> {
-    if let Some(m) = crate::materials::source_model(s) {
+    if let Some(m) = crate::brdf::stand_ins::source_model(s) {
         return Ok(m);
     }
     if s.ends_with(".binary") {

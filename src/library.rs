@@ -1,0 +1,129 @@
+//! The material library, after the thesis's result figures (3.9-3.15).
+//!
+//! Design rule: each material is a documented **source model** (an analytic BRDF standing in
+//! for the acquired measurement, which we do not have) plus the **representation** the
+//! thesis renders it with, built at run time by one function, [`build`]: an SH data set
+//! acquired from the source ([`crate::acquire::acquire`], about 5 bands for diffuse
+//! materials, 8 for specular ones, thesis 3.3) or a D-BRDF fit of the source
+//! ([`crate::acquire::fit::fit_dbrdf`], thesis Fig. 3.11). Nothing is cached on disk; the
+//! view grid is coarse ([`VIEW_GRID`]) so a build takes well under a second.
+//!
+//! Every SH representation uses [`LIBRARY_METHOD`] and bilinear coefficient lookup.
+//! The source models live with the other BRDFs, in [`crate::brdf::stand_ins`]
+//! (Ashikhmin-Shirley for the specular materials; Lambert + D-BRDF lobe,
+//! [`crate::brdf::LambertDbrdf`], for plastic and synthetic fabric, whose A-S versions had a
+//! grazing spike the thesis's renderings do not show, and for velvet). The built
+//! representation is a [`Material`], the renderer's closed set of shadeable models.
+
+use crate::acquire::fit::{fit_dbrdf, FitOptions};
+use crate::acquire::{acquire, AcquireOptions, Method};
+use crate::brdf::stand_ins::source_model;
+use crate::error::{Error, Result};
+use crate::material::Material;
+
+/// View grid (azimuth x polar texels) of every library SH data set.
+pub const VIEW_GRID: (usize, usize) = (16, 8);
+
+/// Projection method of every library SH data set: least squares on the upper hemisphere,
+/// the lowest hemisphere error of the three methods (see `brdfkit acquire` tables).
+pub const LIBRARY_METHOD: Method = Method::Lsq {
+    lambda: crate::acquire::DEFAULT_LAMBDA,
+};
+
+/// How a library material is rendered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Representation {
+    /// An SH data set with this many bands.
+    Sh { bands: usize },
+    /// A D-BRDF fitted to the source.
+    Dbrdf,
+}
+
+/// A library entry.
+#[derive(Clone, Copy, Debug)]
+pub struct Entry {
+    /// Name used on the command line and in scene files.
+    pub name: &'static str,
+    /// One line: what it is and which thesis figure it follows.
+    pub description: &'static str,
+    /// How it is rendered.
+    pub representation: Representation,
+}
+
+/// Every library material, in the order of the thesis's figures.
+pub const LIBRARY: [Entry; 7] = [
+    Entry {
+        name: "blue-synthetic-fabric",
+        description:
+            "blue synthetic fabric, broad mildly anisotropic sheen (Fig. 3.9); SH, 5 bands",
+        representation: Representation::Sh { bands: 5 },
+    },
+    Entry {
+        name: "blue-silk",
+        description:
+            "blue silk, strongly anisotropic highlight across the threads (Fig. 3.10); SH, 8 bands",
+        representation: Representation::Sh { bands: 8 },
+    },
+    Entry {
+        name: "lindt-paper",
+        description: "Lindt chocolate wrapping paper, gold foil, specular (Fig. 3.11); D-BRDF fit",
+        representation: Representation::Dbrdf,
+    },
+    Entry {
+        name: "gold-dust-paint",
+        description: "gold dust paint, highly specular metallic (Fig. 3.12); SH, 8 bands",
+        representation: Representation::Sh { bands: 8 },
+    },
+    Entry {
+        name: "teal-paint",
+        description: "teal paint, glossy dielectric (Fig. 3.13); SH, 8 bands",
+        representation: Representation::Sh { bands: 8 },
+    },
+    Entry {
+        name: "magenta-plastic",
+        description: "magenta plastic, mostly diffuse (Fig. 3.14); SH, 5 bands",
+        representation: Representation::Sh { bands: 5 },
+    },
+    Entry {
+        name: "red-velvet",
+        description:
+            "red velvet, dark at normal incidence, bright grazing sheen (Fig. 3.15); SH, 6 bands",
+        representation: Representation::Sh { bands: 6 },
+    },
+];
+
+/// The library entry called `name`, if any.
+pub fn find(name: &str) -> Option<&'static Entry> {
+    LIBRARY.iter().find(|m| m.name == name)
+}
+
+/// Builds the rendering representation of library material `name` (module doc): acquires
+/// its source as an SH data set, or fits a D-BRDF to it. Fails with a field error naming
+/// `material` for an unknown name, or when acquisition or fitting fails (neither happens
+/// for the built-in parameters).
+pub fn build(name: &str) -> Result<Material> {
+    let m = find(name).ok_or_else(|| {
+        let names: Vec<&str> = LIBRARY.iter().map(|m| m.name).collect();
+        Error::field(
+            "material",
+            format!(
+                "{name:?} is not a library material (known: {})",
+                names.join(", ")
+            ),
+        )
+    })?;
+    let src = source_model(name).expect("every library entry has a source model");
+    match m.representation {
+        Representation::Sh { bands } => {
+            let opts = AcquireOptions::new(bands, VIEW_GRID.0, VIEW_GRID.1, LIBRARY_METHOD);
+            let ds = acquire(src.as_ref(), &opts)
+                .map_err(|e| Error::field("material", format!("{name}: {e}")))?;
+            Ok(Material::from(ds))
+        }
+        Representation::Dbrdf => {
+            let fit = fit_dbrdf(src.as_ref(), &FitOptions::default())
+                .map_err(|e| Error::field("material", format!("{name}: {e}")))?;
+            Ok(Material::from(fit.brdf))
+        }
+    }
+}
