@@ -76,6 +76,7 @@ pub mod conventions;
 pub mod env;
 pub mod error;
 pub mod golden;
+pub mod hash;
 pub mod image_io;
 pub mod kernel;
 pub mod light;

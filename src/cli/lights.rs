@@ -58,7 +58,7 @@ pub fn run(a: LightsArgs) -> Result<()> {
         (config.run(&probe), None)
     };
     spinner.finish_and_clear();
-    let total = lights.total_power();
+    let total = lights.total_irradiance();
     println!(
         "{} lights by {} from {} ({}x{}), total power RGB [{:.6e}, {:.6e}, {:.6e}]",
         lights.len(),

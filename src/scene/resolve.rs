@@ -48,7 +48,7 @@ pub struct EnvSummary {
     pub probe_size: Option<(usize, usize)>,
     /// Total RGB power of the light set after `[env] intensity` (irradiance at normal
     /// incidence summed over the lights, W/m^2 for a probe in W/(m^2 sr)).
-    pub total_power: [f64; 3],
+    pub total_irradiance: [f64; 3],
 }
 
 /// A finite vector, else a field error naming `field`.
@@ -212,7 +212,7 @@ impl Scene {
                 cache_rejected: prepared.cache_rejected,
                 negative_texels: prepared.report.as_ref().map_or(0, |r| r.negative_texels),
                 probe_size: prepared.report.as_ref().map(|r| r.size),
-                total_power: prepared.lights.total_power().to_array(),
+                total_irradiance: prepared.lights.total_irradiance().to_array(),
             });
         }
 

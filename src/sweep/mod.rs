@@ -24,7 +24,7 @@
 //! `reference-<key>.exr` named by [`reference_key`]: a hash of the scene's configuration and
 //! input files, the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
 //! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]. Beside it,
-//! `reference-<key>.exr.fnv1a` holds [`image_checksum`] of its pixels; an entry is used only
+//! `reference-<key>.exr.xxh3` holds [`image_checksum`] of its pixels; an entry is used only
 //! when both files exist, its size is the scene's, every value is finite, and
 //! the checksum matches ([`read_cached_reference`]); otherwise it is rendered again and
 //! rewritten. This is the only cache a sweep reads: its light sets are computed.
