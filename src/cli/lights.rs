@@ -90,7 +90,7 @@ pub fn run(a: LightsArgs) -> Result<()> {
     }
     if let Some(p) = &a.overlay {
         let o = OverlayOptions {
-            exposure: a.exposure.exp2(),
+            exposure: a.exposure,
             ..OverlayOptions::default()
         };
         write_overlay_png(p, &probe, &lights, regions.as_deref(), &o)
