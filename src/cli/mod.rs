@@ -280,7 +280,8 @@ pub struct LightsArgs {
     /// Number of lights (median cut: any N; powers of two split every region evenly).
     #[arg(short = 'n', long = "count", default_value_t = 128)]
     pub count: usize,
-    /// Write the light set: .json (with a header) or .csv (dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b).
+    /// Write the light set: .json (with a header) or .csv
+    /// (dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Draw the tone-mapped probe with the lights (and median-cut regions) into a PNG.

@@ -196,9 +196,9 @@ pub fn write_csv(path: &Path, lights: &LightSet) -> Result<(), LightSetIoError> 
 }
 
 /// Reads a CSV light set. Fails on I/O, a file that is not regular or is over
-/// [`MAX_LIGHTSET_BYTES`], a header line other than [`CSV_HEADER`] or [`CSV_HEADER_V0`], a line without exactly six
-/// fields, an unparsable number (naming line and field), or invalid lights ([`validate`]).
-/// Blank lines are skipped.
+/// [`MAX_LIGHTSET_BYTES`], a header line other than [`CSV_HEADER`] or [`CSV_HEADER_V0`],
+/// a line without exactly six fields, an unparsable number (naming line and field), or
+/// invalid lights ([`validate`]). Blank lines are skipped.
 pub fn read_csv(path: &Path) -> Result<LightSet, LightSetIoError> {
     let text = crate::image_io::read_regular_text(path, MAX_LIGHTSET_BYTES, "light set")?;
     let mut names: Vec<&str> = CSV_HEADER.split(',').collect();

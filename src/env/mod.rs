@@ -7,7 +7,7 @@
 //! `E_k` = radiance integrated over the light's solid angle (the irradiance it gives a
 //! surface facing it, W/m^2 for a probe in W/(m^2 sr); the thesis calls it the light's
 //! "power"), so the illumination integral becomes
-//! `L_o = sum_k f_r(w_k, w_o) cos(theta_k) E_k` (thesis 2.3.2: each light is a Dirac
+//! `L_o = sum_k f_r(w_k, w_o) cos(polar_k) E_k` (thesis 2.3.2: each light is a Dirac
 //! delta in direction). Every sampler's light irradiances sum to the probe's integral
 //! `sum_texels RGB x solid angle` ([`Probe::total_power`]) to 1e-5 relative; the samplers
 //! differ only in where they put the lights and how they split the energy.
@@ -240,26 +240,15 @@ pub fn reference_lambert(probe: &Probe, n: DVec3, albedo: DVec3) -> DVec3 {
 /// Relative RMS irradiance error of a light set against reference irradiances `reference`
 /// (from [`reference_irradiance_many`]) at the same `normals`:
 /// `sqrt(sum_n |E_lights(n) - E_ref(n)|^2 / sum_n |E_ref(n)|^2)`, `|.|` the Euclidean
-/// norm over RGB. Returns 0 when the reference is all zero and the lights are too.
+/// norm over RGB ([`crate::metrics::relative_l2`]: 0 when the reference is all zero and
+/// the lights are too, infinite when only the reference is).
 pub fn irradiance_error(lights: &LightSet, normals: &[DVec3], reference: &[DVec3]) -> f64 {
     assert_eq!(normals.len(), reference.len());
-    // Terms in parallel, summed in index order: a reduction across rayon tasks would
+    // Irradiances in parallel, summed in index order: a reduction across rayon tasks would
     // group the sum by the thread count's split, and so change its last bits.
-    let terms: Vec<(f64, f64)> = normals
-        .par_iter()
-        .zip(reference.par_iter())
-        .map(|(&n, &r)| {
-            (
-                (lights.irradiance(n) - r).length_squared(),
-                r.length_squared(),
-            )
-        })
-        .collect();
-    let (num, den) = terms.iter().fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
-    if den == 0.0 {
-        return if num == 0.0 { 0.0 } else { f64::INFINITY };
-    }
-    (num / den).sqrt()
+    let got: Vec<DVec3> = normals.par_iter().map(|&n| lights.irradiance(n)).collect();
+    let (num, den) = crate::metrics::squared_error_sums(&got, reference);
+    crate::metrics::relative_l2(num, den)
 }
 
 #[cfg(test)]

@@ -51,11 +51,11 @@ pub struct Entry {
     /// Written by bless ([`measure`] at full size); absent for debug outputs (nothing is
     /// shaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fast_vs_reference: Option<Bound>,
+    pub fast_vs_reference: Option<MeasuredBound>,
     /// [`measure`] at 1/[`BOUND_CHECK_SCALE`] of the entry's size, written by bless and
     /// re-measured by [`check_bounds`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fast_vs_reference_small: Option<Bound>,
+    pub fast_vs_reference_small: Option<MeasuredBound>,
 }
 
 impl Entry {

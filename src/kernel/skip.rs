@@ -10,7 +10,7 @@
 //! The weakest directional lights (by the largest channel of their irradiance `E_k`, ties
 //! by index) are dropped while, in every colour channel, the dropped irradiance
 //! `E_drop = sum_{dropped} E_k` stays at most `fraction x` the total. A pixel is
-//! `L = sum_k f(l_k, v) cos(theta_k) E_k` (thesis Def. 10), so dropping the set `D` changes
+//! `L = sum_k f(l_k, v) cos(polar_k) E_k` (thesis Def. 10), so dropping the set `D` changes
 //! it by
 //! `|dL| = |sum_{k in D} f cos E_k| <= E_drop x M`, with `M` the material's bound on
 //! `|f cos|` ([`crate::brdf::Brdf::max_cosine_weighted`]: Lambert `albedo/pi`,
@@ -29,7 +29,7 @@
 //! `|sum_{l>=L} sum_m c_lm Y_lm(w)| <= |c_{l>=L}| sqrt(sum_{l=L}^{B-1} (2l+1)/(4 pi))
 //! = |c_{l>=L}| sqrt((B^2 - L^2)/(4 pi))` ([`band_tail_factor`]), so the pixel changes by at
 //! most `sum_k E_k w_k x |c_{l>=L}| x band_tail_factor(B, L)` over the lights above the
-//! horizon (`w_k = cos(theta_k)`, or 1 when the table includes the cosine).
+//! horizon (`w_k = cos(polar_k)`, or 1 when the table includes the cosine).
 //!
 //! Both bounds hold in exact arithmetic; the two f32 renders being compared also round
 //! their sums in different orders, which [`summation_allowance`] bounds.

@@ -61,7 +61,7 @@
 //! - [`default_scene`]: the scene rendered without `--scene` ([`default_scene_file`]);
 //! - [`cache`]: the reference cache ([`reference_key`], [`read_cached_reference`]);
 //! - [`run`]: the timed runner ([`Sweep`]: prepare once, then render and time each row);
-//! - [`metrics`]: a row's errors against the reference ([`relative_rmse`]);
+//! - [`metrics`]: a row's errors against the reference ([`crate::metrics::relative_rmse`]);
 //! - [`pareto`]: the Pareto front ([`pareto_front`], [`finish_rows`]);
 //! - [`csv`]: the row ([`Row`]) and its CSV, header-keyed on read ([`read_csv`],
 //!   [`write_csv`], [`merge`]);
@@ -85,6 +85,5 @@ pub use grid::{
     default_counts, default_samplers, lookup_name, parse_lookup, parse_sampler, precision_name,
     sampler_name, Config, DefaultConfig, Grid,
 };
-pub use metrics::relative_rmse;
 pub use pareto::{finish_rows, pareto_front};
 pub use run::Sweep;

@@ -2,8 +2,8 @@
 //! directory.
 //!
 //! # Key
-//! The crate's stable hash ([`crate::hash`], XXH3-64) of the probe file's bytes, the rotation and loader
-//! options, the sampler configuration, the crate version and
+//! The crate's stable hash ([`crate::hash`], XXH3-64) of the probe file's bytes, the
+//! rotation and loader options, the sampler configuration, the crate version and
 //! [`LIGHT_SET_ALGORITHM_VERSION`] ([`file_cache_key`]). Entries are
 //! `<dir>/lights-<key>.json`, `<key>` 16 hex digits ([`cache_file_name`]).
 //!
@@ -120,9 +120,10 @@ fn versioned_key(
     h.finish()
 }
 
-/// Checksum ([`StableHasher`]) of a light set's contents: its length, then the little-endian bits of
-/// `dir_x`, `dir_y`, `dir_z`, `irradiance_r`, `irradiance_g`, `irradiance_b` in that order. Stored in each
-/// cache entry and recomputed on read, so an edited number is never trusted.
+/// Checksum ([`StableHasher`]) of a light set's contents: its length, then the
+/// little-endian bits of `dir_x`, `dir_y`, `dir_z`, `irradiance_r`, `irradiance_g`,
+/// `irradiance_b` in that order. Stored in each cache entry and recomputed on read, so an
+/// edited number is never trusted.
 pub fn lights_checksum(ls: &LightSet) -> u64 {
     let mut h = StableHasher::new();
     h.write_u64(ls.len() as u64);
