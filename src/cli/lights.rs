@@ -60,7 +60,7 @@ pub fn run(a: LightsArgs) -> Result<()> {
     spinner.finish_and_clear();
     let total = lights.total_irradiance();
     println!(
-        "{} lights by {} from {} ({}x{}), total power RGB [{:.6e}, {:.6e}, {:.6e}]",
+        "{} lights by {} from {} ({}x{}), summed light irradiance RGB [{:.6e}, {:.6e}, {:.6e}]",
         lights.len(),
         config.name(),
         a.probe.display(),

@@ -56,7 +56,7 @@ pub enum OverlayError {
 }
 
 /// Draws the tone-mapped probe with one dot per light (red, black outline; area-free, so
-/// zero-power lights show too) and, when given, the median-cut region boundaries (green).
+/// zero-irradiance lights show too) and, when given, the median-cut region boundaries (green).
 /// Fails only if the image size cannot be allocated.
 pub fn render_overlay(
     probe: &Probe,

@@ -29,7 +29,7 @@ pub const MAX_PROBE_FILE_BYTES: u64 = 1 << 30;
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum SamplerKind {
-    /// Uniform random directions, each carrying its Voronoi cell's power.
+    /// Uniform random directions, each carrying its Voronoi cell's irradiance.
     Uniform,
     /// Thesis Algorithm 1: importance sampling by luminance x solid angle.
     Importance,

@@ -42,8 +42,8 @@ use glam::Vec3;
 /// pixel could take (`E_total M`), below half a step (1/510) of an 8-bit display code for
 /// an image exposed so that value is white; in practice it drops the dim tail of uniform
 /// and stratified light sets (golden `fig3-6-uniform-city`: 1 of 64 lights) and nothing
-/// from median-cut or importance sets, whose lights carry nearly equal power; Lloyd's
-/// relaxation moves power between regions and can leave a few dim ones (golden
+/// from median-cut or importance sets, whose lights carry nearly equal irradiance; Lloyd's
+/// relaxation moves irradiance between regions and can leave a few dim ones (golden
 /// `fig3-8-lloyd-studio`: 2 of 64, 9.7e-4 of the irradiance).
 pub const DEFAULT_DROP_LIGHTS: f32 = 1e-3;
 

@@ -46,8 +46,8 @@ pub struct EnvSummary {
     pub negative_texels: usize,
     /// The probe's size in texels when it was decoded (`None` on a cache hit).
     pub probe_size: Option<(usize, usize)>,
-    /// Total RGB power of the light set after `[env] intensity` (irradiance at normal
-    /// incidence summed over the lights, W/m^2 for a probe in W/(m^2 sr)).
+    /// The lights' RGB irradiances at normal incidence summed, after `[env] intensity`
+    /// ([`crate::env::LightSet::total_irradiance`], W/m^2 for a probe in W/(m^2 sr)).
     pub total_irradiance: [f64; 3],
 }
 

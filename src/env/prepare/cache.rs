@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
 /// light-set cache key ([`file_cache_key`]) and stored in each entry.
 ///
 /// Bump when the output of `Probe::load` or of any sampler changes (a different light,
-/// power or order for the same inputs), so no cache entry written by older code is read.
+/// irradiance or order for the same inputs), so no cache entry written by older code is read.
 pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 1;
 
 /// The crate version, part of every cache key (a cache never outlives a release).
