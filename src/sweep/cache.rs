@@ -122,3 +122,39 @@ pub(super) fn write_cached_reference(file: &Path, img: &Image) -> Result<()> {
         std::fs::write(tmp, &text).map_err(|e| Error::io(&sum_file, "cannot write", e))
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// A reference whose checksum file is the FNV-1a era's `.fnv1a` (no `.xxh3`), or holds
+    /// an FNV-1a-style string, is refused; this build's entry is read.
+    #[test]
+    fn only_this_builds_checksum_is_trusted() {
+        let tmp = tempfile::tempdir().unwrap();
+        let file = tmp.path().join("reference-0123456789abcdef.exr");
+        let img = Image {
+            width: 2,
+            height: 1,
+            pixels: vec![Vec3::new(0.5, 1.0, 2.0), Vec3::ZERO],
+        };
+        write_cached_reference(&file, &img).unwrap();
+        assert_eq!(
+            read_cached_reference(&file, 2, 1).unwrap(),
+            Some(img.clone())
+        );
+        let sum = checksum_path(&file);
+        assert!(sum.to_string_lossy().ends_with(".exr.xxh3"));
+        let text = std::fs::read_to_string(&sum).unwrap();
+        assert!(text.starts_with("xxh3-64:"), "{text}");
+
+        std::fs::write(&sum, "fnv1a64:0123456789abcdef\n").unwrap();
+        let why = read_cached_reference(&file, 2, 1).unwrap_err();
+        assert!(why.contains("does not match"), "{why}");
+
+        std::fs::remove_file(&sum).unwrap();
+        std::fs::write(file.with_extension("exr.fnv1a"), text).unwrap();
+        assert!(read_cached_reference(&file, 2, 1).is_err());
+    }
+}

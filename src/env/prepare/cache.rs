@@ -270,4 +270,33 @@ mod tests {
             assert_ne!(lights_checksum(&e), base, "field {field}");
         }
     }
+
+    /// An entry written before the XXH3 hash (format tag without `-v2`, `lights_fnv1a`,
+    /// `power_*`) under this build's key is refused, not read.
+    #[test]
+    fn an_fnv1a_era_entry_is_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let opts = LoadOptions::default();
+        let cfg = SamplerConfig::MedianCut { n: 1 };
+        let key = file_cache_key(b"probe bytes", &opts, &cfg);
+        let path = cache_file_name(tmp.path(), key);
+        let mut ls = LightSet::default();
+        ls.push(glam::DVec3::Y, glam::DVec3::ONE);
+        let header = crate::env::lightset_io::LightSetHeader::new(&cfg, None, &ls);
+        let good = serde_json::to_string(&CacheEntry::new(key, header, ls.clone())).unwrap();
+        std::fs::write(&path, &good).unwrap();
+        assert_eq!(read_cache_entry(&path, key).unwrap(), Some(ls));
+        let old = good
+            .replace(CACHE_FORMAT, "brdfkit-lightset-cache")
+            .replace("\"lights_checksum\":\"xxh3-64:", "\"lights_fnv1a\":\"")
+            .replace("irradiance_", "power_");
+        assert_ne!(old, good);
+        std::fs::write(&path, &old).unwrap();
+        let why = read_cache_entry(&path, key).unwrap_err();
+        assert!(why.contains("lights_fnv1a"), "{why}");
+        // With the field name fixed up, the format tag still refuses it.
+        std::fs::write(&path, old.replace("lights_fnv1a", "lights_checksum")).unwrap();
+        let why = read_cache_entry(&path, key).unwrap_err();
+        assert!(why.contains("format brdfkit-lightset-cache,"), "{why}");
+    }
 }
