@@ -59,7 +59,7 @@ fn main() {
         println!("| {name} | full | {full:.2e} | | |");
         let stem = name.trim_end_matches(".exr");
         let opts = OverlayOptions {
-            exposure: if stem == "studio" { 0.5 } else { 1.0 },
+            exposure: if stem == "studio" { -1.0 } else { 0.0 },
             ..Default::default()
         };
         let mc = median_cut(&p, 64);

@@ -1,5 +1,5 @@
 //! Image comparison: the measurements `brdfkit compare` reports and the pass/fail rule a
-//! GPU build's CI relies on.
+//! GPU build's CI relies on. The pixel measures are [`crate::metrics`]'s; FLIP is here.
 //!
 //! Design rule: like is compared with like. Two EXR files are compared as linear floats;
 //! two PNG files as their 8-bit sRGB values scaled to [0, 1]. A size, channel-layout or
@@ -206,7 +206,9 @@ impl Thresholds {
     };
 }
 
-/// The measurements of one comparison.
+/// The measurements of one comparison: the pixel differences of
+/// [`crate::metrics::differences`] (see [`crate::metrics::Differences`] for each
+/// definition) and the FLIP statistics.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Metrics {
     pub width: u32,
@@ -260,47 +262,7 @@ pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(M
             ),
         ));
     }
-    let n = e.pixels.len();
-    let mut max_abs = 0.0f32;
-    let mut max_rel = 0.0f32;
-    let mut sq = 0.0f64;
-    let mut peak = 1.0f32;
-    let mut differing = 0;
-    let mut non_finite = 0;
-    let bounds: Vec<f32> = std::iter::once(0.0)
-        .chain((0..8).map(|k| 10f32.powi(k - 7)))
-        .chain(std::iter::once(f32::INFINITY))
-        .collect();
-    let mut hist = vec![0usize; bounds.len()];
-    for (pe, pa) in e.pixels.iter().zip(&a.pixels) {
-        if !pe.is_finite() || !pa.is_finite() {
-            non_finite += 1;
-            *hist.last_mut().unwrap() += 1;
-            differing += 1;
-            continue;
-        }
-        let d = (*pa - *pe).abs();
-        let m = d.max_element();
-        max_abs = max_abs.max(m);
-        let rel = d / pe.abs().max(Vec3::splat(1e-3));
-        max_rel = max_rel.max(rel.max_element());
-        sq += d.length_squared() as f64;
-        peak = peak.max(pe.max_element());
-        if m > 0.0 {
-            differing += 1;
-        }
-        let b = bounds
-            .iter()
-            .position(|&ub| m <= ub)
-            .unwrap_or(bounds.len() - 1);
-        hist[b] += 1;
-    }
-    let rmse = (sq / (3 * n).max(1) as f64).sqrt();
-    let psnr = if rmse == 0.0 {
-        f64::INFINITY
-    } else {
-        20.0 * (peak as f64 / rmse).log10()
-    };
+    let d = crate::metrics::differences(e, a);
     let fe = nv_flip::FlipImageRgb8::with_data(e.width, e.height, &expected.display);
     let fa = nv_flip::FlipImageRgb8::with_data(a.width, a.height, &actual.display);
     let err = nv_flip::flip(fe, fa, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
@@ -309,26 +271,18 @@ pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(M
     let metrics = Metrics {
         width: e.width,
         height: e.height,
-        max_abs: if non_finite > 0 {
-            f32::INFINITY
-        } else {
-            max_abs
-        },
-        max_rel: if non_finite > 0 {
-            f32::INFINITY
-        } else {
-            max_rel
-        },
-        rmse,
-        psnr,
+        max_abs: d.max_abs,
+        max_rel: d.max_rel,
+        rmse: d.rmse,
+        psnr: d.psnr,
         flip_mean: pool.mean(),
         flip_p95: pool.get_percentile(0.95, false),
         flip_p99: pool.get_percentile(0.99, false),
         flip_p999: pool.get_percentile(0.999, false),
         flip_at_percentile: pool.get_percentile(th.percentile, false),
-        differing_pixels: differing,
-        histogram: bounds.into_iter().zip(hist).collect(),
-        non_finite,
+        differing_pixels: d.differing_pixels,
+        histogram: d.histogram,
+        non_finite: d.non_finite,
     };
     Ok((metrics, flip))
 }

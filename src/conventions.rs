@@ -137,8 +137,14 @@ impl ShadingFrame {
 /// Polar angle and azimuth of a unit direction given in local shading coordinates.
 ///
 /// Returns `(polar, azimuth)` in radians, polar in [0, pi] (acos of the clamped z, so a
-/// slightly non-unit input never gives NaN), azimuth in [0, 2 pi). At the pole (x = y = 0)
-/// the azimuth is 0.
+/// slightly non-unit input never gives NaN), azimuth in [0, 2 pi).
+///
+/// At the pole (x = y = 0, any z) the azimuth is not defined, and the result is what
+/// IEEE `atan2` gives for signed zeros, wrapped: 0 when x is +0 (y = +0 or -0; the value
+/// may be -0.0, which equals 0) and pi when x is -0. Which zero a computed local
+/// direction carries depends on the rounding of its dot products, so code that must not
+/// depend on it treats the pole itself (a table's azimuth-independent row, SH terms with
+/// m = 0 only).
 #[inline]
 pub fn local_angles(l: Vec3) -> (f32, f32) {
     let polar = l.z.clamp(-1.0, 1.0).acos();
@@ -385,6 +391,25 @@ mod tests {
                 let (u, v) = (texel_center_f64(col, w), texel_center_f64(row, h));
                 let (u2, v2) = probe_uv(probe_direction(u, v));
                 assert_eq!(probe_texel(u2, v2, w, h), (row, col));
+            }
+        }
+    }
+
+    /// The pole: atan2 of signed zeros, as the doc of [`local_angles`] says (the sign of x
+    /// decides; 0 and pi are the only values).
+    #[test]
+    fn local_angles_at_the_pole() {
+        for z in [1.0f32, -1.0] {
+            for (x, y, want) in [
+                (0.0f32, 0.0f32, 0.0f32),
+                (0.0, -0.0, 0.0),
+                (-0.0, 0.0, std::f32::consts::PI),
+                (-0.0, -0.0, std::f32::consts::PI),
+            ] {
+                let (polar, azimuth) = local_angles(Vec3::new(x, y, z));
+                assert_eq!(polar, if z > 0.0 { 0.0 } else { std::f32::consts::PI });
+                assert_eq!(azimuth, want, "x = {x:?}, y = {y:?}, z = {z}");
+                assert!((0.0..std::f32::consts::TAU).contains(&azimuth));
             }
         }
     }

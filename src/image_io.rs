@@ -13,10 +13,12 @@
 //! [`read_exr`] and the SH, D-BRDF and light-probe readers use.
 
 mod atomic;
+pub mod display;
 pub mod exr_guard;
 mod output_check;
 
 pub use atomic::replace_via_temp;
+pub use display::{display_u8, encode_u8, srgb_encode, to_u8, Tonemap};
 pub use exr_guard::{
     check_exr_declared_size, exr_max_expansion, EXR_DECODE_SLACK, MAX_EXR_FILE_BYTES,
 };
@@ -24,7 +26,6 @@ pub use output_check::check_output;
 
 use crate::error::{Error, FileError, Result};
 use glam::Vec3;
-use serde::Deserialize;
 use std::path::Path;
 
 /// A row-major RGB f32 image (row 0 at the top).
@@ -47,63 +48,6 @@ impl Image {
     pub fn get(&self, x: u32, y: u32) -> Vec3 {
         self.pixels[(y * self.width + x) as usize]
     }
-}
-
-/// Tone maps applied to exposed linear values before the sRGB curve.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize, serde::Serialize, clap::ValueEnum,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Tonemap {
-    /// `min(x, 1)` per channel: exact for values in [0, 1], clips highlights.
-    Clamp,
-    /// Reinhard 2002, per channel: `x / (1 + x)`.
-    Reinhard,
-    /// Narkowicz 2015 fit of the ACES filmic curve, per channel:
-    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, clamped to [0, 1].
-    #[default]
-    Aces,
-}
-
-impl Tonemap {
-    #[inline]
-    pub fn apply(self, x: f32) -> f32 {
-        let x = x.max(0.0);
-        match self {
-            Tonemap::Clamp => x.min(1.0),
-            Tonemap::Reinhard => x / (1.0 + x),
-            Tonemap::Aces => {
-                ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
-            }
-        }
-    }
-}
-
-/// The sRGB transfer curve (linear [0, 1] to encoded [0, 1]).
-#[inline]
-pub fn srgb_encode(x: f32) -> f32 {
-    let x = x.clamp(0.0, 1.0);
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// Encoded [0, 1] to 8 bits by rounding; NaN maps to 0.
-#[inline]
-pub fn to_u8(x: f32) -> u8 {
-    if x.is_nan() {
-        0
-    } else {
-        (x.clamp(0.0, 1.0) * 255.0).round() as u8
-    }
-}
-
-/// Display encoding of one linear value: exposure, tone map, sRGB, 8 bits.
-#[inline]
-pub fn display_u8(x: f32, exposure: f32, tonemap: Tonemap) -> u8 {
-    to_u8(srgb_encode(tonemap.apply(x * exposure.exp2())))
 }
 
 /// [`replace_via_temp`] with the crate's [`Error`].

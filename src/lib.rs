@@ -32,13 +32,16 @@
 //!    the [`material::Material`]; [`kernel::lanes`] is the only SIMD code, [`kernel::skip`]
 //!    bounds what each skip changes, [`kernel::approx`] states the error of each
 //!    approximation), [`aov`] (debug outputs: normal, depth, coverage, view and light angles).
-//! 5. **Images out**: [`image_io`] (linear EXR; PNG via exposure, tone map and sRGB;
-//!    atomic writes), [`golden`] (golden images and their check), [`compare`] (error
-//!    metrics and FLIP for a GPU build's CI).
+//! 5. **Images out**: [`image_io`] (linear EXR; PNG via the one display encoding
+//!    [`image_io::display`]: exposure, tone map, sRGB; atomic writes), [`golden`]
+//!    (golden images and their check), [`metrics`] (every image error measure, written
+//!    once), [`compare`] (those measures and FLIP for a GPU build's CI).
 //!
 //! [`render`] strings the stages together (one entry point, [`render::render`], its settings
 //! in one struct, [`render::RenderOptions`]); [`cli`] is the command line (including the
 //! `SOURCE` argument of `acquire` and `fit-dbrdf`, [`cli::source`]).
+//! [`hash`] is the one stable hash (XXH3-64) behind every cache key, checksum and golden
+//! image hash.
 //!
 //! Off the rendering path: [`acquire`] measures any BRDF as an SH data set (projection,
 //! least squares, error and ringing reports) or fits a D-BRDF to it (thesis 2.3.3-2.3.6).
@@ -97,12 +100,14 @@ pub mod conventions;
 pub mod env;
 pub mod error;
 pub mod golden;
+pub mod hash;
 pub mod image_io;
 pub mod kernel;
 pub mod library;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod metrics;
 pub mod progress;
 pub mod raster;
 pub mod render;

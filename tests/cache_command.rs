@@ -12,7 +12,7 @@ fn cache_shows_and_cleans_only_its_own_files() {
     std::fs::write(lights.join("lights-0123456789abcdef.json"), "{}").unwrap();
     std::fs::write(lights.join("notes.txt"), "keep me").unwrap();
     std::fs::write(sweep.join("reference-0123456789abcdef.exr"), [0u8; 100]).unwrap();
-    std::fs::write(sweep.join("reference-0123456789abcdef.exr.fnv1a"), "1").unwrap();
+    std::fs::write(sweep.join("reference-0123456789abcdef.exr.xxh3"), "1").unwrap();
     let run = |args: &[&str]| {
         let mut all = vec!["cache"];
         all.extend(args);

@@ -201,20 +201,25 @@ fn edited_truncated_or_foreign_cache_entries_are_never_used() {
     type Edit = Box<dyn Fn(&Path)>;
     let cases: Vec<(&str, &str, Edit)> = vec![
         (
-            "every power +1% (valid JSON, valid lights)",
+            "every irradiance +1% (valid JSON, valid lights)",
             "checksum",
             Box::new(|cf| {
                 rewrite_entry(cf, |e| {
-                    for p in e.lights.power_r.iter_mut().chain(&mut e.lights.power_g) {
+                    for p in e
+                        .lights
+                        .irradiance_r
+                        .iter_mut()
+                        .chain(&mut e.lights.irradiance_g)
+                    {
                         *p *= 1.01;
                     }
                 })
             }),
         ),
         (
-            "one power +1%",
+            "one irradiance +1%",
             "checksum",
-            Box::new(|cf| rewrite_entry(cf, |e| e.lights.power_b[3] *= 1.01)),
+            Box::new(|cf| rewrite_entry(cf, |e| e.lights.irradiance_b[3] *= 1.01)),
         ),
         (
             "truncated to half",

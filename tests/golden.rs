@@ -218,7 +218,7 @@ fn scene_perturbations_of_shaded_entries_are_caught() {
 fn every_entry_is_blessed_and_states_its_fast_vs_reference_bound() {
     let manifest = golden::load_manifest(&golden_dir()).unwrap();
     for e in &manifest.entries {
-        assert!(e.hash.starts_with("fnv1a64:"), "{}: not blessed", e.name);
+        assert!(e.hash.starts_with("xxh3-64:"), "{}: not blessed", e.name);
         assert!(!e.config.is_empty(), "{}: no configuration summary", e.name);
         assert!(!e.shows.is_empty(), "{}: no description", e.name);
         assert!(
@@ -486,7 +486,7 @@ fn a_stale_manifest_is_caught() {
         "{}",
         o.message
     );
-    let rehashed = text.replacen(&e.hash, "fnv1a64:0000000000000000", 1);
+    let rehashed = text.replacen(&e.hash, "xxh3-64:0000000000000000", 1);
     std::fs::write(tmp.path().join("manifest.toml"), &rehashed).unwrap();
     let o = &golden::check(
         tmp.path(),

@@ -494,7 +494,7 @@ fn lightset_hostile_files() {
         // NaN fields: JSON has no NaN; the usual spellings and an f32 overflow
         (
             "nan",
-            text.replacen("\"power_r\": [", "\"power_r\": [NaN, ", 1),
+            text.replacen("\"irradiance_r\": [", "\"irradiance_r\": [NaN, ", 1),
         ),
         (
             "null",
@@ -502,7 +502,7 @@ fn lightset_hostile_files() {
         ),
         (
             "inf",
-            text.replacen("\"power_g\": [\n", "\"power_g\": [\n 1e39,", 1),
+            text.replacen("\"irradiance_g\": [\n", "\"irradiance_g\": [\n 1e39,", 1),
         ),
     ];
     for (what, body) in cases {
@@ -528,7 +528,7 @@ fn lightset_hostile_files() {
     let p = write(
         d,
         "utf8.csv",
-        b"dir_x,dir_y,dir_z,power_r,power_g,power_b\n\xff\xfe\n",
+        b"dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b\n\xff\xfe\n",
     );
     expect_err(&g, "CSV not UTF-8", &p, || read_csv(&p));
 }

@@ -161,14 +161,14 @@ fn golden_check_ignores_cold_and_corrupted_caches_alike() {
     let mut e: CacheEntry = serde_json::from_slice(&std::fs::read(&entries[0]).unwrap()).unwrap();
     let ls = &mut e.lights;
     for p in ls
-        .power_r
+        .irradiance_r
         .iter_mut()
-        .chain(&mut ls.power_g)
-        .chain(&mut ls.power_b)
+        .chain(&mut ls.irradiance_g)
+        .chain(&mut ls.irradiance_b)
     {
         *p *= 1.01;
     }
-    e.lights_fnv1a = format!("{:016x}", lights_checksum(&e.lights));
+    e.lights_checksum = brdfkit::hash::tagged(lights_checksum(&e.lights));
     std::fs::write(&entries[0], serde_json::to_vec(&e).unwrap()).unwrap();
     let bytes = std::fs::read(&entries[1]).unwrap();
     std::fs::write(&entries[1], &bytes[..bytes.len() / 2]).unwrap();

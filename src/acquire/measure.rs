@@ -148,15 +148,7 @@ pub fn hemisphere_error(
         .filter(|&&m| m < -1e-6 * hi)
         .count();
     let total = (texels.len() * dirs.len()).max(1);
-    let ratio = |e2: f64, s2: f64| {
-        if s2 > 0.0 {
-            (e2 / s2).sqrt()
-        } else if e2 > 0.0 {
-            f64::INFINITY
-        } else {
-            0.0
-        }
-    };
+    let ratio = crate::metrics::relative_l2;
     ErrorReport {
         rel_l2: ratio(e2w, s2w),
         rel_l2_unweighted: ratio(e2, s2),

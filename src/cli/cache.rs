@@ -3,7 +3,8 @@
 //!
 //! Design rule: `clean` deletes only files whose names the caches write themselves
 //! (`lights-<16 hex>.json` in the light-set cache, `reference-<16 hex>.exr` and its
-//! `.exr.fnv1a` checksum in the sweep's reference cache), never a directory or any other
+//! `.exr.xxh3` checksum in the sweep's reference cache; also the `.exr.fnv1a` checksums
+//! that builds before the XXH3 hash wrote), never a directory or any other
 //! file, so pointing `BRDFKIT_CACHE_DIR` at a directory that holds other things is safe.
 
 use super::{CacheAction, CacheArgs};
@@ -22,7 +23,8 @@ pub fn is_cache_file(name: &str) -> bool {
     }
     if let Some(r) = name.strip_prefix("reference-") {
         let k = r
-            .strip_suffix(".exr.fnv1a")
+            .strip_suffix(".exr.xxh3")
+            .or_else(|| r.strip_suffix(".exr.fnv1a"))
             .or_else(|| r.strip_suffix(".exr"));
         return k.is_some_and(hex16);
     }
@@ -113,6 +115,8 @@ mod tests {
     fn only_the_caches_own_file_names_count() {
         assert!(is_cache_file("lights-0123456789abcdef.json"));
         assert!(is_cache_file("reference-0123456789ABCDEF.exr"));
+        assert!(is_cache_file("reference-0123456789abcdef.exr.xxh3"));
+        // Written by builds before the XXH3 hash: still cleaned.
         assert!(is_cache_file("reference-0123456789abcdef.exr.fnv1a"));
         for other in [
             "lights-0123.json",

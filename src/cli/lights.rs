@@ -58,9 +58,9 @@ pub fn run(a: LightsArgs) -> Result<()> {
         (config.run(&probe), None)
     };
     spinner.finish_and_clear();
-    let total = lights.total_power();
+    let total = lights.total_irradiance();
     println!(
-        "{} lights by {} from {} ({}x{}), total power RGB [{:.6e}, {:.6e}, {:.6e}]",
+        "{} lights by {} from {} ({}x{}), summed light irradiance RGB [{:.6e}, {:.6e}, {:.6e}]",
         lights.len(),
         config.name(),
         a.probe.display(),
@@ -90,7 +90,7 @@ pub fn run(a: LightsArgs) -> Result<()> {
     }
     if let Some(p) = &a.overlay {
         let o = OverlayOptions {
-            exposure: a.exposure.exp2(),
+            exposure: a.exposure,
             ..OverlayOptions::default()
         };
         write_overlay_png(p, &probe, &lights, regions.as_deref(), &o)

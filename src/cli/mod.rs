@@ -68,7 +68,7 @@ pub enum Command {
     Materials,
     /// Show where the caches are and how much they hold, or empty them (`cache clean`).
     #[command(
-        after_help = "Examples:\n  brdfkit cache          # both caches: directory, files, size\n  brdfkit cache clean    # delete their entries (only lights-*.json and reference-*.exr[.fnv1a])\n\nLight sets (brdfkit render): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else ~/.cache/brdfkit.\nSweep references (brdfkit sweep): target/brdfkit-cache, or the sweep's --cache DIR (here: --sweep-cache DIR).\nTests and golden check|bless use neither."
+        after_help = "Examples:\n  brdfkit cache          # both caches: directory, files, size\n  brdfkit cache clean    # delete their entries (only lights-*.json and reference-*.exr[.xxh3|.fnv1a])\n\nLight sets (brdfkit render): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else ~/.cache/brdfkit.\nSweep references (brdfkit sweep): target/brdfkit-cache, or the sweep's --cache DIR (here: --sweep-cache DIR).\nTests and golden check|bless use neither."
     )]
     Cache(CacheArgs),
     /// Run time against error: render a scene over a grid of configurations, write CSV and a plot.
@@ -281,7 +281,8 @@ pub struct LightsArgs {
     /// Number of lights (median cut: any N; powers of two split every region evenly).
     #[arg(short = 'n', long = "count", default_value_t = 128)]
     pub count: usize,
-    /// Write the light set: .json (with a header) or .csv (dir_x,dir_y,dir_z,power_r,power_g,power_b).
+    /// Write the light set: .json (with a header) or .csv
+    /// (dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Draw the tone-mapped probe with the lights (and median-cut regions) into a PNG.

@@ -205,7 +205,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 );
             }
         }
-        if e.total_power.iter().all(|&p| p <= 0.0) {
+        if e.total_irradiance.iter().all(|&p| p <= 0.0) {
             eprintln!(
                 "warning: {}: the probe carries no light (every texel black or negative): the environment adds nothing",
                 e.file.display()

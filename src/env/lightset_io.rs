@@ -4,12 +4,18 @@
 //! temporary file in the destination directory and is renamed over the target, so a
 //! crash never leaves half a light set for a later run (or cache) to read. Every read
 //! validates what it got (equal lengths, finite values, unit directions, non-negative
-//! powers) and every error names the file and the line or field.
+//! irradiances) and every error names the file and the line or field.
 //!
 //! JSON: `{"format": "brdfkit-lightset", "version": 1, "header": {...}, "lights":
-//! {"dir_x": [...], ..., "power_b": [...]}}`. CSV: a first line
-//! `dir_x,dir_y,dir_z,power_r,power_g,power_b`, then one light per line. Numbers are
-//! written with Rust's shortest round-trip formatting, so f32 values read back bit-exact.
+//! {"dir_x": [...], ..., "irradiance_b": [...]}}`. CSV: a first line
+//! `dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b` ([`CSV_HEADER`]), then one
+//! light per line. Numbers are written with Rust's shortest round-trip formatting, so f32
+//! values read back bit-exact. Each light's `irradiance_*` is its RGB irradiance at normal
+//! incidence (W/m^2 for a probe in W/(m^2 sr); [`LightSet`]).
+//!
+//! Files written before the rename name these `power_*` (JSON keys `power_r`, ...,
+//! header `total_power`; CSV header [`CSV_HEADER_V0`]): both are still read, and only the
+//! new names are written.
 
 use super::LightSet;
 use serde::{Deserialize, Serialize};
@@ -17,7 +23,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The CSV header line.
-pub const CSV_HEADER: &str = "dir_x,dir_y,dir_z,power_r,power_g,power_b";
+pub const CSV_HEADER: &str = "dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b";
+/// The CSV header line of files written before the irradiance columns were named so
+/// (same columns, same meaning); still read.
+pub const CSV_HEADER_V0: &str = "dir_x,dir_y,dir_z,power_r,power_g,power_b";
 const FORMAT: &str = "brdfkit-lightset";
 const VERSION: u32 = 1;
 
@@ -32,20 +41,23 @@ pub struct LightSetHeader {
     pub seed: Option<u64>,
     /// The probe file the set was made from.
     pub probe_file: Option<String>,
-    /// Total RGB power (W/m^2 for a probe in W/(m^2 sr)).
-    pub total_power: [f64; 3],
+    /// Sum of the lights' RGB irradiances at normal incidence
+    /// ([`LightSet::total_irradiance`], W/m^2 for a probe in W/(m^2 sr)); read from
+    /// `total_power` in files written before the rename.
+    #[serde(alias = "total_power")]
+    pub total_irradiance: [f64; 3],
 }
 
 impl LightSetHeader {
     /// A header describing `lights`, made by `config` from `probe_file`.
     pub fn new(config: &super::SamplerConfig, probe_file: Option<&str>, lights: &LightSet) -> Self {
-        let t = lights.total_power();
+        let t = lights.total_irradiance();
         LightSetHeader {
             sampler: config.name().to_string(),
             n: lights.len(),
             seed: config.seed(),
             probe_file: probe_file.map(str::to_string),
-            total_power: [t.x, t.y, t.z],
+            total_irradiance: [t.x, t.y, t.z],
         }
     }
 }
@@ -175,21 +187,21 @@ pub fn write_csv(path: &Path, lights: &LightSet) -> Result<(), LightSetIoError> 
             lights.dir_x[i],
             lights.dir_y[i],
             lights.dir_z[i],
-            lights.power_r[i],
-            lights.power_g[i],
-            lights.power_b[i]
+            lights.irradiance_r[i],
+            lights.irradiance_g[i],
+            lights.irradiance_b[i]
         ));
     }
     write_atomic(path, s.as_bytes()).map_err(io_err(path))
 }
 
 /// Reads a CSV light set. Fails on I/O, a file that is not regular or is over
-/// [`MAX_LIGHTSET_BYTES`], a wrong header line, a line without exactly six
-/// fields, an unparsable number (naming line and field), or invalid lights ([`validate`]).
-/// Blank lines are skipped.
+/// [`MAX_LIGHTSET_BYTES`], a header line other than [`CSV_HEADER`] or [`CSV_HEADER_V0`],
+/// a line without exactly six fields, an unparsable number (naming line and field), or
+/// invalid lights ([`validate`]). Blank lines are skipped.
 pub fn read_csv(path: &Path) -> Result<LightSet, LightSetIoError> {
     let text = crate::image_io::read_regular_text(path, MAX_LIGHTSET_BYTES, "light set")?;
-    let names: Vec<&str> = CSV_HEADER.split(',').collect();
+    let mut names: Vec<&str> = CSV_HEADER.split(',').collect();
     let mut lines = text.lines().enumerate();
     let csv_err = |line: usize, field: &str, message: String| LightSetIoError::Csv {
         path: path.to_path_buf(),
@@ -199,6 +211,7 @@ pub fn read_csv(path: &Path) -> Result<LightSet, LightSetIoError> {
     };
     match lines.next() {
         Some((_, h)) if h.trim() == CSV_HEADER => {}
+        Some((_, h)) if h.trim() == CSV_HEADER_V0 => names = CSV_HEADER_V0.split(',').collect(),
         Some((_, h)) => {
             return Err(csv_err(
                 1,
@@ -232,25 +245,25 @@ pub fn read_csv(path: &Path) -> Result<LightSet, LightSetIoError> {
         ls.dir_x.push(v[0]);
         ls.dir_y.push(v[1]);
         ls.dir_z.push(v[2]);
-        ls.power_r.push(v[3]);
-        ls.power_g.push(v[4]);
-        ls.power_b.push(v[5]);
+        ls.irradiance_r.push(v[3]);
+        ls.irradiance_g.push(v[4]);
+        ls.irradiance_b.push(v[5]);
     }
     validate(path, &ls)?;
     Ok(ls)
 }
 
 /// Checks a light set read from `path`: all six arrays the same length, every value
-/// finite, directions unit length within 1e-4, powers `>= 0`.
+/// finite, directions unit length within 1e-4, irradiances `>= 0`.
 pub fn validate(path: &Path, ls: &LightSet) -> Result<(), LightSetIoError> {
     let n = ls.dir_x.len();
     let arrays: [(&'static str, &Vec<f32>); 6] = [
         ("dir_x", &ls.dir_x),
         ("dir_y", &ls.dir_y),
         ("dir_z", &ls.dir_z),
-        ("power_r", &ls.power_r),
-        ("power_g", &ls.power_g),
-        ("power_b", &ls.power_b),
+        ("irradiance_r", &ls.irradiance_r),
+        ("irradiance_g", &ls.irradiance_g),
+        ("irradiance_b", &ls.irradiance_b),
     ];
     let invalid = |index, field, message| LightSetIoError::Invalid {
         path: path.to_path_buf(),
@@ -270,8 +283,8 @@ pub fn validate(path: &Path, ls: &LightSet) -> Result<(), LightSetIoError> {
             if !v.is_finite() {
                 return Err(invalid(i, name, format!("{v} is not finite")));
             }
-            if name.starts_with("power") && *v < 0.0 {
-                return Err(invalid(i, name, format!("negative power {v}")));
+            if name.starts_with("irradiance") && *v < 0.0 {
+                return Err(invalid(i, name, format!("negative irradiance {v}")));
             }
         }
     }
@@ -322,7 +335,7 @@ mod tests {
         std::fs::write(&p, format!("{CSV_HEADER}\n0,1,0,1,1,1\n0,1,0,1,x,1\n")).unwrap();
         let e = read_csv(&p).unwrap_err().to_string();
         assert!(
-            e.contains("bad.csv:3") && e.contains("power_g"),
+            e.contains("bad.csv:3") && e.contains("irradiance_g"),
             "message: {e}"
         );
         std::fs::write(&p, format!("{CSV_HEADER}\n0,1,0,1,1\n")).unwrap();
@@ -335,9 +348,59 @@ mod tests {
         assert!(e.contains("light 0") && e.contains("length"), "{e}");
         std::fs::write(&p, format!("{CSV_HEADER}\n0,1,0,1,-1,1\n")).unwrap();
         assert!(read_csv(&p).unwrap_err().to_string().contains("negative"));
+        std::fs::write(&p, format!("{CSV_HEADER_V0}\n0,1,0,1,x,1\n")).unwrap();
+        let e = read_csv(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("bad.csv:2") && e.contains("field power_g"),
+            "{e}"
+        );
         let j = d.join("bad.json");
         std::fs::write(&j, "{\"format\": 3").unwrap();
         let e = read_json(&j).unwrap_err().to_string();
         assert!(e.contains("bad.json") && e.contains("line"), "{e}");
+    }
+
+    /// Files written before the rename (`power_*` keys and columns, header `total_power`)
+    /// read as the same lights; what is written uses only the new names.
+    #[test]
+    fn former_power_names_are_read_new_names_written() {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path();
+        let mut want = LightSet::default();
+        want.push(glam::DVec3::Y, glam::DVec3::new(1.5, 0.25, 2.0));
+        want.push(glam::DVec3::X, glam::DVec3::new(0.0, 3.0, 0.125));
+        let old_json = r#"{"format": "brdfkit-lightset", "version": 1,
+            "header": {"sampler": "median-cut", "n": 2, "seed": null, "probe_file": null,
+                       "total_power": [1.5, 3.25, 2.125]},
+            "lights": {"dir_x": [0, 1], "dir_y": [1, 0], "dir_z": [0, 0],
+                       "power_r": [1.5, 0], "power_g": [0.25, 3], "power_b": [2, 0.125]}}"#;
+        std::fs::write(d.join("old.json"), old_json).unwrap();
+        let (h, ls) = read_json(&d.join("old.json")).unwrap();
+        assert_eq!(ls, want);
+        assert_eq!(h.total_irradiance, [1.5, 3.25, 2.125]);
+        std::fs::write(
+            d.join("old.csv"),
+            "dir_x,dir_y,dir_z,power_r,power_g,power_b\n0,1,0,1.5,0.25,2\n1,0,0,0,3,0.125\n",
+        )
+        .unwrap();
+        assert_eq!(read_csv(&d.join("old.csv")).unwrap(), want);
+
+        let cfg = SamplerConfig::MedianCut { n: 2 };
+        write_json(
+            &d.join("new.json"),
+            &LightSetHeader::new(&cfg, None, &want),
+            &want,
+        )
+        .unwrap();
+        write_csv(&d.join("new.csv"), &want).unwrap();
+        for f in ["new.json", "new.csv"] {
+            let text = std::fs::read_to_string(d.join(f)).unwrap();
+            assert!(
+                text.contains("irradiance_r") && !text.contains("power"),
+                "{f}: {text}"
+            );
+        }
+        assert_eq!(read_json(&d.join("new.json")).unwrap().1, want);
+        assert_eq!(read_csv(&d.join("new.csv")).unwrap(), want);
     }
 }

@@ -3,11 +3,12 @@
 //! 3.2.3 / Algorithm 2; Dirac-delta lights 2.3.2).
 //!
 //! Design rule: every light set carries **exactly** the probe's energy. A light set is N
-//! directional lights, each a unit direction towards the light and an RGB "power"
-//! = radiance integrated over solid angle (irradiance at normal incidence, W/m^2 for a
-//! probe in W/(m^2 sr)), so the illumination integral becomes
-//! `L_o = sum_k f_r(w_k, w_o) cos(theta_k) power_k` (thesis 2.3.2: each light is a Dirac
-//! delta in direction). Every sampler's light powers sum to the probe's integral
+//! directional lights, each a unit direction towards the light and an RGB irradiance
+//! `E_k` = radiance integrated over the light's solid angle (the irradiance it gives a
+//! surface facing it, W/m^2 for a probe in W/(m^2 sr); the thesis calls it the light's
+//! "power"), so the illumination integral becomes
+//! `L_o = sum_k f_r(w_k, w_o) cos(polar_k) E_k` (thesis 2.3.2: each light is a Dirac
+//! delta in direction). Every sampler's light irradiances sum to the probe's integral
 //! `sum_texels RGB x solid angle` ([`Probe::total_power`]) to 1e-5 relative; the samplers
 //! differ only in where they put the lights and how they split the energy.
 //!
@@ -59,17 +60,24 @@ pub fn luminance(rgb: [f32; 3]) -> f64 {
 /// N directional lights as a structure of arrays.
 ///
 /// `dir_*`: unit world directions **towards** the light (y up, see
-/// [`crate::conventions`]). `power_*`: RGB power = radiance x solid angle, the irradiance
-/// the light gives a surface facing it (W/m^2 when the probe is in W/(m^2 sr)). All
-/// arrays have the same length.
+/// [`crate::conventions`]). `irradiance_*`: RGB irradiance at normal incidence =
+/// radiance x solid angle, the irradiance the light gives a surface facing it (W/m^2
+/// when the probe is in W/(m^2 sr); the thesis's "power" of a light, 2.3.2). All arrays
+/// have the same length.
+///
+/// Serialized names: `irradiance_r`, `irradiance_g`, `irradiance_b`; the former names
+/// `power_r`, `power_g`, `power_b` are still read ([`lightset_io`]).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct LightSet {
     pub dir_x: Vec<f32>,
     pub dir_y: Vec<f32>,
     pub dir_z: Vec<f32>,
-    pub power_r: Vec<f32>,
-    pub power_g: Vec<f32>,
-    pub power_b: Vec<f32>,
+    #[serde(alias = "power_r")]
+    pub irradiance_r: Vec<f32>,
+    #[serde(alias = "power_g")]
+    pub irradiance_g: Vec<f32>,
+    #[serde(alias = "power_b")]
+    pub irradiance_b: Vec<f32>,
 }
 
 impl LightSet {
@@ -79,9 +87,9 @@ impl LightSet {
             dir_x: Vec::with_capacity(n),
             dir_y: Vec::with_capacity(n),
             dir_z: Vec::with_capacity(n),
-            power_r: Vec::with_capacity(n),
-            power_g: Vec::with_capacity(n),
-            power_b: Vec::with_capacity(n),
+            irradiance_r: Vec::with_capacity(n),
+            irradiance_g: Vec::with_capacity(n),
+            irradiance_b: Vec::with_capacity(n),
         }
     }
 
@@ -95,15 +103,16 @@ impl LightSet {
         self.dir_x.is_empty()
     }
 
-    /// Appends a light; `dir` is normalised (a zero direction becomes +y).
-    pub fn push(&mut self, dir: DVec3, power: DVec3) {
+    /// Appends a light with RGB irradiance `irradiance` (at normal incidence, W/m^2);
+    /// `dir` is normalised (a zero direction becomes +y).
+    pub fn push(&mut self, dir: DVec3, irradiance: DVec3) {
         let d = dir.try_normalize().unwrap_or(DVec3::Y);
         self.dir_x.push(d.x as f32);
         self.dir_y.push(d.y as f32);
         self.dir_z.push(d.z as f32);
-        self.power_r.push(power.x as f32);
-        self.power_g.push(power.y as f32);
-        self.power_b.push(power.z as f32);
+        self.irradiance_r.push(irradiance.x as f32);
+        self.irradiance_g.push(irradiance.y as f32);
+        self.irradiance_b.push(irradiance.z as f32);
     }
 
     /// Direction of light `i` (f64). Panics if out of range.
@@ -115,18 +124,20 @@ impl LightSet {
         )
     }
 
-    /// Power of light `i` (f64). Panics if out of range.
-    pub fn power(&self, i: usize) -> DVec3 {
+    /// RGB irradiance of light `i` at normal incidence (f64, W/m^2). Panics if out of
+    /// range.
+    pub fn light_irradiance(&self, i: usize) -> DVec3 {
         DVec3::new(
-            self.power_r[i] as f64,
-            self.power_g[i] as f64,
-            self.power_b[i] as f64,
+            self.irradiance_r[i] as f64,
+            self.irradiance_g[i] as f64,
+            self.irradiance_b[i] as f64,
         )
     }
 
-    /// Sum of all powers, accumulated in f64.
-    pub fn total_power(&self) -> DVec3 {
-        (0..self.len()).map(|i| self.power(i)).sum()
+    /// Sum of every light's irradiance at normal incidence, accumulated in f64 (equals
+    /// [`Probe::total_power`], the probe's `sum L Omega`, for every sampler).
+    pub fn total_irradiance(&self) -> DVec3 {
+        (0..self.len()).map(|i| self.light_irradiance(i)).sum()
     }
 
     /// Index of the light nearest to direction `d` (largest `d.l`, lowest index on ties);
@@ -144,10 +155,23 @@ impl LightSet {
         best.map(|(i, _)| i)
     }
 
-    /// Irradiance at a surface with unit normal `n`: `sum_k max(0, n.l_k) power_k`, f64.
+    /// Multiplies every light's irradiance by `factor` (one f32 product per channel
+    /// value; directions unchanged).
+    pub fn scale_irradiance(&mut self, factor: f32) {
+        for e in self
+            .irradiance_r
+            .iter_mut()
+            .chain(self.irradiance_g.iter_mut())
+            .chain(self.irradiance_b.iter_mut())
+        {
+            *e *= factor;
+        }
+    }
+
+    /// Irradiance at a surface with unit normal `n`: `sum_k max(0, n.l_k) E_k`, f64.
     pub fn irradiance(&self, n: DVec3) -> DVec3 {
         (0..self.len())
-            .map(|i| self.power(i) * n.dot(self.direction(i)).max(0.0))
+            .map(|i| self.light_irradiance(i) * n.dot(self.direction(i)).max(0.0))
             .sum()
     }
 }
@@ -216,73 +240,20 @@ pub fn reference_lambert(probe: &Probe, n: DVec3, albedo: DVec3) -> DVec3 {
 /// Relative RMS irradiance error of a light set against reference irradiances `reference`
 /// (from [`reference_irradiance_many`]) at the same `normals`:
 /// `sqrt(sum_n |E_lights(n) - E_ref(n)|^2 / sum_n |E_ref(n)|^2)`, `|.|` the Euclidean
-/// norm over RGB. Returns 0 when the reference is all zero and the lights are too.
+/// norm over RGB ([`crate::metrics::relative_l2`]: 0 when the reference is all zero and
+/// the lights are too, infinite when only the reference is).
 pub fn irradiance_error(lights: &LightSet, normals: &[DVec3], reference: &[DVec3]) -> f64 {
     assert_eq!(normals.len(), reference.len());
-    // Terms in parallel, summed in index order: a reduction across rayon tasks would
+    // Irradiances in parallel, summed in index order: a reduction across rayon tasks would
     // group the sum by the thread count's split, and so change its last bits.
-    let terms: Vec<(f64, f64)> = normals
-        .par_iter()
-        .zip(reference.par_iter())
-        .map(|(&n, &r)| {
-            (
-                (lights.irradiance(n) - r).length_squared(),
-                r.length_squared(),
-            )
-        })
-        .collect();
-    let (num, den) = terms.iter().fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
-    if den == 0.0 {
-        return if num == 0.0 { 0.0 } else { f64::INFINITY };
-    }
-    (num / den).sqrt()
-}
-
-/// FNV-1a 64-bit hash (Fowler-Noll-Vo, offset basis 0xcbf29ce484222325, prime
-/// 0x100000001b3): stable across platforms, Rust versions and runs, unlike
-/// `std::hash::DefaultHasher`.
-#[derive(Clone, Copy, Debug)]
-pub struct Fnv1a(u64);
-
-impl Default for Fnv1a {
-    fn default() -> Self {
-        Fnv1a(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv1a {
-    /// Feeds bytes.
-    pub fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 ^= b as u64;
-            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
-        }
-    }
-    /// Feeds a u64 as 8 little-endian bytes.
-    pub fn write_u64(&mut self, v: u64) {
-        self.write(&v.to_le_bytes());
-    }
-    /// The hash so far.
-    pub fn finish(&self) -> u64 {
-        self.0
-    }
+    let got: Vec<DVec3> = normals.par_iter().map(|&n| lights.irradiance(n)).collect();
+    let (num, den) = crate::metrics::squared_error_sums(&got, reference);
+    crate::metrics::relative_l2(num, den)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn fnv1a_known_vectors() {
-        // Published FNV-1a 64 test vectors.
-        let mut h = Fnv1a::default();
-        assert_eq!(h.finish(), 0xcbf29ce484222325);
-        h.write(b"a");
-        assert_eq!(h.finish(), 0xaf63dc4c8601ec8c);
-        let mut h = Fnv1a::default();
-        h.write(b"foobar");
-        assert_eq!(h.finish(), 0x85944171f73967e8);
-    }
 
     #[test]
     fn fibonacci_normals_cover_the_sphere() {

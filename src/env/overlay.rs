@@ -8,23 +8,18 @@
 //! convention is wrong, not the drawing.
 
 use super::{LightSet, Probe, Region};
+use crate::image_io::{encode_u8, Tonemap};
 use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Stroke, Transform};
-
-/// Tone mapping of the background.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ToneMap {
-    /// `x / (1 + x)` per channel (Reinhard 2002, simple global operator).
-    Reinhard,
-    /// `min(x, 1)` per channel.
-    Clamp,
-}
 
 /// How to draw an overlay.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OverlayOptions {
-    /// Linear scale applied to radiance before tone mapping (`2^stops`).
+    /// Exposure of the background in stops: radiance times `2^exposure` before the tone
+    /// map, as for rendered PNGs ([`crate::image_io::display_u8`]).
     pub exposure: f32,
-    pub tone_map: ToneMap,
+    /// Tone map of the background (the crate's one display encoding,
+    /// [`crate::image_io::display`]).
+    pub tone_map: Tonemap,
     /// Output pixels per probe texel (>= 1).
     pub scale: u32,
     /// Dot radius in output pixels.
@@ -34,8 +29,8 @@ pub struct OverlayOptions {
 impl Default for OverlayOptions {
     fn default() -> Self {
         OverlayOptions {
-            exposure: 1.0,
-            tone_map: ToneMap::Reinhard,
+            exposure: 0.0,
+            tone_map: Tonemap::Reinhard,
             scale: 2,
             dot_radius: 2.5,
         }
@@ -60,19 +55,8 @@ pub enum OverlayError {
     },
 }
 
-/// sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1], to 8 bits.
-fn srgb8(x: f32) -> u8 {
-    let x = x.clamp(0.0, 1.0);
-    let y = if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    };
-    (y * 255.0 + 0.5) as u8
-}
-
 /// Draws the tone-mapped probe with one dot per light (red, black outline; area-free, so
-/// zero-power lights show too) and, when given, the median-cut region boundaries (green).
+/// zero-irradiance lights show too) and, when given, the median-cut region boundaries (green).
 /// Fails only if the image size cannot be allocated.
 pub fn render_overlay(
     probe: &Probe,
@@ -81,6 +65,8 @@ pub fn render_overlay(
     opts: &OverlayOptions,
 ) -> Result<Pixmap, OverlayError> {
     let s = opts.scale.max(1);
+    // `display_u8`'s product, with the scale computed once.
+    let exposure = opts.exposure.exp2();
     let (w, h) = (probe.width() as u32 * s, probe.height() as u32 * s);
     let mut pm = Pixmap::new(w, h).ok_or(OverlayError::Size {
         width: w,
@@ -93,12 +79,7 @@ pub fn render_overlay(
                 let t = probe.texel((y / s) as usize, (x / s) as usize);
                 let i = ((y * w + x) * 4) as usize;
                 for c in 0..3 {
-                    let v = t[c] * opts.exposure;
-                    let m = match opts.tone_map {
-                        ToneMap::Reinhard => v / (1.0 + v),
-                        ToneMap::Clamp => v.min(1.0),
-                    };
-                    data[i + c] = srgb8(m);
+                    data[i + c] = encode_u8(t[c] * exposure, opts.tone_map);
                 }
                 data[i + 3] = 255;
             }

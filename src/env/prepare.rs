@@ -29,7 +29,7 @@ pub const MAX_PROBE_FILE_BYTES: u64 = 1 << 30;
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum SamplerKind {
-    /// Uniform random directions, each carrying its Voronoi cell's power.
+    /// Uniform random directions, each carrying its Voronoi cell's irradiance.
     Uniform,
     /// Thesis Algorithm 1: importance sampling by luminance x solid angle.
     Importance,
@@ -148,6 +148,17 @@ impl EnvSpec {
         self.sampler.config(self.count, self.seed)
     }
 
+    /// Applies `intensity` (the scale of the probe's radiance) to a light set made from
+    /// the unscaled probe: every light's irradiance times `intensity`, one f32 product per
+    /// channel value ([`LightSet::scale_irradiance`]). The one place the scene's `[env] intensity`
+    /// reaches a light set: [`prepare`] (after its cache, whose entries hold the unscaled
+    /// set) and the sweep's light sets both call it.
+    pub fn scale_intensity(&self, lights: &mut LightSet) {
+        if self.intensity != 1.0 {
+            lights.scale_irradiance(self.intensity);
+        }
+    }
+
     pub fn load_options(&self) -> LoadOptions {
         LoadOptions {
             rotation: self.rotation.to_radians(),
@@ -178,8 +189,8 @@ pub struct Prepared {
 /// or unreadable, not a regular file (a device such as `/dev/zero` never ends), over
 /// [`MAX_PROBE_FILE_BYTES`],
 /// undecodable (see [`Probe::load`]), or fields out of range ([`EnvSpec::check`]).
-/// The light powers are scaled by `spec.intensity` (after the cache: entries hold the
-/// unscaled set).
+/// The light irradiances are scaled by `spec.intensity` ([`EnvSpec::scale_intensity`],
+/// after the cache: entries hold the unscaled set).
 pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<Prepared> {
     spec.check()?;
     let path = base.join(&spec.file);
@@ -221,16 +232,7 @@ pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<
             ls
         }
     };
-    if spec.intensity != 1.0 {
-        for p in lights
-            .power_r
-            .iter_mut()
-            .chain(lights.power_g.iter_mut())
-            .chain(lights.power_b.iter_mut())
-        {
-            *p *= spec.intensity;
-        }
-    }
+    spec.scale_intensity(&mut lights);
     Ok(Prepared {
         lights,
         cache_hit,
@@ -240,12 +242,12 @@ pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<
     })
 }
 
-/// The light set as scene lights (directional, irradiance = power).
+/// The light set as scene lights (directional, each with its irradiance).
 pub fn to_scene_lights(ls: &LightSet) -> Vec<crate::light::Light> {
     (0..ls.len())
         .map(|i| crate::light::Light::Directional {
             to_light: glam::Vec3::new(ls.dir_x[i], ls.dir_y[i], ls.dir_z[i]),
-            irradiance: glam::Vec3::new(ls.power_r[i], ls.power_g[i], ls.power_b[i]),
+            irradiance: glam::Vec3::new(ls.irradiance_r[i], ls.irradiance_g[i], ls.irradiance_b[i]),
         })
         .collect()
 }
@@ -253,4 +255,35 @@ pub fn to_scene_lights(ls: &LightSet) -> Vec<crate::light::Light> {
 /// Loads a probe for tools (the `lights` command), mapping its errors.
 pub fn load_probe(path: &Path, opts: &LoadOptions) -> Result<(Probe, LoadReport)> {
     Probe::load(path, opts).map_err(|e| Error::Message(e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    fn two_lights() -> LightSet {
+        let mut ls = LightSet::default();
+        ls.push(DVec3::Y, DVec3::new(1.0, 0.5, 0.25));
+        ls.push(DVec3::Z, DVec3::new(3.0, 0.0, 0.75));
+        ls
+    }
+
+    #[test]
+    fn intensity_scales_every_irradiance_and_no_direction() {
+        let mut spec = EnvSpec::new("probe.exr".into());
+        let mut ls = two_lights();
+        spec.scale_intensity(&mut ls);
+        assert_eq!(ls, two_lights(), "intensity 1 changes nothing");
+        spec.intensity = 2.5;
+        spec.scale_intensity(&mut ls);
+        let mut want = LightSet::default();
+        want.push(DVec3::Y, DVec3::new(2.5, 1.25, 0.625));
+        want.push(DVec3::Z, DVec3::new(7.5, 0.0, 1.875));
+        assert_eq!(ls, want);
+        spec.intensity = 0.0;
+        spec.scale_intensity(&mut ls);
+        assert_eq!(ls.total_irradiance(), DVec3::ZERO);
+        assert_eq!(ls.direction(1), DVec3::Z);
+    }
 }

@@ -1,5 +1,5 @@
-//! The fast path measured against the converged reference: [`Bound`], recorded by `bless`
-//! and re-measured at a small size by `golden check --bounds` ([`check_bounds`]).
+//! The fast path measured against the converged reference: [`MeasuredBound`], recorded by
+//! `bless` and re-measured at a small size by `golden check --bounds` ([`check_bounds`]).
 
 use super::*;
 
@@ -9,7 +9,7 @@ use super::*;
 /// Each value is rounded *up* to three significant digits, so it stays a bound.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct Bound {
+pub struct MeasuredBound {
     /// Largest absolute channel difference (radiance units).
     pub max_abs: f64,
     /// `sqrt(sum (fast - ref)^2 / sum ref^2)`: the error relative to the image's energy.
@@ -55,7 +55,7 @@ pub const BOUND_MARGIN: (f64, f64) = (0.1, 1e-6);
 /// skips, no culling). `None` for
 /// debug outputs (nothing is shaded). Slow with an environment at full size (every probe
 /// texel is a light).
-pub fn measure(dir: &Path, entry: &Entry, scale: u32) -> Result<Option<Bound>> {
+pub fn measure(dir: &Path, entry: &Entry, scale: u32) -> Result<Option<MeasuredBound>> {
     if entry.aov.is_some() {
         return Ok(None);
     }
@@ -78,7 +78,7 @@ pub fn measure(dir: &Path, entry: &Entry, scale: u32) -> Result<Option<Bound>> {
 }
 
 /// Whether a re-measured bound stays within the stored one ([`BOUND_MARGIN`]), per metric.
-pub fn within_bound(measured: &Bound, stored: &Bound) -> bool {
+pub fn within_bound(measured: &MeasuredBound, stored: &MeasuredBound) -> bool {
     let (rel, abs) = BOUND_MARGIN;
     let ok = |m: f64, s: f64| m <= s * (1.0 + rel) + abs;
     ok(measured.max_abs, stored.max_abs)
@@ -91,8 +91,8 @@ pub fn within_bound(measured: &Bound, stored: &Bound) -> bool {
 pub struct BoundOutcome {
     pub name: String,
     pub passed: bool,
-    pub stored: Bound,
-    pub measured: Bound,
+    pub stored: MeasuredBound,
+    pub measured: MeasuredBound,
 }
 
 /// Re-measures [`Entry::fast_vs_reference_small`] of the named shaded entries (all if
@@ -129,23 +129,18 @@ pub fn check_bounds(dir: &Path, names: &[String]) -> Result<Vec<BoundOutcome>> {
     Ok(out)
 }
 
-/// The [`Bound`] between two images of one size (a size difference is an error).
-pub fn bound(fast: &Image, reference: &Image) -> Result<Bound> {
-    let (mut max_abs, mut num, mut den) = (0.0f32, 0.0f64, 0.0f64);
-    for (f, r) in fast.pixels.iter().zip(&reference.pixels) {
-        let d = *f - *r;
-        max_abs = max_abs.max(d.abs().max_element());
-        num += d.as_dvec3().length_squared();
-        den += r.as_dvec3().length_squared();
-    }
+/// The [`MeasuredBound`] between two images of one size (a size difference is an error):
+/// the largest absolute difference and FLIP mean as [`compare::compare`] measures them,
+/// the relative RMSE of [`crate::metrics::relative_rmse`] over every pixel.
+pub fn bound(fast: &Image, reference: &Image) -> Result<MeasuredBound> {
     let (m, _) = compare::compare(
         &Loaded::from_linear(reference.clone()),
         &Loaded::from_linear(fast.clone()),
         &Thresholds::DEFAULT,
     )?;
-    Ok(Bound {
-        max_abs: round_up_3(max_abs as f64),
-        rel_rmse: round_up_3(if den > 0.0 { (num / den).sqrt() } else { 0.0 }),
+    Ok(MeasuredBound {
+        max_abs: round_up_3(m.max_abs as f64),
+        rel_rmse: round_up_3(crate::metrics::relative_rmse(reference, fast, None)),
         flip_mean: round_up_3(m.flip_mean as f64),
     })
 }

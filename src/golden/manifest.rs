@@ -51,11 +51,11 @@ pub struct Entry {
     /// Written by bless ([`measure`] at full size); absent for debug outputs (nothing is
     /// shaded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fast_vs_reference: Option<Bound>,
+    pub fast_vs_reference: Option<MeasuredBound>,
     /// [`measure`] at 1/[`BOUND_CHECK_SCALE`] of the entry's size, written by bless and
     /// re-measured by [`check_bounds`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fast_vs_reference_small: Option<Bound>,
+    pub fast_vs_reference_small: Option<MeasuredBound>,
 }
 
 impl Entry {
@@ -96,18 +96,12 @@ impl Entry {
     }
 }
 
-/// FNV-1a 64-bit hash of the little-endian bytes of every channel value.
+/// The stable hash ([`crate::hash`], XXH3-64) of the little-endian bytes of every channel
+/// value (row-major, RGB), in [`crate::hash::tagged`] form: `"xxh3-64:<16 hex>"`.
 pub fn content_hash(img: &Image) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for p in &img.pixels {
-        for c in p.to_array() {
-            for byte in c.to_le_bytes() {
-                h ^= byte as u64;
-                h = h.wrapping_mul(0x0000_0100_0000_01b3);
-            }
-        }
-    }
-    format!("fnv1a64:{h:016x}")
+    let mut h = crate::hash::StableHasher::new();
+    h.write_f32s(img.pixels.iter().flat_map(|p| p.to_array()));
+    crate::hash::tagged(h.finish())
 }
 
 /// Largest manifest read (bytes): a set of a few hundred entries is far below it.

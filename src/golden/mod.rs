@@ -19,9 +19,9 @@
 //!                             # tolerance's FLIP bounds for `brdfkit compare --entry`
 //! # written by `golden bless`, never by hand:
 //! config = "..."              # summary of the scene's configuration (checked for staleness)
-//! hash = "fnv1a64:..."        # of the EXR's pixel values
+//! hash = "xxh3-64:..."        # of the EXR's pixel values
 //! blessed_on = "x86_64-linux/avx2"   # the platform and kernel path that rendered it
-//! fast_vs_reference = { max_abs = .., rel_rmse = .., flip_mean = .. }   # see [`Bound`]
+//! fast_vs_reference = { max_abs = .., rel_rmse = .., flip_mean = .. }   # see [`MeasuredBound`]
 //! fast_vs_reference_small = { .. }   # the same at 1/BOUND_CHECK_SCALE of the size
 //! ```
 //!

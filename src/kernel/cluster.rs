@@ -18,7 +18,7 @@ use glam::Vec3;
 pub const CULL_MARGIN: f32 = 1e-3;
 
 /// Directional lights as a structure of arrays, in chunks of [`LANES`] (padded with
-/// zero-power lights pointing up), sorted for spatial coherence.
+/// zero-irradiance lights pointing up), sorted for spatial coherence.
 #[derive(Clone, Debug, Default)]
 pub struct DirLights {
     pub dx: Vec<f32>,
@@ -33,7 +33,7 @@ pub struct DirLights {
     pub chunk_axis: Vec<Vec3>,
     pub chunk_cos: Vec<f32>,
     pub chunk_sin: Vec<f32>,
-    /// Per chunk: bit `i` set when lane `i` carries power (not padding, not black).
+    /// Per chunk: bit `i` set when lane `i` carries irradiance (not padding, not black).
     pub chunk_live_mask: Vec<u8>,
 }
 
@@ -143,7 +143,7 @@ impl DirLights {
                     s.chunk_sin.push(cone.sin);
                 }
                 _ if live.is_empty() => {
-                    // No power at all: always skippable.
+                    // No irradiance at all: always skippable.
                     s.chunk_axis.push(Vec3::Y);
                     s.chunk_cos.push(f32::INFINITY);
                     s.chunk_sin.push(0.0);
@@ -179,7 +179,7 @@ impl DirLights {
             .filter(|&c| {
                 let c = c as usize;
                 if self.chunk_cos[c] == f32::INFINITY {
-                    return false; // zero power
+                    return false; // zero irradiance
                 }
                 let Some(t) = tile else { return true };
                 if self.chunk_sin[c] > 1.0 {

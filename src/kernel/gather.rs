@@ -86,7 +86,7 @@ impl Scratch {
 }
 
 /// Appends to `sc` the lights of chunks `chunks` of `lights` that lie above the horizon of
-/// `frame` (and carry power), in light order, as local directions with weights `E cos`
+/// `frame` (and carry irradiance), in light order, as local directions with weights `E cos`
 /// (`E` when `includes_cosine`). Lights at or below the horizon weigh exactly zero in the
 /// oracle and are not kept, so what is kept (and the result) depends only on the pixel and
 /// the lights, never on which chunks a tile's culling dropped.

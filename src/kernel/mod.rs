@@ -1,5 +1,5 @@
 //! The shading kernel: a material against a set of lights, per pixel (thesis chapter 3:
-//! 3.1.5 BRDF evaluation; the sum over delta lights `L(v) = sum_k f(l_k, v) cos(theta_k)
+//! 3.1.5 BRDF evaluation; the sum over delta lights `L(v) = sum_k f(l_k, v) cos(polar_k)
 //! E_k`, Def. 10, with the light sets of 3.2; the SH form
 //! `sum_k E_k w_k sum_lm c_lm(v) Y_lm(l_k)`, Def. 12, Code 4). Units: `E_k`
 //! irradiance at normal incidence (W/m^2, RGB), `f` in 1/sr, the result radiance.

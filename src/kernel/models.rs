@@ -1,6 +1,6 @@
 //! Lane models: analytic BRDFs and the D-BRDF evaluated for eight lights at once (one light
 //! per lane), over the lights [`super::gather::gather_dir`] left in a [`Scratch`] (local
-//! directions, weights `E cos(theta)`). Each is the same formula as the model's scalar
+//! directions, weights `E cos(polar)`). Each is the same formula as the model's scalar
 //! `Brdf::eval` (thesis 2.2 and 2.3.6), tested against the scalar oracle at
 //! [`super::KERNEL_TOLERANCE`]. Models without a lane form go through `Brdf::eval` per light
 //! ([`LaneModel::Scalar`]).

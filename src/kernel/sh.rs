@@ -2,7 +2,7 @@
 //! Def. 10 and 12, Code 4), eight lights at a time, one light per lane.
 //!
 //! Per pixel, a [`Scratch`] first receives the lights above the horizon in local coordinates
-//! with their weights `E_k w_k` (`w_k = cos(theta_k)`, or 1 when the data set includes the
+//! with their weights `E_k w_k` (`w_k = cos(polar_k)`, or 1 when the data set includes the
 //! cosine), compacted in light order ([`super::gather`], shared with every material). [`sh_sum`] then
 //! runs, per group of eight, one fused pass over (m, l): the rescaled associated-Legendre
 //! recurrence of [`crate::sh::basis`] on eight lanes, accumulating `c_lm Y_lm` per colour at
@@ -107,7 +107,7 @@ fn sh_dot<S: Isa>(
     let mut sm = s.zero();
     for m in 0..bands {
         if m > 0 {
-            // (cos, sin)(m phi) from (cos, sin)((m-1) phi), scaled by sin(theta)^m.
+            // (cos, sin)(m azimuth) from (cos, sin)((m-1) azimuth), scaled by sin(polar)^m.
             let c = y.neg_mul_add(sm, x * cm);
             let sn = x.mul_add(sm, y * cm);
             cm = c;

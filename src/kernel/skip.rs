@@ -10,7 +10,7 @@
 //! The weakest directional lights (by the largest channel of their irradiance `E_k`, ties
 //! by index) are dropped while, in every colour channel, the dropped irradiance
 //! `E_drop = sum_{dropped} E_k` stays at most `fraction x` the total. A pixel is
-//! `L = sum_k f(l_k, v) cos(theta_k) E_k` (thesis Def. 10), so dropping the set `D` changes
+//! `L = sum_k f(l_k, v) cos(polar_k) E_k` (thesis Def. 10), so dropping the set `D` changes
 //! it by
 //! `|dL| = |sum_{k in D} f cos E_k| <= E_drop x M`, with `M` the material's bound on
 //! `|f cos|` ([`crate::brdf::Brdf::max_cosine_weighted`]: Lambert `albedo/pi`,
@@ -29,7 +29,7 @@
 //! `|sum_{l>=L} sum_m c_lm Y_lm(w)| <= |c_{l>=L}| sqrt(sum_{l=L}^{B-1} (2l+1)/(4 pi))
 //! = |c_{l>=L}| sqrt((B^2 - L^2)/(4 pi))` ([`band_tail_factor`]), so the pixel changes by at
 //! most `sum_k E_k w_k x |c_{l>=L}| x band_tail_factor(B, L)` over the lights above the
-//! horizon (`w_k = cos(theta_k)`, or 1 when the table includes the cosine).
+//! horizon (`w_k = cos(polar_k)`, or 1 when the table includes the cosine).
 //!
 //! Both bounds hold in exact arithmetic; the two f32 renders being compared also round
 //! their sums in different orders, which [`summation_allowance`] bounds.
@@ -42,8 +42,8 @@ use glam::Vec3;
 /// pixel could take (`E_total M`), below half a step (1/510) of an 8-bit display code for
 /// an image exposed so that value is white; in practice it drops the dim tail of uniform
 /// and stratified light sets (golden `fig3-6-uniform-city`: 1 of 64 lights) and nothing
-/// from median-cut or importance sets, whose lights carry nearly equal power; Lloyd's
-/// relaxation moves power between regions and can leave a few dim ones (golden
+/// from median-cut or importance sets, whose lights carry nearly equal irradiance; Lloyd's
+/// relaxation moves irradiance between regions and can leave a few dim ones (golden
 /// `fig3-8-lloyd-studio`: 2 of 64, 9.7e-4 of the irradiance).
 pub const DEFAULT_DROP_LIGHTS: f32 = 1e-3;
 

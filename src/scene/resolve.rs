@@ -47,9 +47,9 @@ pub struct EnvSummary {
     pub negative_texels: usize,
     /// The probe's size in texels when it was decoded (`None` on a cache hit).
     pub probe_size: Option<(usize, usize)>,
-    /// Total RGB power of the light set after `[env] intensity` (irradiance at normal
-    /// incidence summed over the lights, W/m^2 for a probe in W/(m^2 sr)).
-    pub total_power: [f64; 3],
+    /// The lights' RGB irradiances at normal incidence summed, after `[env] intensity`
+    /// ([`crate::env::LightSet::total_irradiance`], W/m^2 for a probe in W/(m^2 sr)).
+    pub total_irradiance: [f64; 3],
 }
 
 /// A finite vector, else a field error naming `field`.
@@ -213,7 +213,7 @@ impl Scene {
                 cache_rejected: prepared.cache_rejected,
                 negative_texels: prepared.report.as_ref().map_or(0, |r| r.negative_texels),
                 probe_size: prepared.report.as_ref().map(|r| r.size),
-                total_power: prepared.lights.total_power().to_array(),
+                total_irradiance: prepared.lights.total_irradiance().to_array(),
             });
         }
 

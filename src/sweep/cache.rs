@@ -1,11 +1,11 @@
 //! The sweep's reference cache ([`super`], "The reference"): `reference-<key>.exr` and its
-//! checksum file `reference-<key>.exr.fnv1a` in the `--cache` directory, keyed by
+//! checksum file `reference-<key>.exr.xxh3` in the `--cache` directory, keyed by
 //! [`reference_key`] (which includes the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
 //! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]) and checked on read
 //! ([`read_cached_reference`]).
 
-use crate::env::Fnv1a;
 use crate::error::{Error, Result};
+use crate::hash::{self, StableHasher};
 use crate::image_io::{self, Image};
 use crate::scene::{MaterialSpec, SceneFile};
 use std::path::{Path, PathBuf};
@@ -19,17 +19,16 @@ use std::path::{Path, PathBuf};
 /// [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`], also in the key.)
 pub const REFERENCE_ALGORITHM_VERSION: u32 = 1;
 
-/// Cache key of a reference render: FNV-1a of a version tag, the crate version,
+/// Cache key of a reference render: [`StableHasher`] (XXH3-64) of a key tag, the crate version,
 /// [`REFERENCE_ALGORITHM_VERSION`], [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`],
 /// the scene description (as parsed, with the output section and thread count cleared, and
 /// the environment's sampler set to `full`), the base directory, and the bytes of the probe
 /// and of a material file.
 pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
-    let mut h = Fnv1a::default();
-    h.write(b"brdfkit-sweep-reference-v2");
-    let version = env!("CARGO_PKG_VERSION");
-    h.write_u64(version.len() as u64);
-    h.write(version.as_bytes());
+    let mut h = StableHasher::new();
+    // v3: XXH3-64 instead of FNV-1a (a v2 key names an FNV-1a hash).
+    h.write(b"brdfkit-sweep-reference-v3");
+    h.write_str(env!("CARGO_PKG_VERSION"));
     h.write_u64(REFERENCE_ALGORITHM_VERSION as u64);
     h.write_u64(crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION as u64);
     h.write(format!("{file:?}").as_bytes());
@@ -52,24 +51,26 @@ pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
     Ok(h.finish())
 }
 
-/// FNV-1a checksum of an image: width, height, then every pixel's RGB f32 bits
-/// (little-endian, row-major). Written beside a cached reference and checked on read.
+/// Checksum ([`StableHasher`]) of an image: width, height, then every pixel's RGB f32 bits
+/// (little-endian, row-major). Written beside a cached reference in [`hash::tagged`] form
+/// and checked on read.
 pub fn image_checksum(img: &Image) -> u64 {
-    let mut h = Fnv1a::default();
+    let mut h = StableHasher::new();
     h.write_u64(img.width as u64);
     h.write_u64(img.height as u64);
-    for p in &img.pixels {
-        for c in p.to_array() {
-            h.write(&c.to_le_bytes());
-        }
-    }
+    h.write_f32s(img.pixels.iter().flat_map(|p| p.to_array()));
     h.finish()
 }
 
-/// The checksum file of a cached reference: `<file>.fnv1a`.
+/// Extension of a cached reference's checksum file (after `.exr`).
+pub const CHECKSUM_EXTENSION: &str = "xxh3";
+
+/// The checksum file of a cached reference: `<file>.xxh3`. (Entries written before the
+/// hash was XXH3 have only a `.fnv1a` file, so they are refused and re-rendered.)
 fn checksum_path(file: &Path) -> PathBuf {
     let mut name = file.as_os_str().to_owned();
-    name.push(".fnv1a");
+    name.push(".");
+    name.push(CHECKSUM_EXTENSION);
     PathBuf::from(name)
 }
 
@@ -97,7 +98,7 @@ pub fn read_cached_reference(
     let sum_file = checksum_path(file);
     let stored =
         std::fs::read_to_string(&sum_file).map_err(|e| format!("{}: {e}", sum_file.display()))?;
-    let sum = format!("fnv1a64:{:016x}", image_checksum(&img));
+    let sum = hash::tagged(image_checksum(&img));
     if stored.trim() != sum {
         return Err(format!(
             "checksum {} does not match its pixels ({sum}): edited or damaged",
@@ -116,8 +117,44 @@ pub(super) fn write_cached_reference(file: &Path, img: &Image) -> Result<()> {
     }
     image_io::write_exr(file, img)?;
     let sum_file = checksum_path(file);
-    let text = format!("fnv1a64:{:016x}\n", image_checksum(img));
+    let text = format!("{}\n", hash::tagged(image_checksum(img)));
     image_io::write_atomically(&sum_file, |tmp| {
         std::fs::write(tmp, &text).map_err(|e| Error::io(&sum_file, "cannot write", e))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// A reference whose checksum file is the FNV-1a era's `.fnv1a` (no `.xxh3`), or holds
+    /// an FNV-1a-style string, is refused; this build's entry is read.
+    #[test]
+    fn only_this_builds_checksum_is_trusted() {
+        let tmp = tempfile::tempdir().unwrap();
+        let file = tmp.path().join("reference-0123456789abcdef.exr");
+        let img = Image {
+            width: 2,
+            height: 1,
+            pixels: vec![Vec3::new(0.5, 1.0, 2.0), Vec3::ZERO],
+        };
+        write_cached_reference(&file, &img).unwrap();
+        assert_eq!(
+            read_cached_reference(&file, 2, 1).unwrap(),
+            Some(img.clone())
+        );
+        let sum = checksum_path(&file);
+        assert!(sum.to_string_lossy().ends_with(".exr.xxh3"));
+        let text = std::fs::read_to_string(&sum).unwrap();
+        assert!(text.starts_with("xxh3-64:"), "{text}");
+
+        std::fs::write(&sum, "fnv1a64:0123456789abcdef\n").unwrap();
+        let why = read_cached_reference(&file, 2, 1).unwrap_err();
+        assert!(why.contains("does not match"), "{why}");
+
+        std::fs::remove_file(&sum).unwrap();
+        std::fs::write(file.with_extension("exr.fnv1a"), text).unwrap();
+        assert!(read_cached_reference(&file, 2, 1).is_err());
+    }
 }

@@ -24,7 +24,7 @@
 //! `reference-<key>.exr` named by [`reference_key`]: a hash of the scene's configuration and
 //! input files, the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
 //! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]. Beside it,
-//! `reference-<key>.exr.fnv1a` holds [`image_checksum`] of its pixels; an entry is used only
+//! `reference-<key>.exr.xxh3` holds [`image_checksum`] of its pixels; an entry is used only
 //! when both files exist, its size is the scene's, every value is finite, and
 //! the checksum matches ([`read_cached_reference`]); otherwise it is rendered again and
 //! rewritten. This is the only cache a sweep reads: its light sets are computed.
@@ -61,7 +61,7 @@
 //! - [`default_scene`]: the scene rendered without `--scene` ([`default_scene_file`]);
 //! - [`cache`]: the reference cache ([`reference_key`], [`read_cached_reference`]);
 //! - [`run`]: the timed runner ([`Sweep`]: prepare once, then render and time each row);
-//! - [`metrics`]: a row's errors against the reference ([`relative_rmse`]);
+//! - [`metrics`]: a row's errors against the reference ([`crate::metrics::relative_rmse`]);
 //! - [`pareto`]: the Pareto front ([`pareto_front`], [`finish_rows`]);
 //! - [`csv`]: the row ([`Row`]) and its CSV, header-keyed on read ([`read_csv`],
 //!   [`write_csv`], [`merge`]);
@@ -85,6 +85,5 @@ pub use grid::{
     default_counts, default_samplers, lookup_name, parse_lookup, parse_sampler, precision_name,
     sampler_name, Config, DefaultConfig, Grid,
 };
-pub use metrics::relative_rmse;
 pub use pareto::{finish_rows, pareto_front};
 pub use run::Sweep;

@@ -165,19 +165,8 @@ impl Sweep {
         let config = sampler.config(n, self.env.seed);
         let start = Instant::now();
         let mut ls = config.run(&self.probe);
-        // The scene's `[env] intensity`, applied as `env::prepare::prepare` applies it for
-        // a render (the same f32 product per power). A copy: `prepare` has it inline, with
-        // no function to call that skips its probe decoding and disk cache.
-        if self.env.intensity != 1.0 {
-            for p in ls
-                .power_r
-                .iter_mut()
-                .chain(ls.power_g.iter_mut())
-                .chain(ls.power_b.iter_mut())
-            {
-                *p *= self.env.intensity;
-            }
-        }
+        // The scene's `[env] intensity`, exactly as `env::prepare::prepare` applies it.
+        self.env.scale_intensity(&mut ls);
         (ls, start.elapsed().as_secs_f64() * 1e3)
     }
 

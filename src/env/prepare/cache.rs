@@ -2,8 +2,8 @@
 //! directory.
 //!
 //! # Key
-//! FNV-1a ([`crate::env::Fnv1a`]) of the probe file's bytes, the rotation and loader
-//! options, the sampler configuration, the crate version and
+//! The crate's stable hash ([`crate::hash`], XXH3-64) of the probe file's bytes, the
+//! rotation and loader options, the sampler configuration, the crate version and
 //! [`LIGHT_SET_ALGORITHM_VERSION`] ([`file_cache_key`]). Entries are
 //! `<dir>/lights-<key>.json`, `<key>` 16 hex digits ([`cache_file_name`]).
 //!
@@ -24,7 +24,8 @@
 //! none of them set, nothing is cached); `render --no-cache` uses none.
 
 use crate::env::lightset_io::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
-use crate::env::{Fnv1a, LightSet, LoadOptions, SamplerConfig};
+use crate::env::{LightSet, LoadOptions, SamplerConfig};
+use crate::hash::{self, StableHasher};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -34,14 +35,15 @@ use std::path::{Path, PathBuf};
 /// light-set cache key ([`file_cache_key`]) and stored in each entry.
 ///
 /// Bump when the output of `Probe::load` or of any sampler changes (a different light,
-/// power or order for the same inputs), so no cache entry written by older code is read.
+/// irradiance or order for the same inputs), so no cache entry written by older code is read.
 pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 1;
 
 /// The crate version, part of every cache key (a cache never outlives a release).
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 
-/// Format tag of a light-set cache entry.
-pub const CACHE_FORMAT: &str = "brdfkit-lightset-cache";
+/// Format tag of a light-set cache entry (`-v2`: the checksum is XXH3-64 in
+/// [`hash::tagged`] form and the lights' fields are `irradiance_*`).
+pub const CACHE_FORMAT: &str = "brdfkit-lightset-cache-v2";
 
 /// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light
 /// sets. No code path picks the user's directory by itself: the caller passes one
@@ -82,7 +84,7 @@ impl CacheDir {
     }
 }
 
-/// Cache key of a light set: FNV-1a of a format tag, the crate version,
+/// Cache key of a light set: [`StableHasher`] (XXH3-64) of a key tag, the crate version,
 /// [`LIGHT_SET_ALGORITHM_VERSION`], the probe file's bytes, the loader options and the
 /// sampler configuration ([`SamplerConfig::hash_into`]). The probe's name is not hashed:
 /// two files with the same bytes share entries.
@@ -104,10 +106,10 @@ fn versioned_key(
     opts: &LoadOptions,
     config: &SamplerConfig,
 ) -> u64 {
-    let mut h = Fnv1a::default();
-    h.write(b"brdfkit-env-file-v2");
-    h.write_u64(crate_version.len() as u64);
-    h.write(crate_version.as_bytes());
+    let mut h = StableHasher::new();
+    // v3: XXH3-64 instead of FNV-1a (a v2 key names an FNV-1a hash).
+    h.write(b"brdfkit-env-file-v3");
+    h.write_str(crate_version);
     h.write_u64(algorithm_version as u64);
     h.write_u64(bytes.len() as u64);
     h.write(bytes);
@@ -118,23 +120,22 @@ fn versioned_key(
     h.finish()
 }
 
-/// FNV-1a checksum of a light set's contents: its length, then the little-endian bits of
-/// `dir_x`, `dir_y`, `dir_z`, `power_r`, `power_g`, `power_b` in that order. Stored in each
-/// cache entry and recomputed on read, so an edited number is never trusted.
+/// Checksum ([`StableHasher`]) of a light set's contents: its length, then the
+/// little-endian bits of `dir_x`, `dir_y`, `dir_z`, `irradiance_r`, `irradiance_g`,
+/// `irradiance_b` in that order. Stored in each cache entry and recomputed on read, so an
+/// edited number is never trusted.
 pub fn lights_checksum(ls: &LightSet) -> u64 {
-    let mut h = Fnv1a::default();
+    let mut h = StableHasher::new();
     h.write_u64(ls.len() as u64);
     for a in [
         &ls.dir_x,
         &ls.dir_y,
         &ls.dir_z,
-        &ls.power_r,
-        &ls.power_g,
-        &ls.power_b,
+        &ls.irradiance_r,
+        &ls.irradiance_g,
+        &ls.irradiance_b,
     ] {
-        for v in a {
-            h.write(&v.to_le_bytes());
-        }
+        h.write_f32s(a.iter().copied());
     }
     h.finish()
 }
@@ -151,8 +152,8 @@ pub struct CacheEntry {
     pub algorithm_version: u32,
     /// The entry's [`file_cache_key`], 16 hex digits (also its file name).
     pub key: String,
-    /// [`lights_checksum`] of `lights`, 16 hex digits.
-    pub lights_fnv1a: String,
+    /// [`lights_checksum`] of `lights` in [`hash::tagged`] form (`xxh3-64:<16 hex>`).
+    pub lights_checksum: String,
     pub header: LightSetHeader,
     pub lights: LightSet,
 }
@@ -165,7 +166,7 @@ impl CacheEntry {
             crate_version: CRATE_VERSION.into(),
             algorithm_version: LIGHT_SET_ALGORITHM_VERSION,
             key: format!("{key:016x}"),
-            lights_fnv1a: format!("{:016x}", lights_checksum(&lights)),
+            lights_checksum: hash::tagged(lights_checksum(&lights)),
             header,
             lights,
         }
@@ -218,11 +219,11 @@ pub fn read_cache_entry(path: &Path, key: u64) -> std::result::Result<Option<Lig
             e.lights.len()
         ));
     }
-    let sum = format!("{:016x}", lights_checksum(&e.lights));
-    if e.lights_fnv1a != sum {
+    let sum = hash::tagged(lights_checksum(&e.lights));
+    if e.lights_checksum != sum {
         return Err(format!(
             "checksum {} does not match its lights ({sum}): edited or damaged",
-            e.lights_fnv1a
+            e.lights_checksum
         ));
     }
     Ok(Some(e.lights))
@@ -258,9 +259,9 @@ mod tests {
                 &mut e.dir_x,
                 &mut e.dir_y,
                 &mut e.dir_z,
-                &mut e.power_r,
-                &mut e.power_g,
-                &mut e.power_b,
+                &mut e.irradiance_r,
+                &mut e.irradiance_g,
+                &mut e.irradiance_b,
             ]
             .into_iter()
             .nth(field)
@@ -268,5 +269,34 @@ mod tests {
             a[1] = f32::from_bits(a[1].to_bits() ^ 1);
             assert_ne!(lights_checksum(&e), base, "field {field}");
         }
+    }
+
+    /// An entry written before the XXH3 hash (format tag without `-v2`, `lights_fnv1a`,
+    /// `power_*`) under this build's key is refused, not read.
+    #[test]
+    fn an_fnv1a_era_entry_is_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let opts = LoadOptions::default();
+        let cfg = SamplerConfig::MedianCut { n: 1 };
+        let key = file_cache_key(b"probe bytes", &opts, &cfg);
+        let path = cache_file_name(tmp.path(), key);
+        let mut ls = LightSet::default();
+        ls.push(glam::DVec3::Y, glam::DVec3::ONE);
+        let header = crate::env::lightset_io::LightSetHeader::new(&cfg, None, &ls);
+        let good = serde_json::to_string(&CacheEntry::new(key, header, ls.clone())).unwrap();
+        std::fs::write(&path, &good).unwrap();
+        assert_eq!(read_cache_entry(&path, key).unwrap(), Some(ls));
+        let old = good
+            .replace(CACHE_FORMAT, "brdfkit-lightset-cache")
+            .replace("\"lights_checksum\":\"xxh3-64:", "\"lights_fnv1a\":\"")
+            .replace("irradiance_", "power_");
+        assert_ne!(old, good);
+        std::fs::write(&path, &old).unwrap();
+        let why = read_cache_entry(&path, key).unwrap_err();
+        assert!(why.contains("lights_fnv1a"), "{why}");
+        // With the field name fixed up, the format tag still refuses it.
+        std::fs::write(&path, old.replace("lights_fnv1a", "lights_checksum")).unwrap();
+        let why = read_cache_entry(&path, key).unwrap_err();
+        assert!(why.contains("format brdfkit-lightset-cache,"), "{why}");
     }
 }

@@ -8,7 +8,8 @@
 //! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`] instead.
 
 use super::{full_probe, importance, importance_stratified, lloyd, median_cut, uniform};
-use crate::env::{Fnv1a, LightSet, Probe};
+use crate::env::{LightSet, Probe};
+use crate::hash::StableHasher;
 use serde::{Deserialize, Serialize};
 
 /// Which sampler and its parameters: the unit of caching ([`crate::env::prepare::file_cache_key`]) and
@@ -79,7 +80,7 @@ impl SamplerConfig {
 
     /// Feeds the configuration into a stable hash: name, then each parameter as a u64
     /// (absent ones as `u64::MAX`).
-    pub fn hash_into(&self, h: &mut Fnv1a) {
+    pub fn hash_into(&self, h: &mut StableHasher) {
         h.write(self.name().as_bytes());
         h.write(&[0]);
         h.write_u64(self.n().map_or(u64::MAX, |n| n as u64));

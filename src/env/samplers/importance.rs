@@ -122,9 +122,9 @@ impl ImportanceSampler {
 pub fn rescale_to_total(ls: &mut LightSet, target: DVec3, fallback: &[f64]) {
     let fb_total: f64 = fallback.iter().sum();
     for (ch, t) in [
-        (&mut ls.power_r, target.x),
-        (&mut ls.power_g, target.y),
-        (&mut ls.power_b, target.z),
+        (&mut ls.irradiance_r, target.x),
+        (&mut ls.irradiance_g, target.y),
+        (&mut ls.irradiance_b, target.z),
     ] {
         let s: f64 = ch.iter().map(|&p| p as f64).sum();
         if s > 0.0 {

@@ -83,7 +83,7 @@ fn all_samplers(n: usize) -> Vec<SamplerConfig> {
 
 fn assert_power(probe: &Probe, ls: &LightSet, what: &str) {
     let want = probe.total_power();
-    let got = ls.total_power();
+    let got = ls.total_irradiance();
     for k in 0..3 {
         let rel = (got[k] - want[k]).abs() / want[k].abs().max(1e-300);
         assert!(
@@ -92,7 +92,7 @@ fn assert_power(probe: &Probe, ls: &LightSet, what: &str) {
         );
     }
     for i in 0..ls.len() {
-        let p = ls.power(i);
+        let p = ls.light_irradiance(i);
         assert!(
             p.min_element() >= 0.0 && p.is_finite(),
             "{what}: light {i} {p}"
@@ -360,7 +360,7 @@ fn no_half_texel_offset_and_no_seam() {
     let hp = hot(w, h, 2, 5);
     let mc = median_cut(&hp, 4);
     let lit: Vec<usize> = (0..mc.lights.len())
-        .filter(|&i| mc.lights.power(i).x > 0.0)
+        .filter(|&i| mc.lights.light_irradiance(i).x > 0.0)
         .collect();
     assert_eq!(lit.len(), 1);
     let (u, v) = hp.uv_of(mc.lights.direction(lit[0]));
@@ -400,7 +400,7 @@ fn single_hot_texel_gets_all_power() {
             let ls = cfg.run(&p);
             assert_power(&p, &ls, &format!("hot {cfg:?}"));
             let lit: Vec<usize> = (0..ls.len())
-                .filter(|&i| ls.power(i) != glam::DVec3::ZERO)
+                .filter(|&i| ls.light_irradiance(i) != glam::DVec3::ZERO)
                 .collect();
             if let SamplerConfig::Uniform { .. } = cfg {
                 // Uniform directions cannot land on the texel; the one light nearest to
@@ -438,7 +438,7 @@ fn furnace_error(ls: &LightSet, l: f64, albedo: f64) -> f64 {
         let mut lo = 0.0f64;
         for i in 0..ls.len() {
             let wi = f.to_local(ls.direction(i).as_vec3());
-            lo += eval_cosine_weighted(&brdf, wi, wo).x as f64 * ls.power(i).x;
+            lo += eval_cosine_weighted(&brdf, wi, wo).x as f64 * ls.light_irradiance(i).x;
         }
         err += (lo - albedo * l).abs() / (albedo * l);
     }
@@ -497,9 +497,9 @@ fn same_seed_same_bits_and_seeds_differ() {
                 .iter()
                 .chain(&ls.dir_y)
                 .chain(&ls.dir_z)
-                .chain(&ls.power_r)
-                .chain(&ls.power_g)
-                .chain(&ls.power_b)
+                .chain(&ls.irradiance_r)
+                .chain(&ls.irradiance_g)
+                .chain(&ls.irradiance_b)
                 .map(|v| v.to_bits())
                 .collect::<Vec<u32>>()
         };
@@ -545,7 +545,7 @@ fn voronoi_samplers_invert_to_their_cells() {
             }
         }
         for (i, want) in power.iter().enumerate() {
-            let got = ls.power(i);
+            let got = ls.light_irradiance(i);
             assert!(
                 (got - *want).length() <= 1e-4 * want.length().max(1e-3 * p.total_power().length()),
                 "{cfg:?} light {i}: {got} vs {want}"
