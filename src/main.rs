@@ -1,4 +1,3 @@
-use clap::Parser;
 use std::process::ExitCode;
 
 /// mimalloc keeps freed frame-sized blocks (visibility buffer, image) for the next frame;
@@ -16,7 +15,7 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
-    let cli = brdfkit::cli::Cli::parse();
+    let cli = brdfkit::cli::parse::parse_args();
     match brdfkit::cli::run(cli) {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(1),

@@ -369,3 +369,39 @@ fn unreadable_sweep_csv_in_merge() {
         &["a.csv", "row index 0"],
     );
 }
+
+#[test]
+fn rejected_arguments_are_one_line_naming_the_option() {
+    // clap rejects these before any work starts; the report is one line like every other
+    // brdfkit error (no usage block), exit 2, nothing written.
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    assert_error(
+        dir,
+        &["render", "--cull", "sideways", "-o", "x.png"],
+        &["--cull", "sideways", "none", "back"],
+    );
+    assert_error(
+        dir,
+        &[
+            "acquire",
+            "teal-paint",
+            "--method",
+            "fourier",
+            "-o",
+            "x.exr",
+        ],
+        &["--method", "fourier", "zero", "lsq", "even"],
+    );
+    assert_error(
+        dir,
+        &["acquire", "teal-paint", "--grid", "16x0", "-o", "x.exr"],
+        &["--grid", "16x0", "NUxNV"],
+    );
+    assert_error(
+        dir,
+        &["fit-dbrdf", "teal-paint", "--grid", "big", "-o", "y.exr"],
+        &["--grid", "big"],
+    );
+    assert_error(dir, &["render", "--no-such-flag"], &["--no-such-flag"]);
+}

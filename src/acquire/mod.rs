@@ -124,18 +124,6 @@ impl Method {
             Method::Even => "even",
         }
     }
-
-    /// Parses `zero`, `lsq` (with [`DEFAULT_LAMBDA`]) or `even`; `None` otherwise.
-    pub fn parse(s: &str) -> Option<Method> {
-        match s {
-            "zero" => Some(Method::Zero),
-            "lsq" => Some(Method::Lsq {
-                lambda: DEFAULT_LAMBDA,
-            }),
-            "even" => Some(Method::Even),
-            _ => None,
-        }
-    }
 }
 
 /// What to acquire.

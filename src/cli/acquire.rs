@@ -1,7 +1,7 @@
 //! `brdfkit acquire`, `brdfkit fit-dbrdf` and `brdfkit materials`.
 
 use super::source::parse_source;
-use super::{AcquireArgs, FitDbrdfArgs};
+use super::{AcquireArgs, FitDbrdfArgs, MethodArg};
 use crate::acquire::fit::{fit_dbrdf, FitOptions};
 use crate::acquire::{
     acquire_with_progress, hemisphere_error, ringing_flagged, AcquireOptions, ErrorGrid,
@@ -13,22 +13,6 @@ use crate::library::{Representation, LIBRARY};
 use crate::sh::write_sh_dataset;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
-
-/// Parses `NUxNV` (each 1 to 1024). Fails with a field error naming `option`.
-pub fn parse_grid(option: &str, s: &str) -> Result<(usize, usize)> {
-    let bad = || {
-        Error::field(
-            option,
-            format!("{s:?} is not NUxNV (e.g. 16x8, each 1 to 1024)"),
-        )
-    };
-    let (a, b) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let (a, b): (usize, usize) = (a.parse().map_err(|_| bad())?, b.parse().map_err(|_| bad())?);
-    if a == 0 || b == 0 || a > 1024 || b > 1024 {
-        return Err(bad());
-    }
-    Ok((a, b))
-}
 
 fn progress(len: u64, msg: &str) -> ProgressBar {
     let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
@@ -71,12 +55,13 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
             ));
         }
     }
-    let method = Method::parse(&a.method).ok_or_else(|| {
-        Error::field(
-            "--method",
-            format!("{:?} is not one of zero, lsq, even", a.method),
-        )
-    })?;
+    let method = match a.method {
+        MethodArg::Zero => Method::Zero,
+        MethodArg::Lsq => Method::Lsq {
+            lambda: crate::acquire::DEFAULT_LAMBDA,
+        },
+        MethodArg::Even => Method::Even,
+    };
     let method = match (method, a.lambda) {
         (Method::Lsq { .. }, Some(l)) => {
             if !(l.is_finite() && l > 0.0) {
@@ -86,7 +71,7 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
         }
         (m, _) => m,
     };
-    let (nu, nv) = parse_grid("--grid", &a.grid)?;
+    let (nu, nv) = a.grid;
     crate::image_io::check_output(&a.output, &["exr"], "--output")?;
     let src = parse_source(&a.source)?;
     let grid = ErrorGrid::default();
@@ -178,7 +163,7 @@ fn method_lsq(chosen: Method) -> Method {
 }
 
 pub fn run_fit(a: FitDbrdfArgs) -> Result<()> {
-    let (nu, nv) = parse_grid("--grid", &a.grid)?;
+    let (nu, nv) = a.grid;
     crate::image_io::check_output(&a.output, &["exr"], "--output")?;
     let src = parse_source(&a.source)?;
     let opts = FitOptions {

@@ -7,6 +7,7 @@ mod cache;
 mod compare;
 mod golden;
 mod lights;
+pub mod parse;
 mod render;
 pub mod source;
 mod sweep;
@@ -155,14 +156,14 @@ pub struct AcquireArgs {
     #[arg(long, default_value_t = 8)]
     pub bands: usize,
     /// Hemisphere fit: `zero` (zero extension, exact projection), `lsq` (regularised least squares on the hemisphere), `even` (mirror extension).
-    #[arg(long, default_value = "lsq")]
-    pub method: String,
+    #[arg(long, value_enum, default_value = "lsq")]
+    pub method: MethodArg,
     /// Tikhonov weight for `--method lsq` (default 1e-6).
     #[arg(long)]
     pub lambda: Option<f64>,
-    /// View grid NUxNV (azimuth x polar texels).
-    #[arg(long, default_value = "16x8")]
-    pub grid: String,
+    /// View grid NUxNV (azimuth x polar texels, each 1 to 1024).
+    #[arg(long, default_value = "16x8", value_parser = parse::grid)]
+    pub grid: (usize, usize),
     /// Output SH data set (.exr).
     #[arg(short, long)]
     pub output: PathBuf,
@@ -178,9 +179,9 @@ pub struct AcquireArgs {
 pub struct FitDbrdfArgs {
     /// Library material name, MERL .binary path, or analytic spec (as for `acquire`).
     pub source: String,
-    /// Half-vector table NUxNV.
-    #[arg(long, default_value = "64x32")]
-    pub grid: String,
+    /// Half-vector table NUxNV (each 1 to 1024).
+    #[arg(long, default_value = "64x32", value_parser = parse::grid)]
+    pub grid: (usize, usize),
     /// Output D-BRDF file (.exr).
     #[arg(short, long)]
     pub output: PathBuf,
@@ -344,6 +345,15 @@ pub(crate) fn spinner(message: &str) -> indicatif::ProgressBar {
     pb.set_message(message.to_string());
     pb.enable_steady_tick(std::time::Duration::from_millis(120));
     pb
+}
+
+/// `acquire --method`: how the hemisphere data is extended to the sphere
+/// ([`crate::acquire::Method`]; `lsq` takes its weight from `--lambda`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
+pub enum MethodArg {
+    Zero,
+    Lsq,
+    Even,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
