@@ -82,3 +82,16 @@ impl From<FileError> for Error {
         Error::Message(e.to_string())
     }
 }
+
+/// A TOML parse error as one line, `line N: message` (the line of the error's span in
+/// `text`, 1-based), for every TOML file brdfkit reads (scenes, the golden manifest).
+pub fn toml_message(text: &str, e: &toml::de::Error) -> String {
+    let msg = e.message().trim().replace('\n', " ");
+    match e.span() {
+        Some(span) => {
+            let line = text[..span.start].matches('\n').count() + 1;
+            format!("line {line}: {msg}")
+        }
+        None => msg,
+    }
+}

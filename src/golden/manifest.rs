@@ -130,16 +130,7 @@ pub fn load_manifest_file(path: &Path) -> Result<Manifest> {
 /// (`[a-z0-9._-]`, not starting with `.`), unique; a known tolerance; FLIP bounds in range.
 /// The error is one line naming the entry and field (or the line, for TOML errors).
 pub fn parse_manifest(text: &str) -> std::result::Result<Manifest, String> {
-    let m: Manifest = toml::from_str(text).map_err(|e| {
-        let msg = e.message().trim().replace('\n', " ");
-        match e.span() {
-            Some(span) => {
-                let line = text[..span.start].matches('\n').count() + 1;
-                format!("line {line}: {msg}")
-            }
-            None => msg,
-        }
-    })?;
+    let m: Manifest = toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))?;
     let mut seen = std::collections::HashSet::new();
     for (i, e) in m.entries.iter().enumerate() {
         let at = |field: &str| format!("entry[{i}] ('{}').{field}", e.name);

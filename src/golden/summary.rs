@@ -36,11 +36,7 @@ pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
         MaterialSpec::ShFile { path, .. } => format!("sh-file {}{representation}", file_name(path)),
         MaterialSpec::DbrdfFile { path } => format!("dbrdf-file {}", file_name(path)),
     });
-    let specs = match (&file.lights, &file.env) {
-        (Some(l), _) => l.clone(),
-        (None, Some(_)) => Vec::new(),
-        (None, None) => crate::scene::default_lights(),
-    };
+    let specs = file.light_specs();
     let count = |point: bool| {
         specs
             .iter()

@@ -178,15 +178,16 @@ impl SceneFile {
 
     /// Parses scene TOML text; the error is one line.
     pub fn parse(text: &str) -> std::result::Result<SceneFile, String> {
-        toml::from_str(text).map_err(|e| {
-            let msg = e.message().trim().replace('\n', " ");
-            match e.span() {
-                Some(span) => {
-                    let line = text[..span.start].matches('\n').count() + 1;
-                    format!("line {line}: {msg}")
-                }
-                None => msg,
-            }
-        })
+        toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))
+    }
+
+    /// The scene's light specifications: its `[[light]]` tables; none when it has only an
+    /// `[env]`; [`default_lights`] when it has neither.
+    pub fn light_specs(&self) -> Vec<LightSpec> {
+        match (&self.lights, &self.env) {
+            (Some(l), _) => l.clone(),
+            (None, Some(_)) => Vec::new(),
+            (None, None) => default_lights(),
+        }
     }
 }

@@ -8,7 +8,7 @@
 
 use super::camera::{self, Camera};
 use super::material::resolve_material;
-use super::{default_lights, LightSpec, OutputSpec, RenderSpec, SceneFile};
+use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
 use crate::env::prepare::{self, CacheDir};
 use crate::error::{Error, Result};
 use crate::kernel::lanes::KernelPath;
@@ -167,11 +167,7 @@ impl Scene {
 
         let material = resolve_material(&file.material, base)?;
 
-        let specs = match (&file.lights, &file.env) {
-            (Some(l), _) => l.clone(),
-            (None, Some(_)) => Vec::new(),
-            (None, None) => default_lights(),
-        };
+        let specs = file.light_specs();
         let mut lights = Vec::with_capacity(specs.len());
         for (i, l) in specs.iter().enumerate() {
             let f = |name: &str| format!("light[{i}].{name}");
