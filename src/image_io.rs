@@ -14,12 +14,14 @@
 
 mod atomic;
 pub mod exr_guard;
+pub mod interrupt;
 mod output_check;
 
 pub use atomic::replace_via_temp;
 pub use exr_guard::{
     check_exr_declared_size, exr_max_expansion, EXR_DECODE_SLACK, MAX_EXR_FILE_BYTES,
 };
+pub use interrupt::remove_temporary_files_on_signals;
 pub use output_check::check_output;
 
 use crate::error::{Error, FileError, Result};

@@ -2,6 +2,7 @@
 //! ([`replace_via_temp`]), used by every writer (images, data sets, light sets, CSV,
 //! manifests, caches), with one naming and one sync policy.
 
+use super::interrupt::{pause_for_tests, LiveTemp};
 use std::path::Path;
 
 /// Runs `write` on a new temporary file beside `path`, syncs it to disk and renames it to
@@ -15,6 +16,11 @@ use std::path::Path;
 /// threads or processes writing the same `path` never share a temporary file, and the
 /// last rename wins. Unix permissions are those of [`std::fs::File::create`] (0666 less
 /// the umask). `write` may reopen the path (`File::create` truncates the same file).
+///
+/// Interruption: the temporary file is registered while it exists
+/// ([`super::interrupt::LiveTemp`]), and the binary's SIGINT/SIGTERM handler
+/// ([`super::interrupt::remove_temporary_files_on_signals`]) deletes it before exiting, so
+/// a killed write leaves neither the temporary file nor a partial `path`.
 ///
 /// Sync policy (every writer): the file's data is synced (`fsync`) before the rename, so
 /// after a crash `path` holds the old or the new contents, never a part. The directory is
@@ -41,14 +47,15 @@ pub fn replace_via_temp<E>(
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     // Dropped (and so removed) on every early return below.
-    let tmp = builder.tempfile_in(dir).map_err(&io_err)?;
+    let tmp = LiveTemp::create(&builder, dir).map_err(&io_err)?;
     write(tmp.path())?;
+    pause_for_tests(tmp.path());
     std::fs::OpenOptions::new()
         .write(true)
         .open(tmp.path())
         .and_then(|f| f.sync_all())
         .map_err(&io_err)?;
-    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    tmp.persist(path).map_err(io_err)?;
     Ok(())
 }
 
