@@ -18,7 +18,7 @@ use std::path::Path;
 /// the umask). `write` may reopen the path (`File::create` truncates the same file).
 ///
 /// Interruption: the temporary file is registered while it exists
-/// ([`super::interrupt::LiveTemp`]), and the binary's SIGINT/SIGTERM handler
+/// (`interrupt::LiveTemp`), and the binary's SIGINT/SIGTERM handler
 /// ([`super::interrupt::remove_temporary_files_on_signals`]) deletes it before exiting, so
 /// a killed write leaves neither the temporary file nor a partial `path`.
 ///

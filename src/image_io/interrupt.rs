@@ -1,5 +1,5 @@
 //! Temporary files removed on SIGINT/SIGTERM: the registry of the live temporary files of
-//! [`super::replace_via_temp`] ([`LiveTemp`]) and the handler that deletes them before the
+//! [`super::replace_via_temp`] (`LiveTemp`) and the handler that deletes them before the
 //! process ends ([`remove_temporary_files_on_signals`]).
 //!
 //! Design rule: a temporary file is created *while the registry is locked* and registered
