@@ -91,6 +91,12 @@ impl Progress {
         }
     }
 
+    /// Runs `f` with the display cleared from the terminal, then redraws it: for printing
+    /// to stdout (a table row) while a display is on stderr, without tearing it.
+    pub fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        self.bar.suspend(f)
+    }
+
     /// Removes the display from the terminal (the work is done or abandoned).
     pub fn finish(&self) {
         self.bar.finish_and_clear();
