@@ -8,7 +8,8 @@
 //! marker file once the image is written to it, then waits before the rename. The test
 //! signals it in that window. The seeded fault is a signal that cannot be handled
 //! (SIGKILL, what an absent handler amounts to): the same check must then find the
-//! temporary file.
+//! temporary file, and the next write of that output must remove it (its name holds the
+//! dead process's id).
 
 use brdfkit::image_io::interrupt::PAUSE_ENV;
 use std::path::{Path, PathBuf};
@@ -27,6 +28,8 @@ struct Outcome {
     listing: Vec<String>,
     /// The output file's bytes afterwards.
     output: Vec<u8>,
+    /// The output directory (kept for a second write).
+    dir: tempfile::TempDir,
 }
 
 const PREVIOUS: &[u8] = b"the previous output, which an interrupted write must keep";
@@ -70,7 +73,7 @@ fn render_and_signal(signal: libc::c_int) -> Outcome {
     assert_eq!(tmp.parent(), Some(out_dir.path()), "beside the output");
     let name = tmp.file_name().unwrap().to_string_lossy().into_owned();
     assert!(
-        name.starts_with(".out.exr.") && name.ends_with(".tmp"),
+        name.starts_with(&format!(".out.exr.{}-", child.id())) && name.ends_with(".tmp"),
         "{name}"
     );
     // The image is in the temporary file, the rename not yet done.
@@ -91,6 +94,7 @@ fn render_and_signal(signal: libc::c_int) -> Outcome {
         tmp,
         listing: listing(out_dir.path()),
         output: std::fs::read(&output).unwrap_or_default(),
+        dir: out_dir,
     }
 }
 
@@ -153,4 +157,14 @@ fn seeded_fault_an_unhandled_kill_leaves_the_temporary_file_and_the_check_says_s
     let err = nothing_left(&o).expect_err("the check must see the leftover");
     let name = o.tmp.file_name().unwrap().to_string_lossy().into_owned();
     assert!(err.contains(&name), "{err}");
+
+    // The leftover names its dead process: the next write of out.exr removes it.
+    let out = Command::new(env!("CARGO_BIN_EXE_brdfkit"))
+        .args(["render", "--width", "64", "--height", "48", "-o", "out.exr"])
+        .current_dir(o.dir.path())
+        .env("BRDFKIT_CACHE_DIR", o.dir.path().join("cache"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(listing(o.dir.path()), ["out.exr"]);
 }

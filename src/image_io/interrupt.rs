@@ -9,7 +9,9 @@
 //! and the exit, and a render killed during its write leaves neither a `.NAME.*.tmp` nor a
 //! half-written `NAME` (the rename never happened; a finished rename leaves a whole file,
 //! and deleting the already-renamed temporary name then fails harmlessly). SIGKILL cannot
-//! be caught: a process killed that way still leaves its temporary file.
+//! be caught: a process killed that way leaves its temporary file, which the next write of
+//! the same output removes (its name holds the dead process's id; see
+//! [`super::replace_via_temp`]).
 //!
 //! The handler runs on its own thread ([`signal_hook::iterator::Signals`]), not in signal
 //! context, so it may lock, delete and print. Only the binary installs it (`main.rs`);
