@@ -177,8 +177,9 @@ pub fn median_cut(probe: &Probe, n: usize) -> MedianCut {
     median_cut_with_progress(probe, n, &Progress::hidden())
 }
 
-/// [`median_cut()`], counting on `progress` one step per level (`floor(log2 n)` of them)
-/// and one for the highest-energy splits and the lights. Counting does not change the
+/// [`median_cut()`], counting on `progress` one step per level (`floor(log2 n)` of them,
+/// more when some regions cannot be split) and one for the highest-energy splits and the
+/// lights. Counting does not change the
 /// result.
 pub fn median_cut_with_progress(probe: &Probe, n: usize, progress: &Progress) -> MedianCut {
     let levels = if n == 0 { 0 } else { n.ilog2() as u64 };
@@ -217,6 +218,9 @@ pub fn median_cut_with_progress(probe: &Probe, n: usize, progress: &Progress) ->
         }
         regions = next;
         levels_done += 1;
+        // More levels than floor(log2 n) when regions could not be split: the length
+        // grows, keeping one step for the end.
+        progress.set_length(levels.max(levels_done) + 1);
         progress.inc(1);
         if !any {
             break;
