@@ -15,6 +15,7 @@
 mod atomic;
 pub mod display;
 pub mod exr_guard;
+pub mod interrupt;
 mod output_check;
 
 pub use atomic::replace_via_temp;
@@ -22,6 +23,7 @@ pub use display::{display_u8, encode_u8, srgb_encode, to_u8, Tonemap};
 pub use exr_guard::{
     check_exr_declared_size, exr_max_expansion, EXR_DECODE_SLACK, MAX_EXR_FILE_BYTES,
 };
+pub use interrupt::remove_temporary_files_on_signals;
 pub use output_check::check_output;
 
 use crate::error::{Error, FileError, Result};

@@ -15,6 +15,10 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    // Ctrl-C or a kill during a write leaves no `.NAME.*.tmp` beside the output.
+    if let Err(e) = brdfkit::image_io::remove_temporary_files_on_signals() {
+        eprintln!("brdfkit: warning: no SIGINT/SIGTERM handler ({e}): an interrupted write may leave a temporary file");
+    }
     let cli = brdfkit::cli::parse::parse_args();
     match brdfkit::cli::run(cli) {
         Ok(true) => ExitCode::SUCCESS,

@@ -17,16 +17,26 @@ use std::time::Duration;
 #[derive(Clone, Debug)]
 pub struct Progress {
     bar: ProgressBar,
+    /// A terminal bar made with length 0: hidden until [`Progress::set_length`].
+    deferred: bool,
 }
 
 impl Progress {
     /// A bar over `len` steps of `unit` ("tiles", "rows", "view texels", ...), labelled
-    /// `what`, with elapsed time and ETA. Hidden when stderr is not a terminal.
+    /// `what`, with elapsed time and ETA. Hidden when stderr is not a terminal. With
+    /// `len == 0` (work whose size the library sets once it starts) nothing is drawn until
+    /// [`Progress::set_length`] gives a length: no empty bar, and none at all when the work
+    /// turns out to be skipped (a cache hit).
     pub fn bar(len: u64, what: &str, unit: &str) -> Progress {
         if !stderr_is_terminal() {
             return Progress::hidden();
         }
-        let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+        let target = if len == 0 {
+            ProgressDrawTarget::hidden()
+        } else {
+            ProgressDrawTarget::stderr()
+        };
+        let bar = ProgressBar::with_draw_target(Some(len), target);
         let template = format!(
             "{{msg}} [{{bar:30}}] {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta_precise}})"
         );
@@ -36,7 +46,10 @@ impl Progress {
                 .progress_chars("=> "),
         );
         bar.set_message(what.to_string());
-        Progress { bar }
+        Progress {
+            bar,
+            deferred: len == 0,
+        }
     }
 
     /// A spinner labelled `what` for work of unknown length. Hidden when stderr is not a
@@ -52,13 +65,17 @@ impl Progress {
         );
         bar.set_message(what.to_string());
         bar.enable_steady_tick(Duration::from_millis(120));
-        Progress { bar }
+        Progress {
+            bar,
+            deferred: false,
+        }
     }
 
     /// A display that draws nothing; counting on it costs an atomic add.
     pub fn hidden() -> Progress {
         Progress {
             bar: ProgressBar::hidden(),
+            deferred: false,
         }
     }
 
@@ -67,9 +84,13 @@ impl Progress {
         self.bar.is_hidden()
     }
 
-    /// Sets the total number of steps (for work whose size is known only once it starts).
+    /// Sets the total number of steps (for work whose size is known only once it starts);
+    /// a bar made with length 0 on a terminal starts drawing here.
     pub fn set_length(&self, len: u64) {
         self.bar.set_length(len);
+        if self.bar.is_hidden() && self.deferred {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
     }
 
     /// Replaces the label.
@@ -94,6 +115,12 @@ impl Progress {
         } else {
             self.bar.println(line.as_ref());
         }
+    }
+
+    /// Runs `f` with the display cleared from the terminal, then redraws it: for printing
+    /// to stdout (a table row) while a display is on stderr, without tearing it.
+    pub fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        self.bar.suspend(f)
     }
 
     /// Removes the display from the terminal (the work is done or abandoned).

@@ -25,6 +25,7 @@ use crate::brdf::{Brdf, DBrdf};
 use crate::conventions::{
     hemi_nearest_texel, hemi_texcoord, hemi_texel_angles_f64, local_angles, local_direction_f64,
 };
+use crate::progress::Progress;
 use glam::{DVec3, Vec3};
 
 /// What to fit.
@@ -182,6 +183,22 @@ fn fit_c_rs(d: &DBrdf, ss: &[Sample]) -> (f32, Vec3) {
 /// grid of `opts`. Fails on an empty or oversized grid, a source that is zero on its whole
 /// back-scatter slice, or a non-finite source value.
 pub fn fit_dbrdf(src: &dyn Brdf, opts: &FitOptions) -> Result<DbrdfFit, FitError> {
+    fit_dbrdf_with_progress(src, opts, &Progress::hidden())
+}
+
+/// The steps [`fit_dbrdf_with_progress`] counts: the back-scatter table (step 1), the
+/// light-view samples, the fit of `c` and `R_s` with its error report (step 2), the
+/// least-squares refinement of `p(h)` (step 3) and its error report.
+pub const FIT_STEPS: u64 = 5;
+
+/// [`fit_dbrdf`], counting [`FIT_STEPS`] steps on `progress` (it sets the length).
+/// Counting does not change the fit.
+pub fn fit_dbrdf_with_progress(
+    src: &dyn Brdf,
+    opts: &FitOptions,
+    progress: &Progress,
+) -> Result<DbrdfFit, FitError> {
+    progress.set_length(FIT_STEPS);
     for (a, b) in [(opts.nu, opts.nv), opts.view] {
         if a == 0 || b == 0 || a > 1024 || b > 1024 {
             return Err(FitError::Grid(a, b));
@@ -205,14 +222,17 @@ pub fn fit_dbrdf(src: &dyn Brdf, opts: &FitOptions) -> Result<DbrdfFit, FitError
     }
     let mut d = DBrdf::new(opts.nu, opts.nv, table, Vec3::ONE);
     d.normalize_projected();
+    progress.inc(1);
 
     // Step 2.
     let ss = samples(src, opts)?;
+    progress.inc(1);
     let (c, rs) = fit_c_rs(&d, &ss);
     d.c = c;
     d.rs = rs;
     let (vu, vv) = opts.view;
     let report = hemisphere_error(src, &d, vu, vv, opts.grid);
+    progress.inc(1);
 
     // Step 3: least squares per half-vector texel.
     let mut num = vec![0.0f64; opts.nu * opts.nv];
@@ -235,13 +255,20 @@ pub fn fit_dbrdf(src: &dyn Brdf, opts: &FitOptions) -> Result<DbrdfFit, FitError
             }
         })
         .collect();
-    if refined_table.iter().any(|v| *v > 0.0) {
+    progress.inc(1);
+    let any_refined = refined_table.iter().any(|v| *v > 0.0);
+    if !any_refined {
+        // No refined table to report on: the last step is not taken.
+        progress.set_length(FIT_STEPS - 1);
+    }
+    if any_refined {
         let mut d2 = DBrdf::new(opts.nu, opts.nv, refined_table, d.rs);
         d2.normalize_projected();
         let (c2, rs2) = fit_c_rs(&d2, &ss);
         d2.c = c2;
         d2.rs = rs2;
         let r2 = hemisphere_error(src, &d2, vu, vv, opts.grid);
+        progress.inc(1);
         if r2.rel_l2 < report.rel_l2 {
             return Ok(DbrdfFit {
                 brdf: d2,

@@ -87,6 +87,7 @@ pub use quadrature::*;
 
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::{hemi_texel_angles_f64, local_direction_f64};
+use crate::progress::Progress;
 use crate::sh::quadrature::gauss_legendre;
 use crate::sh::{eval_sh_f64, num_terms, ShDataError, ShDataset, MAX_BANDS};
 use glam::DVec3;
@@ -198,14 +199,15 @@ pub fn acquired_value(src: &dyn Brdf, wi: DVec3, wo: DVec3) -> DVec3 {
 /// Fails on bands outside 1..=[`MAX_BANDS`], an empty or oversized grid, a non-positive
 /// `lambda`, a singular least-squares system, or a non-finite source value.
 pub fn acquire(src: &dyn Brdf, opts: &AcquireOptions) -> Result<ShDataset, AcquireError> {
-    acquire_with_progress(src, opts, &|| {})
+    acquire_with_progress(src, opts, &Progress::hidden())
 }
 
-/// [`acquire`], calling `tick` once per finished view texel (for a progress bar).
+/// [`acquire`], counting one step on `progress` per finished view texel (`nu x nv` in
+/// all; the caller sets the length). Counting does not change the data set.
 pub fn acquire_with_progress(
     src: &dyn Brdf,
     opts: &AcquireOptions,
-    tick: &(dyn Fn() + Sync),
+    progress: &Progress,
 ) -> Result<ShDataset, AcquireError> {
     let AcquireOptions {
         bands,
@@ -261,7 +263,7 @@ pub fn acquire_with_progress(
                     out
                 }
             };
-            tick();
+            progress.inc(1);
             let mut block = vec![0.0f32; 3 * t];
             for ch in 0..3 {
                 for k in 0..t {

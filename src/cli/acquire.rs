@@ -2,7 +2,7 @@
 
 use super::source::parse_source;
 use super::{AcquireArgs, FitDbrdfArgs, MethodArg};
-use crate::acquire::fit::{fit_dbrdf, FitOptions};
+use crate::acquire::fit::{fit_dbrdf_with_progress, FitOptions};
 use crate::acquire::{
     acquire_with_progress, hemisphere_error, ringing_flagged, AcquireOptions, ErrorGrid,
     ErrorReport, Method, RINGING_THRESHOLD,
@@ -10,23 +10,8 @@ use crate::acquire::{
 use crate::brdf::dbrdf::file::write_dbrdf;
 use crate::error::{Error, Result};
 use crate::library::{Representation, LIBRARY};
+use crate::progress::Progress;
 use crate::sh::write_sh_dataset;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::IsTerminal;
-
-fn progress(len: u64, msg: &str) -> ProgressBar {
-    let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if !std::io::stderr().is_terminal() {
-        pb.set_draw_target(ProgressDrawTarget::hidden());
-    }
-    pb.set_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} view texels")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    pb.set_message(msg.to_string());
-    pb
-}
 
 fn row(bands: usize, method: &str, r: &ErrorReport) -> String {
     format!(
@@ -92,16 +77,16 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
         );
         println!("bands  method    rel L2 unweighted  min/peak     worst below zero");
     }
-    let pb = progress((a.bands * methods.len() * nu * nv) as u64, "acquire");
+    // Every acquisition counts its view texels: the table's (bands x methods) and the
+    // written data set's.
+    let acquisitions = a.bands * methods.len() + 1;
+    let pb = Progress::bar((acquisitions * nu * nv) as u64, "acquire", "view texels");
     let mut flagged = None;
     for bands in 1..=a.bands {
         for m in &methods {
-            let ds = acquire_with_progress(
-                src.as_ref(),
-                &AcquireOptions::new(bands, nu, nv, *m),
-                &|| pb.inc(1),
-            )
-            .map_err(|e| Error::field("acquire", e.to_string()))?;
+            let ds =
+                acquire_with_progress(src.as_ref(), &AcquireOptions::new(bands, nu, nv, *m), &pb)
+                    .map_err(|e| Error::field("acquire", e.to_string()))?;
             let r = hemisphere_error(src.as_ref(), &ds, nu, nv, grid);
             pb.suspend(|| println!("{}", row(bands, m.name(), &r)));
             if bands == a.bands && m.name() == method.name() && ringing_flagged(&r) {
@@ -109,13 +94,13 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
             }
         }
     }
-    pb.finish_and_clear();
-    let mut ds = acquire_with_progress(
+    let ds = acquire_with_progress(
         src.as_ref(),
         &AcquireOptions::new(a.bands, nu, nv, method),
-        &|| {},
-    )
-    .map_err(|e| Error::field("acquire", e.to_string()))?;
+        &pb,
+    );
+    pb.finish();
+    let mut ds = ds.map_err(|e| Error::field("acquire", e.to_string()))?;
     if a.no_table {
         let r = hemisphere_error(src.as_ref(), &ds, nu, nv, grid);
         println!("{}", row(a.bands, method.name(), &r));
@@ -171,11 +156,10 @@ pub fn run_fit(a: FitDbrdfArgs) -> Result<()> {
         nv,
         ..FitOptions::default()
     };
-    let pb = progress(1, "fit-dbrdf");
-    pb.tick();
-    let fit = fit_dbrdf(src.as_ref(), &opts)
-        .map_err(|e| Error::field("fit-dbrdf", format!("{}: {e}", a.source)))?;
-    pb.finish_and_clear();
+    let pb = Progress::bar(0, "fit-dbrdf", "steps");
+    let fit = fit_dbrdf_with_progress(src.as_ref(), &opts, &pb);
+    pb.finish();
+    let fit = fit.map_err(|e| Error::field("fit-dbrdf", format!("{}: {e}", a.source)))?;
     let d = &fit.brdf;
     println!(
         "source {} ({}): D-BRDF p(h) {nu}x{nv}, c = {:.4}, R_s = ({:.3}, {:.3}, {:.3}), p(h) refined by least squares: {}",

@@ -4,10 +4,10 @@ use super::LightsArgs;
 use crate::env::lightset_io::{write_csv, write_json, LightSetHeader};
 use crate::env::overlay::{write_overlay_png, OverlayOptions};
 use crate::env::prepare::{load_probe, SamplerKind};
-use crate::env::{
-    fibonacci_sphere, irradiance_error, reference_irradiance_many, sampling, LoadOptions,
-};
+use crate::env::samplers::median_cut_with_progress;
+use crate::env::{fibonacci_sphere, irradiance_error, reference_irradiance_many, LoadOptions};
 use crate::error::{Error, Result};
+use crate::progress::Progress;
 
 /// Normals the `--report` error is measured over.
 pub const REPORT_NORMALS: usize = 256;
@@ -50,14 +50,18 @@ pub fn run(a: LightsArgs) -> Result<()> {
         );
     }
     let config = a.sampler.config(a.count, a.seed);
-    let spinner = super::spinner(&format!("{} lights by {}", a.count, config.name()));
+    let pb = Progress::bar(
+        0,
+        &format!("{} lights by {}", a.count, config.name()),
+        config.progress_unit(),
+    );
     let (lights, regions) = if a.sampler == SamplerKind::MedianCut {
-        let mc = sampling::median_cut(&probe, a.count);
+        let mc = median_cut_with_progress(&probe, a.count, &pb);
         (mc.lights, Some(mc.regions))
     } else {
-        (config.run(&probe), None)
+        (config.run_with_progress(&probe, &pb), None)
     };
-    spinner.finish_and_clear();
+    pb.finish();
     let total = lights.total_irradiance();
     println!(
         "{} lights by {} from {} ({}x{}), summed light irradiance RGB [{:.6e}, {:.6e}, {:.6e}]",

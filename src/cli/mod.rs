@@ -91,7 +91,7 @@ The reference is rendered once (minutes for the default scene) and cached as EXR
 by a hash of the scene, its input files, the brdfkit version and the reference algorithm version, \
 and checked on read (size, finite pixels, a checksum file beside it); --no-cache \
 renders it without the cache. The sweep reads no other cache (light sets are computed).",
-        after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (880 rows)\n  brdfkit sweep --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
+        after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (880 rows)\n  brdfkit sweep --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\n\nChecking a stored CSV against this build (deterministic columns, exactly; CI does this for the README's):\n  brdfkit sweep --check assets/readme/sweep.csv --shard 11/41   # 22 of its 880 rows\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
     )]
     Sweep(SweepArgs),
 }
@@ -146,6 +146,9 @@ pub struct SweepArgs {
     /// Merge these shard CSVs into -o (and --plot) instead of rendering.
     #[arg(long, num_args = 1.., value_name = "CSV")]
     pub merge: Vec<PathBuf>,
+    /// Check a stored CSV instead of writing one: re-render its rows (the grid and options given, one frame each; --shard for a subset) and compare the deterministic columns (index .. default) exactly. Exit 1 naming each differing row, 0 when all match.
+    #[arg(long, value_name = "CSV", conflicts_with_all = ["merge", "output", "plot"])]
+    pub check: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -239,7 +242,7 @@ pub struct RenderArgs {
     pub material: Option<String>,
     /// Coefficient lookup of an SH material (library or file): nearest (GL_NEAREST) or bilinear (GL_LINEAR). Overrides the scene's `material.lookup` and the lookup the file records (acquired files record bilinear; files without one use nearest). An error for a material that is not an SH data set.
     #[arg(long, value_enum)]
-    pub lookup: Option<render::LookupArg>,
+    pub lookup: Option<crate::sh::Lookup>,
     /// Drop the weakest directional lights while their summed irradiance stays at most this fraction of the total (0 <= F < 1; 0: off). Each pixel changes by at most the dropped irradiance times the material's largest f*cos. Default 0.001.
     #[arg(long, value_name = "F", allow_hyphen_values = true)]
     pub drop_lights: Option<f32>,
@@ -335,18 +338,6 @@ pub struct CompareArgs {
     pub histogram: bool,
 }
 
-/// A spinner on stderr for long work; hidden when stderr is not a terminal.
-pub(crate) fn spinner(message: &str) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    if !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let pb = indicatif::ProgressBar::new_spinner();
-    pb.set_message(message.to_string());
-    pb.enable_steady_tick(std::time::Duration::from_millis(120));
-    pb
-}
-
 /// `acquire --method`: how the hemisphere data is extended to the sphere
 /// ([`crate::acquire::Method`]; `lsq` takes its weight from `--lambda`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -421,6 +412,6 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::FitDbrdf(args) => acquire::run_fit(args).map(|_| true),
         Command::Materials => acquire::run_materials().map(|_| true),
         Command::Cache(args) => cache::run(args).map(|_| true),
-        Command::Sweep(args) => sweep::run(args).map(|_| true),
+        Command::Sweep(args) => sweep::run(args),
     }
 }

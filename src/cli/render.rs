@@ -182,12 +182,26 @@ pub fn run(a: RenderArgs) -> Result<()> {
         CacheDir::user()
     };
     let resolve_base = base.as_path();
+    // Counts the light set's preparation when it is computed (nothing on a cache hit).
+    let light_set = match &file.env {
+        Some(env) => {
+            let config = env.sampler_config();
+            let what = match config.n() {
+                Some(n) => format!("light set: {n} lights by {}", config.name()),
+                None => "light set: the full probe".to_string(),
+            };
+            Progress::bar(0, &what, config.progress_unit())
+        }
+        None => Progress::hidden(),
+    };
+    let scene = Scene::resolve_with_progress(&file, resolve_base, &cache, &light_set);
+    light_set.finish();
     let scene = match &a.scene {
-        Some(p) => Scene::resolve_with_cache(&file, resolve_base, &cache).map_err(|e| match e {
+        Some(p) => scene.map_err(|e| match e {
             Error::Field { .. } => Error::format(p, e.to_string()),
             other => other,
         })?,
-        None => Scene::resolve_with_cache(&file, resolve_base, &cache)?,
+        None => scene?,
     };
     if let Some(e) = &scene.env {
         if e.negative_texels > 0 {
@@ -280,23 +294,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// `--lookup`: the coefficient-table filter of an SH material (thesis 3.1.4).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LookupArg {
-    /// `GL_NEAREST`: the view texel containing the direction.
-    Nearest,
-    /// `GL_LINEAR`: bilinear blend of the four nearest view texels.
-    Bilinear,
-}
-
 /// Sets `--lookup` on an SH material (library SH material or SH file), overriding the scene's
 /// `material.lookup` and the file's recorded lookup; a field error naming `--lookup` for any
 /// other material.
-fn set_lookup(material: &mut MaterialSpec, l: LookupArg) -> Result<()> {
-    let mode = match l {
-        LookupArg::Nearest => Lookup::Nearest,
-        LookupArg::Bilinear => Lookup::Bilinear,
-    };
+fn set_lookup(material: &mut MaterialSpec, mode: Lookup) -> Result<()> {
     let not_sh = |what: &str| {
         Error::field(
             "--lookup",
@@ -374,10 +375,9 @@ fn run_turntable(a: &RenderArgs, scene: &Scene, n: usize, out: Option<PathBuf>) 
         }
     };
     let frames: Vec<usize> = (0..n).filter(|&k| shard.contains(k)).collect();
-    let pb = super::spinner("turntable");
+    let pb = Progress::bar(frames.len() as u64, "turntable", "frames");
     let start = std::time::Instant::now();
-    for (done, &k) in frames.iter().enumerate() {
-        pb.set_message(format!("turntable frame {} of {} ({done} done)", k, n));
+    for &k in &frames {
         let s = turntable::frame_scene(scene, env_lights, motion, k, n);
         let img = pool.install(|| render::render(&s, &opts)).image;
         let path = turntable::frame_path(&out, k, n);
@@ -387,8 +387,9 @@ fn run_turntable(a: &RenderArgs, scene: &Scene, n: usize, out: Option<PathBuf>) 
                 image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(&img, aov))?
             }
         }
+        pb.inc(1);
     }
-    pb.finish_and_clear();
+    pb.finish();
     eprintln!(
         "wrote {} frames ({} ... ) in {:.1} s",
         frames.len(),

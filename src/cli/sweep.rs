@@ -2,6 +2,7 @@
 
 use super::SweepArgs;
 use crate::error::{Error, Result};
+use crate::progress::Progress;
 use crate::scene::{Precision, SceneFile};
 use crate::sh::dataset::Lookup;
 use crate::shard::Shard;
@@ -33,22 +34,6 @@ fn parse_precisions(v: &[String]) -> Result<Vec<Precision>> {
         .collect()
 }
 
-/// A progress bar over `n` rows on stderr; hidden when stderr is not a terminal.
-fn progress_bar(n: u64) -> indicatif::ProgressBar {
-    use std::io::IsTerminal;
-    if !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let pb = indicatif::ProgressBar::new(n);
-    pb.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} rows  {elapsed_precise} (eta {eta})  {msg}",
-        )
-        .expect("valid template"),
-    );
-    pb
-}
-
 fn plot_title(rows: &[sweep::Row]) -> String {
     format!(
         "brdfkit sweep: frame time against error ({} configurations)",
@@ -56,12 +41,20 @@ fn plot_title(rows: &[sweep::Row]) -> String {
     )
 }
 
-pub fn run(a: SweepArgs) -> Result<()> {
+/// `brdfkit sweep`; `Ok(false)` when `--check` finds rows that differ (exit 1).
+pub fn run(a: SweepArgs) -> Result<bool> {
     let output = a
         .output
         .clone()
         .unwrap_or_else(|| PathBuf::from("sweep.csv"));
-    crate::image_io::check_output(&output, &["csv"], "--output")?;
+    // Read first: a bad --check file fails before the reference is rendered.
+    let stored = match &a.check {
+        Some(p) => Some(sweep::read_csv(p)?),
+        None => {
+            crate::image_io::check_output(&output, &["csv"], "--output")?;
+            None
+        }
+    };
     if let Some(p) = &a.plot {
         crate::image_io::check_output(p, &["png"], "--plot")?;
     }
@@ -78,7 +71,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
             sweep::plot::write_plot(p, &rows, &plot_title(&rows))?;
             eprintln!("wrote {}", p.display());
         }
-        return Ok(());
+        return Ok(true);
     }
     let shard = match &a.shard {
         Some(s) => Shard::parse(s)?,
@@ -133,17 +126,20 @@ pub fn run(a: SweepArgs) -> Result<()> {
     };
     let start = std::time::Instant::now();
     let spin = std::cell::RefCell::new(None);
-    let sw = sweep::Sweep::prepare(file, &base, grid, cache.as_deref(), a.frames, |f| {
+    // A check compares no times: one frame per row.
+    let frames = if stored.is_some() { 1 } else { a.frames };
+    let sw = sweep::Sweep::prepare(file, &base, grid, cache.as_deref(), frames, |f| {
         eprintln!(
             "rendering the reference (full probe, f64; minutes for large probes){}",
             f.map(|f| format!(" into {}", f.display()))
                 .unwrap_or_else(|| " (--no-cache: not stored)".into())
         );
-        *spin.borrow_mut() = Some(super::spinner("reference"));
-    })?;
+        *spin.borrow_mut() = Some(Progress::spinner("reference"));
+    });
     if let Some(s) = spin.borrow_mut().take() {
-        s.finish_and_clear();
+        s.finish();
     }
+    let sw = sw?;
     if let Some(why) = &sw.reference_rejected {
         eprintln!("warning: cached reference ignored and rewritten: {why}");
     }
@@ -156,17 +152,37 @@ pub fn run(a: SweepArgs) -> Result<()> {
         configs.len(),
         sw.grid.len()
     );
-    let pb = progress_bar(configs.len() as u64);
-    let mut rows = sw.run(&configs, |r| {
+    let pb = Progress::bar(configs.len() as u64, "sweep", "rows");
+    let rows = sw.run(&configs, |r| {
         pb.set_message(format!(
-            "{} {} o{}",
+            "sweep {} {} o{}",
             sweep::sampler_name(r.config.sampler),
             r.config.lights,
             r.config.order
         ));
         pb.inc(1);
-    })?;
-    pb.finish_and_clear();
+    });
+    pb.finish();
+    let mut rows = rows?;
+    if let (Some(stored), Some(path)) = (&stored, &a.check) {
+        let mismatches = sweep::deterministic_mismatches(stored, &rows);
+        for line in &mismatches {
+            println!("{line}");
+        }
+        let differing = mismatches.len();
+        eprintln!(
+            "check {}: {} of {} rows (shard {shard}) {}",
+            path.display(),
+            rows.len() - differing,
+            rows.len(),
+            if differing == 0 {
+                "match this build in the deterministic columns".to_string()
+            } else {
+                format!("match; {differing} differ (regenerate it: see `brdfkit sweep --help`)")
+            }
+        );
+        return Ok(differing == 0);
+    }
     sweep::finish_rows(&mut rows);
     sweep::write_csv(&output, &rows)?;
     eprintln!(
@@ -194,5 +210,5 @@ pub fn run(a: SweepArgs) -> Result<()> {
             eprintln!("--plot: skipped for a shard (plot the merged CSV: --merge ... --plot)");
         }
     }
-    Ok(())
+    Ok(true)
 }

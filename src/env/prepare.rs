@@ -17,6 +17,7 @@ pub use cache::{
 use super::lightset_io::{write_atomic, LightSetHeader};
 use super::{LightSet, LoadOptions, LoadReport, Probe, SamplerConfig};
 use crate::error::{Error, Result};
+use crate::progress::Progress;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -192,6 +193,18 @@ pub struct Prepared {
 /// The light irradiances are scaled by `spec.intensity` ([`EnvSpec::scale_intensity`],
 /// after the cache: entries hold the unscaled set).
 pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<Prepared> {
+    prepare_with_progress(spec, base, cache_dir, &Progress::hidden())
+}
+
+/// [`prepare`], counting on `progress` what the sampler iterates when the light set is
+/// computed ([`SamplerConfig::run_with_progress`]; nothing on a cache hit). Counting does
+/// not change the light set.
+pub fn prepare_with_progress(
+    spec: &EnvSpec,
+    base: &Path,
+    cache_dir: Option<&Path>,
+    progress: &Progress,
+) -> Result<Prepared> {
     spec.check()?;
     let path = base.join(&spec.file);
     // Not a regular file (a device such as /dev/zero, a FIFO) or over the limit: refused
@@ -218,7 +231,7 @@ pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<
             let (probe, rep) =
                 Probe::load(&path, &opts).map_err(|e| Error::Message(e.to_string()))?;
             report = Some(rep);
-            let ls = config.run(&probe);
+            let ls = config.run_with_progress(&probe, progress);
             if let Some(cf) = &cache_file {
                 // A cache that cannot be written only costs time: ignore the error.
                 if std::fs::create_dir_all(cf.parent().unwrap_or(Path::new("."))).is_ok() {

@@ -2,6 +2,7 @@
 //! ([`replace_via_temp`]), used by every writer (images, data sets, light sets, CSV,
 //! manifests, caches), with one naming and one sync policy.
 
+use super::interrupt::{pause_for_tests, LiveTemp};
 use std::path::Path;
 
 /// Runs `write` on a new temporary file beside `path`, syncs it to disk and renames it to
@@ -15,6 +16,16 @@ use std::path::Path;
 /// threads or processes writing the same `path` never share a temporary file, and the
 /// last rename wins. Unix permissions are those of [`std::fs::File::create`] (0666 less
 /// the umask). `write` may reopen the path (`File::create` truncates the same file).
+///
+/// Interruption: the temporary file is registered while it exists
+/// (`interrupt::LiveTemp`), and the binary's SIGINT/SIGTERM handler
+/// ([`super::interrupt::remove_temporary_files_on_signals`]) deletes it before exiting, so
+/// a killed write leaves neither the temporary file nor a partial `path`.
+///
+/// A process killed where no handler runs (SIGKILL, a crash) leaves its temporary file;
+/// the next write of the same `path` removes every `.<name>.<pid>-*.tmp` whose process no
+/// longer exists on this machine (`kill(pid, 0)` fails with `ESRCH`), so such leftovers
+/// do not pile up. Files of live processes, and of this one, are kept.
 ///
 /// Sync policy (every writer): the file's data is synced (`fsync`) before the rename, so
 /// after a crash `path` holds the old or the new contents, never a part. The directory is
@@ -32,7 +43,8 @@ pub fn replace_via_temp<E>(
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let prefix = format!(".{name}.");
+    remove_stale_temporaries(dir, &name);
+    let prefix = format!(".{name}.{}-", std::process::id());
     let mut builder = tempfile::Builder::new();
     builder.prefix(&prefix).suffix(".tmp");
     #[cfg(unix)]
@@ -41,15 +53,61 @@ pub fn replace_via_temp<E>(
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     // Dropped (and so removed) on every early return below.
-    let tmp = builder.tempfile_in(dir).map_err(&io_err)?;
+    let tmp = LiveTemp::create(&builder, dir).map_err(&io_err)?;
     write(tmp.path())?;
+    pause_for_tests(tmp.path());
     std::fs::OpenOptions::new()
         .write(true)
         .open(tmp.path())
         .and_then(|f| f.sync_all())
         .map_err(&io_err)?;
-    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    tmp.persist(path).map_err(io_err)?;
     Ok(())
+}
+
+/// Removes `.<name>.<pid>-*.tmp` files in `dir` left by processes that no longer exist
+/// (see [`replace_via_temp`]). Errors are ignored: a leftover only costs space.
+fn remove_stale_temporaries(dir: &Path, name: &str) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let prefix = format!(".{name}.");
+    let own = std::process::id();
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(rest) = file_name
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|f| f.strip_suffix(".tmp"))
+        else {
+            continue;
+        };
+        let Some(pid) = rest
+            .split_once('-')
+            .and_then(|(p, _)| p.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != own && !process_exists(pid) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Whether a process `pid` exists on this machine (`kill(pid, 0)`: only `ESRCH` means no).
+#[cfg(unix)]
+fn process_exists(pid: u32) -> bool {
+    let Ok(pid) = libc::pid_t::try_from(pid) else {
+        return true;
+    };
+    // SAFETY: signal 0 performs only the existence and permission checks.
+    let r = unsafe { libc::kill(pid, 0) };
+    r == 0 || std::io::Error::last_os_error().raw_os_error() != Some(libc::ESRCH)
+}
+
+#[cfg(not(unix))]
+fn process_exists(_pid: u32) -> bool {
+    true
 }
 
 #[cfg(test)]
@@ -118,6 +176,32 @@ mod tests {
             got.len()
         );
         assert_eq!(listing(dir.path()), ["t.bin"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn leftovers_of_dead_processes_are_removed_by_the_next_write_and_no_others() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let own = std::process::id();
+        let names = [
+            format!(".x.exr.{dead}-AbC123.tmp"), // dead: removed
+            format!(".x.exr.{own}-AbC123.tmp"),  // this process: kept
+            ".x.exr.1-AbC123.tmp".to_string(),   // init, alive: kept
+            ".x.exr.AbC123.tmp".to_string(),     // no process id: kept
+            format!(".y.exr.{dead}-AbC123.tmp"), // another target: kept
+        ];
+        for n in &names {
+            std::fs::write(dir.path().join(n), "left").unwrap();
+        }
+        let target = dir.path().join("x.exr");
+        replace_via_temp(&target, |tmp| std::fs::write(tmp, "new"), |e| e).unwrap();
+        let mut expected: Vec<String> = names[1..].to_vec();
+        expected.push("x.exr".into());
+        expected.sort();
+        assert_eq!(listing(dir.path()), expected);
     }
 
     #[test]

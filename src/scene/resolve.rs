@@ -15,6 +15,7 @@ use crate::kernel::lanes::KernelPath;
 use crate::light::Light;
 use crate::material::Material;
 use crate::mesh::{self, Mesh};
+use crate::progress::Progress;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -110,6 +111,18 @@ impl Scene {
     /// [`Scene::resolve`] with the light-set cache `cache` ([`prepare::prepare`]): the
     /// command line passes the user's ([`CacheDir::user`]), everything else none.
     pub fn resolve_with_cache(file: &SceneFile, base: &Path, cache: &CacheDir) -> Result<Scene> {
+        Scene::resolve_with_progress(file, base, cache, &Progress::hidden())
+    }
+
+    /// [`Scene::resolve_with_cache`], counting the environment's light-set preparation on
+    /// `progress` ([`prepare::prepare_with_progress`]: nothing on a cache hit). Counting
+    /// does not change the scene.
+    pub fn resolve_with_progress(
+        file: &SceneFile,
+        base: &Path,
+        cache: &CacheDir,
+        progress: &Progress,
+    ) -> Result<Scene> {
         let r = &file.render;
         for (name, v) in [("render.width", r.width), ("render.height", r.height)] {
             if v == 0 || v > MAX_SIDE {
@@ -200,7 +213,7 @@ impl Scene {
 
         let mut env = None;
         if let Some(spec) = &file.env {
-            let prepared = prepare::prepare(spec, base, cache.path())?;
+            let prepared = prepare::prepare_with_progress(spec, base, cache.path(), progress)?;
             lights.extend(prepare::to_scene_lights(&prepared.lights));
             env = Some(EnvSummary {
                 file: base.join(&spec.file),

@@ -65,9 +65,12 @@
 //! - [`pareto`]: the Pareto front ([`pareto_front`], [`finish_rows`]);
 //! - [`csv`]: the row ([`Row`]) and its CSV, header-keyed on read ([`read_csv`],
 //!   [`write_csv`], [`merge`]);
-//! - [`plot`]: the frame-time-against-error plot of a CSV.
+//! - [`plot`]: the frame-time-against-error plot of a CSV;
+//! - [`check`]: a stored CSV's deterministic columns against this build's
+//!   ([`deterministic_mismatches`], `brdfkit sweep --check`).
 
 pub mod cache;
+pub mod check;
 pub mod csv;
 pub mod default_scene;
 pub mod grid;
@@ -80,6 +83,7 @@ pub use self::csv::{csv_text, merge, read_csv, write_csv, Row, CSV_HEADER, DETER
 pub use cache::{
     image_checksum, read_cached_reference, reference_key, REFERENCE_ALGORITHM_VERSION,
 };
+pub use check::{deterministic_mismatches, Mismatch};
 pub use default_scene::default_scene_file;
 pub use grid::{
     default_counts, default_samplers, lookup_name, parse_lookup, parse_sampler, precision_name,

@@ -7,9 +7,11 @@
 //! computed: when a sampler's output changes for the same configuration, bump
 //! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`] instead.
 
-use super::{full_probe, importance, importance_stratified, lloyd, median_cut, uniform};
+use super::{full_probe, importance, importance_stratified, uniform};
+use super::{lloyd_with_progress, median_cut_with_progress};
 use crate::env::{LightSet, Probe};
 use crate::hash::StableHasher;
+use crate::progress::Progress;
 use serde::{Deserialize, Serialize};
 
 /// Which sampler and its parameters: the unit of caching ([`crate::env::prepare::file_cache_key`]) and
@@ -23,9 +25,9 @@ pub enum SamplerConfig {
     Importance { n: usize, seed: u64 },
     /// [`importance_stratified`]: Algorithm 1 fed stratified numbers.
     Stratified { n: usize, seed: u64 },
-    /// [`median_cut()`]: thesis Algorithm 2 / Debevec 2005.
+    /// [`median_cut()`](super::median_cut): thesis Algorithm 2 / Debevec 2005.
     MedianCut { n: usize },
-    /// [`lloyd()`]: median cut relaxed by weighted spherical k-means.
+    /// [`lloyd()`](super::lloyd): median cut relaxed by weighted spherical k-means.
     Lloyd { n: usize, iterations: usize },
     /// [`full_probe`]: every texel a light (the converged reference).
     Full,
@@ -68,13 +70,40 @@ impl SamplerConfig {
 
     /// Runs the sampler on a probe.
     pub fn run(&self, probe: &Probe) -> LightSet {
+        self.run_with_progress(probe, &Progress::hidden())
+    }
+
+    /// [`SamplerConfig::run`], counting on `progress` what the sampler iterates (Lloyd
+    /// rounds, median-cut levels; one step for the single-pass samplers), in the unit
+    /// [`SamplerConfig::progress_unit`] names. Counting does not change the light set.
+    pub fn run_with_progress(&self, probe: &Probe, progress: &Progress) -> LightSet {
+        let single_pass = |f: &dyn Fn() -> LightSet| {
+            progress.set_length(1);
+            let ls = f();
+            progress.inc(1);
+            ls
+        };
         match *self {
-            SamplerConfig::Uniform { n, seed } => uniform(probe, n, seed),
-            SamplerConfig::Importance { n, seed } => importance(probe, n, seed),
-            SamplerConfig::Stratified { n, seed } => importance_stratified(probe, n, seed),
-            SamplerConfig::MedianCut { n } => median_cut(probe, n).lights,
-            SamplerConfig::Lloyd { n, iterations } => lloyd(probe, n, iterations),
-            SamplerConfig::Full => full_probe(probe),
+            SamplerConfig::Uniform { n, seed } => single_pass(&|| uniform(probe, n, seed)),
+            SamplerConfig::Importance { n, seed } => single_pass(&|| importance(probe, n, seed)),
+            SamplerConfig::Stratified { n, seed } => {
+                single_pass(&|| importance_stratified(probe, n, seed))
+            }
+            SamplerConfig::MedianCut { n } => median_cut_with_progress(probe, n, progress).lights,
+            SamplerConfig::Lloyd { n, iterations } => {
+                lloyd_with_progress(probe, n, iterations, progress)
+            }
+            SamplerConfig::Full => single_pass(&|| full_probe(probe)),
+        }
+    }
+
+    /// What [`SamplerConfig::run_with_progress`] counts: `iterations` (Lloyd: the
+    /// median-cut seed, then each relaxation round), `levels` (median cut), `passes`.
+    pub fn progress_unit(&self) -> &'static str {
+        match self {
+            SamplerConfig::Lloyd { .. } => "iterations",
+            SamplerConfig::MedianCut { .. } => "levels",
+            _ => "passes",
         }
     }
 

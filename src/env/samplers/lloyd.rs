@@ -8,6 +8,7 @@
 use super::voronoi::lights_from_cells;
 use super::{median_cut, nearest_light_cells, ProbeTables};
 use crate::env::{LightSet, Probe};
+use crate::progress::Progress;
 use glam::DVec3;
 
 /// Lloyd relaxation on the sphere: weighted spherical k-means of the texel directions
@@ -23,16 +24,31 @@ use glam::DVec3;
 /// axis-aligned boxes only balance energy and leave long, thin cells. Cost:
 /// O(iterations x texels x n) (brute-force nearest light).
 pub fn lloyd(probe: &Probe, n: usize, iterations: usize) -> LightSet {
+    lloyd_with_progress(probe, n, iterations, &Progress::hidden())
+}
+
+/// [`lloyd()`], counting on `progress` one step for the median-cut seed and its first
+/// assignment, then one per relaxation round; on convergence before `iterations` rounds
+/// the length is cut to the steps done. Counting does not change the light set.
+pub fn lloyd_with_progress(
+    probe: &Probe,
+    n: usize,
+    iterations: usize,
+    progress: &Progress,
+) -> LightSet {
+    progress.set_length(iterations as u64 + 1);
     let t = ProbeTables::new(probe);
     let seed = median_cut(probe, n);
     if seed.lights.is_empty() {
+        progress.inc(iterations as u64 + 1);
         return LightSet::default();
     }
     let mut dirs: Vec<DVec3> = (0..seed.lights.len())
         .map(|i| seed.lights.direction(i))
         .collect();
     let mut cells = nearest_light_cells(&t, &dirs);
-    for _ in 0..iterations {
+    progress.inc(1);
+    for round in 0..iterations {
         let mut acc = vec![DVec3::ZERO; dirs.len()];
         for (i, &c) in cells.iter().enumerate() {
             if c != u32::MAX {
@@ -47,7 +63,9 @@ pub fn lloyd(probe: &Probe, n: usize, iterations: usize) -> LightSet {
         let next = nearest_light_cells(&t, &dirs);
         let changed = next != cells;
         cells = next;
+        progress.inc(1);
         if !changed {
+            progress.set_length(round as u64 + 2);
             break;
         }
     }

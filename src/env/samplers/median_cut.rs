@@ -10,6 +10,7 @@
 use super::summed_area::SummedAreaTable;
 use super::ProbeTables;
 use crate::env::{LightSet, Probe};
+use crate::progress::Progress;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -173,6 +174,16 @@ fn split(
 /// vanishes, e.g. a uniform region spanning the whole sphere), carrying the region's
 /// summed RGB power (f64), so the total is exact.
 pub fn median_cut(probe: &Probe, n: usize) -> MedianCut {
+    median_cut_with_progress(probe, n, &Progress::hidden())
+}
+
+/// [`median_cut()`], counting on `progress` one step per level (`floor(log2 n)` of them,
+/// more when some regions cannot be split) and one for the highest-energy splits and the
+/// lights. Counting does not change the
+/// result.
+pub fn median_cut_with_progress(probe: &Probe, n: usize, progress: &Progress) -> MedianCut {
+    let levels = if n == 0 { 0 } else { n.ilog2() as u64 };
+    progress.set_length(levels + 1);
     let t = ProbeTables::new(probe);
     let mut out = MedianCut {
         lights: LightSet::default(),
@@ -183,11 +194,13 @@ pub fn median_cut(probe: &Probe, n: usize) -> MedianCut {
         rotation: probe.rotation(),
     };
     if n == 0 || t.total_weight <= 0.0 {
+        progress.inc(levels + 1);
         return out;
     }
     let sat = SummedAreaTable::new(&t.weight, t.width, t.height);
     let mut regions = vec![region(&sat, 0, t.height, 0, t.width)];
     let mut cuts = Vec::new();
+    let mut levels_done = 0;
     // Level by level.
     while regions.len() * 2 <= n {
         let mut next = Vec::with_capacity(regions.len() * 2);
@@ -204,6 +217,11 @@ pub fn median_cut(probe: &Probe, n: usize) -> MedianCut {
             }
         }
         regions = next;
+        levels_done += 1;
+        // More levels than floor(log2 n) when regions could not be split: the length
+        // grows, keeping one step for the end.
+        progress.set_length(levels.max(levels_done) + 1);
+        progress.inc(1);
         if !any {
             break;
         }
@@ -250,5 +268,8 @@ pub fn median_cut(probe: &Probe, n: usize) -> MedianCut {
     out.lights = lights;
     out.regions = regions;
     out.cuts = cuts;
+    // Without levels left to split (a probe with few texels), the length is the steps done.
+    progress.set_length(levels_done + 1);
+    progress.inc(1);
     out
 }

@@ -11,8 +11,11 @@ use super::ShDataset;
 use crate::conventions::{hemi_bilinear_texels, hemi_nearest_texel};
 use crate::sh::basis::num_terms;
 
-/// Texture filter used for a table lookup. In scene files: `"nearest"` or `"bilinear"`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+/// Texture filter used for a table lookup (thesis 3.1.4). In scene files and on the command
+/// line (`render --lookup`): `nearest` or `bilinear`.
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, serde::Serialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Lookup {
     /// `GL_NEAREST`: the texel containing `(s, t)`.
