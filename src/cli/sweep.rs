@@ -125,21 +125,16 @@ pub fn run(a: SweepArgs) -> Result<bool> {
         )
     };
     let start = std::time::Instant::now();
-    let spin = std::cell::RefCell::new(None);
     // A check compares no times: one frame per row.
     let frames = if stored.is_some() { 1 } else { a.frames };
-    let sw = sweep::Sweep::prepare(file, &base, grid, cache.as_deref(), frames, |f| {
+    let sw = sweep::Sweep::prepare(file, &base, grid, cache.as_deref(), frames, |f, tiles| {
         eprintln!(
             "rendering the reference (full probe, f64; minutes for large probes){}",
             f.map(|f| format!(" into {}", f.display()))
                 .unwrap_or_else(|| " (--no-cache: not stored)".into())
         );
-        *spin.borrow_mut() = Some(Progress::spinner("reference"));
-    });
-    if let Some(s) = spin.borrow_mut().take() {
-        s.finish();
-    }
-    let sw = sw?;
+        Progress::bar(tiles, "reference", "tiles")
+    })?;
     if let Some(why) = &sw.reference_rejected {
         eprintln!("warning: cached reference ignored and rewritten: {why}");
     }

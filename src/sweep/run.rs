@@ -15,6 +15,7 @@ use crate::env::{LightSet, Probe};
 use crate::error::{Error, Result};
 use crate::image_io::Image;
 use crate::light::Light;
+use crate::progress::Progress;
 use crate::scene::{Precision, Scene, SceneFile};
 use crate::sh::dataset::ShDataset;
 use crate::shard::Shard;
@@ -49,15 +50,16 @@ pub struct Sweep {
 impl Sweep {
     /// Loads the scene (`base`: directory its relative paths resolve against), fits the
     /// grid to its material, and loads the reference from `cache_dir` or renders and caches
-    /// it (`on_reference` is called with the cache file before a render starts; no cache
-    /// with `None`). The scene must have an `[env]`.
+    /// it (`on_reference` is called with the cache file, `None` without a cache, and the
+    /// reference scene's tile count before a render starts; the [`Progress`] it returns
+    /// counts the render's tiles). The scene must have an `[env]`.
     pub fn prepare(
         mut file: SceneFile,
         base: &Path,
         mut grid: Grid,
         cache_dir: Option<&Path>,
         frames: usize,
-        on_reference: impl FnOnce(Option<&Path>),
+        on_reference: impl FnOnce(Option<&Path>, u64) -> Progress,
     ) -> Result<Sweep> {
         let Some(env) = file.env.clone() else {
             return Err(Error::field(
@@ -110,11 +112,14 @@ impl Sweep {
         let (reference, rendered) = match cached {
             Some(img) => (img, false),
             None => {
-                on_reference(reference_file.as_deref());
+                let progress =
+                    on_reference(reference_file.as_deref(), crate::render::tile_count(&full));
                 let img = pool.install(|| {
-                    let opts = crate::render::RenderOptions::converged_reference();
+                    let mut opts = crate::render::RenderOptions::converged_reference();
+                    opts.shading.progress = progress.clone();
                     crate::render::render(&full, &opts).image
                 });
+                progress.finish();
                 if let Some(f) = &reference_file {
                     write_cached_reference(f, &img)?;
                 }
