@@ -7,10 +7,27 @@
 //! that builds before the XXH3 hash wrote), never a directory or any other
 //! file, so pointing `BRDFKIT_CACHE_DIR` at a directory that holds other things is safe.
 
-use super::{CacheAction, CacheArgs};
 use crate::env::prepare::CacheDir;
 use crate::error::{Error, Result};
+use clap::Subcommand;
 use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct CacheArgs {
+    #[command(subcommand)]
+    pub action: Option<CacheAction>,
+    /// The sweep's reference cache directory, if not the default target/brdfkit-cache.
+    #[arg(long, value_name = "DIR", global = true)]
+    pub sweep_cache: Option<PathBuf>,
+}
+
+#[derive(Subcommand, Debug, Clone, Copy)]
+pub enum CacheAction {
+    /// Directory, number of entries and size of each cache (the default).
+    Show,
+    /// Delete every cache entry (only files the caches wrote; nothing else).
+    Clean,
+}
 
 /// Whether `name` is a file one of the caches writes (see the module doc).
 pub fn is_cache_file(name: &str) -> bool {

@@ -1,9 +1,37 @@
 //! `brdfkit compare A B`: exit 0 on pass, 1 on fail, 2 on unusable input.
 
-use super::CompareArgs;
 use crate::compare::{self, Thresholds};
 use crate::error::Result;
 use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct CompareArgs {
+    /// The reference image (the oracle's render).
+    pub expected: PathBuf,
+    /// The image under test (e.g. a GPU build's render).
+    pub actual: PathBuf,
+    /// Golden manifest to take the FLIP thresholds from (with --entry).
+    #[arg(long, requires = "entry")]
+    pub manifest: Option<PathBuf>,
+    /// Manifest entry whose thresholds apply (its `flip`, else its tolerance's); flags below still override.
+    #[arg(long, requires = "manifest")]
+    pub entry: Option<String>,
+    /// Largest passing FLIP mean (default 0.01, or the entry's).
+    #[arg(long)]
+    pub max_flip_mean: Option<f32>,
+    /// Percentile for the second FLIP bound, in (0, 1) (default 0.99, or the entry's).
+    #[arg(long)]
+    pub percentile: Option<f32>,
+    /// Largest passing FLIP value at --percentile (default 0.1, or the entry's).
+    #[arg(long)]
+    pub max_flip_at_percentile: Option<f32>,
+    /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png).
+    #[arg(long)]
+    pub diff: Option<PathBuf>,
+    /// Print the error histogram even when the comparison passes.
+    #[arg(long)]
+    pub histogram: bool,
+}
 
 pub fn run(a: CompareArgs) -> Result<bool> {
     // Thresholds: the flags, else the manifest entry's (its `flip`, else its tolerance's),

@@ -1,6 +1,5 @@
 //! `brdfkit lights`: collapse a light probe into a light set, write it, draw it.
 
-use super::LightsArgs;
 use crate::env::lightset_io::{write_csv, write_json, LightSetHeader};
 use crate::env::overlay::{write_overlay_png, OverlayOptions};
 use crate::env::prepare::{load_probe, SamplerKind};
@@ -8,6 +7,41 @@ use crate::env::samplers::median_cut_with_progress;
 use crate::env::{fibonacci_sphere, irradiance_error, reference_irradiance_many, LoadOptions};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct LightsArgs {
+    /// Equirectangular light probe: OpenEXR (any compression) or Radiance .hdr.
+    pub probe: PathBuf,
+    /// Sampler.
+    #[arg(long, value_enum, default_value = "median-cut")]
+    pub sampler: crate::env::prepare::SamplerKind,
+    /// Number of lights (median cut: any N; powers of two split every region evenly).
+    #[arg(short = 'n', long = "count", default_value_t = 128)]
+    pub count: usize,
+    /// Write the light set: .json (with a header) or .csv
+    /// (dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Draw the tone-mapped probe with the lights (and median-cut regions) into a PNG.
+    #[arg(long)]
+    pub overlay: Option<PathBuf>,
+    /// Seed of the random samplers.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Rotate the environment about +y (degrees).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub rotation: f64,
+    /// Exposure of the overlay's background (stops).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub exposure: f32,
+    /// Load probes with NaN/Inf texels, setting those texels to black (default: error).
+    #[arg(long)]
+    pub zero_non_finite: bool,
+    /// Print the irradiance error against the full probe.
+    #[arg(long)]
+    pub report: bool,
+}
 
 /// Normals the `--report` error is measured over.
 pub const REPORT_NORMALS: usize = 256;

@@ -3,14 +3,19 @@
 //! subcommand; this file holds the argument definitions and the dispatch.
 
 mod acquire;
-mod cache;
-mod compare;
+pub mod cache;
+pub mod compare;
 mod golden;
-mod lights;
+pub mod lights;
 pub mod parse;
 mod render;
 pub mod source;
 mod sweep;
+mod turntable;
+
+pub use cache::{CacheAction, CacheArgs};
+pub use compare::CompareArgs;
+pub use lights::LightsArgs;
 
 use crate::aov::Aov;
 use crate::error::Result;
@@ -275,69 +280,6 @@ pub struct RenderArgs {
     pub no_cache: bool,
 }
 
-#[derive(clap::Args, Debug)]
-pub struct LightsArgs {
-    /// Equirectangular light probe: OpenEXR (any compression) or Radiance .hdr.
-    pub probe: PathBuf,
-    /// Sampler.
-    #[arg(long, value_enum, default_value = "median-cut")]
-    pub sampler: crate::env::prepare::SamplerKind,
-    /// Number of lights (median cut: any N; powers of two split every region evenly).
-    #[arg(short = 'n', long = "count", default_value_t = 128)]
-    pub count: usize,
-    /// Write the light set: .json (with a header) or .csv
-    /// (dir_x,dir_y,dir_z,irradiance_r,irradiance_g,irradiance_b).
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
-    /// Draw the tone-mapped probe with the lights (and median-cut regions) into a PNG.
-    #[arg(long)]
-    pub overlay: Option<PathBuf>,
-    /// Seed of the random samplers.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Rotate the environment about +y (degrees).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub rotation: f64,
-    /// Exposure of the overlay's background (stops).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub exposure: f32,
-    /// Load probes with NaN/Inf texels, setting those texels to black (default: error).
-    #[arg(long)]
-    pub zero_non_finite: bool,
-    /// Print the irradiance error against the full probe.
-    #[arg(long)]
-    pub report: bool,
-}
-
-#[derive(clap::Args, Debug)]
-pub struct CompareArgs {
-    /// The reference image (the oracle's render).
-    pub expected: PathBuf,
-    /// The image under test (e.g. a GPU build's render).
-    pub actual: PathBuf,
-    /// Golden manifest to take the FLIP thresholds from (with --entry).
-    #[arg(long, requires = "entry")]
-    pub manifest: Option<PathBuf>,
-    /// Manifest entry whose thresholds apply (its `flip`, else its tolerance's); flags below still override.
-    #[arg(long, requires = "manifest")]
-    pub entry: Option<String>,
-    /// Largest passing FLIP mean (default 0.01, or the entry's).
-    #[arg(long)]
-    pub max_flip_mean: Option<f32>,
-    /// Percentile for the second FLIP bound, in (0, 1) (default 0.99, or the entry's).
-    #[arg(long)]
-    pub percentile: Option<f32>,
-    /// Largest passing FLIP value at --percentile (default 0.1, or the entry's).
-    #[arg(long)]
-    pub max_flip_at_percentile: Option<f32>,
-    /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png).
-    #[arg(long)]
-    pub diff: Option<PathBuf>,
-    /// Print the error histogram even when the comparison passes.
-    #[arg(long)]
-    pub histogram: bool,
-}
-
 /// `acquire --method`: how the hemisphere data is extended to the sphere
 /// ([`crate::acquire::Method`]; `lsq` takes its weight from `--lambda`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
@@ -351,23 +293,6 @@ pub enum MethodArg {
 pub enum CullArg {
     None,
     Back,
-}
-
-#[derive(clap::Args, Debug)]
-pub struct CacheArgs {
-    #[command(subcommand)]
-    pub action: Option<CacheAction>,
-    /// The sweep's reference cache directory, if not the default target/brdfkit-cache.
-    #[arg(long, value_name = "DIR", global = true)]
-    pub sweep_cache: Option<PathBuf>,
-}
-
-#[derive(Subcommand, Debug, Clone, Copy)]
-pub enum CacheAction {
-    /// Directory, number of entries and size of each cache (the default).
-    Show,
-    /// Delete every cache entry (only files the caches wrote; nothing else).
-    Clean,
 }
 
 #[derive(Subcommand, Debug)]

@@ -12,7 +12,7 @@ use crate::render;
 use crate::scene::{MaterialSpec, Precision, Scene, SceneFile, MAX_SIDE};
 use crate::sh::Lookup;
 use crate::shard::Shard;
-use crate::turntable::{self, Motion};
+
 use std::path::{Path, PathBuf};
 
 /// Pixels from which a render on the kernels shows a progress bar: about a second of
@@ -36,7 +36,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             Shard::parse(s)?;
         }
         if a.assemble {
-            let out = turntable_output(a.output.clone())?;
+            let out = super::turntable::turntable_output(a.output.clone())?;
             let gif = crate::turntable::assemble_gif(&out, n, a.fps)?;
             eprintln!("wrote {} ({n} frames)", gif.display());
             return Ok(());
@@ -162,7 +162,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let (checked, allowed): (&[PathBuf], &[&str]) = match a.turntable {
             Some(_) => {
                 // Its own message first: why a turntable needs a .png.
-                turntable_output(Some(outputs[0].clone()))?;
+                super::turntable::turntable_output(Some(outputs[0].clone()))?;
                 (&outputs[..1], &["png"])
             }
             None => (&outputs, &["png", "exr"]),
@@ -236,7 +236,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     if let Some(n) = a.turntable {
-        return run_turntable(&a, &scene, n, a.output.clone().or(file.output.path.clone()));
+        return super::turntable::run_turntable(
+            &a,
+            &scene,
+            n,
+            a.output.clone().or(file.output.path.clone()),
+        );
     }
     let start = std::time::Instant::now();
     let reference = a.reference && a.aov.is_none();
@@ -325,85 +330,4 @@ fn set_lookup(material: &mut MaterialSpec, mode: Lookup) -> Result<()> {
         MaterialSpec::Lambert { .. } => Err(not_sh("analytic (lambert)")),
         MaterialSpec::BlinnPhong { .. } => Err(not_sh("analytic (blinn-phong)")),
     }
-}
-
-/// The turntable's output path: `-o` (or the scene's output path), default `out.png`; PNG only.
-fn turntable_output(out: Option<PathBuf>) -> Result<PathBuf> {
-    let out = out.unwrap_or_else(|| PathBuf::from("out.png"));
-    match image_io::format_of(&out)? {
-        Format::Png => Ok(out),
-        Format::Exr => Err(Error::field(
-            "--output",
-            format!(
-                "{}: --turntable writes PNG frames and a GIF; give a .png path",
-                out.display()
-            ),
-        )),
-    }
-}
-
-/// `render --turntable N`: the frames of this shard (all without `--shard`), then the GIF
-/// when every frame was rendered here.
-fn run_turntable(a: &RenderArgs, scene: &Scene, n: usize, out: Option<PathBuf>) -> Result<()> {
-    let out = turntable_output(out)?;
-    let shard = match &a.shard {
-        Some(s) => Shard::parse(s)?,
-        None => Shard::ALL,
-    };
-    let motion = if a.turntable_env {
-        if scene.env.is_none() {
-            return Err(Error::field(
-                "--turntable-env",
-                "needs an environment: give --env PROBE or an [env] table",
-            ));
-        }
-        Motion::Environment
-    } else {
-        Motion::Camera
-    };
-    let env_lights = scene.env.as_ref().map_or(0, |e| e.lights);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(scene.render.threads)
-        .build()
-        .expect("thread pool");
-    let opts = render::RenderOptions {
-        aov: a.aov,
-        ..if a.reference && a.aov.is_none() {
-            render::RenderOptions::converged_reference()
-        } else {
-            render::RenderOptions::default()
-        }
-    };
-    let frames: Vec<usize> = (0..n).filter(|&k| shard.contains(k)).collect();
-    let pb = Progress::bar(frames.len() as u64, "turntable", "frames");
-    let start = std::time::Instant::now();
-    for &k in &frames {
-        let s = turntable::frame_scene(scene, env_lights, motion, k, n);
-        let img = pool.install(|| render::render(&s, &opts)).image;
-        let path = turntable::frame_path(&out, k, n);
-        match a.aov {
-            None => image_io::write_png(&path, &img, s.output.exposure, s.output.tonemap)?,
-            Some(aov) => {
-                image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(&img, aov))?
-            }
-        }
-        pb.inc(1);
-    }
-    pb.finish();
-    eprintln!(
-        "wrote {} frames ({} ... ) in {:.1} s",
-        frames.len(),
-        frames
-            .first()
-            .map(|&k| turntable::frame_path(&out, k, n).display().to_string())
-            .unwrap_or_default(),
-        start.elapsed().as_secs_f64()
-    );
-    if shard.is_all() {
-        let gif = turntable::assemble_gif(&out, n, a.fps)?;
-        eprintln!("wrote {} ({n} frames)", gif.display());
-    } else {
-        eprintln!("shard {shard}: no GIF; after every shard, run the same command with --assemble");
-    }
-    Ok(())
 }

@@ -1,5 +1,5 @@
 //! The sweep CSV: the in-memory row ([`Row`]), its text ([`CSV_HEADER`], [`csv_text`],
-//! [`write_csv`]), reading it back ([`read_csv`]) and merging shards ([`merge`]).
+//! [`write_csv`]) and reading it back ([`read_csv`]); merging shards is `merge.rs`.
 //!
 //! Design rule: one schema, the private serde record `Record`, written and read with the
 //! `csv` crate. Columns are matched by header name, so a CSV whose columns are reordered
@@ -10,7 +10,7 @@
 //! it again gives the same bytes (`assets/readme/sweep.csv` is checked that way).
 
 use super::Config;
-use super::{finish_rows, lookup_name, parse_lookup, parse_sampler, precision_name, sampler_name};
+use super::{lookup_name, parse_lookup, parse_sampler, precision_name, sampler_name};
 use crate::env::prepare::SamplerKind;
 use crate::error::{Error, Result};
 use crate::image_io;
@@ -18,7 +18,7 @@ use crate::scene::Precision;
 use crate::sh::dataset::Lookup;
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The CSV header: deterministic columns first, then measured ones.
 pub const CSV_HEADER: &str =
@@ -358,49 +358,6 @@ fn parse_csv(path: &Path, bytes: &[u8]) -> Result<Vec<Row>> {
             .map_err(|e| Error::format(path, content_error(&e, &headers, Some(&record))))?;
         rows.push(Row::from(r));
     }
-    Ok(rows)
-}
-
-/// Merges shard CSVs into what one run writes: rows sorted by index, the Pareto column
-/// recomputed over the union. A row index in two files is an error naming both files; a
-/// gap in the row indices (a shard left out) is an error naming the missing rows.
-pub fn merge(inputs: &[PathBuf]) -> Result<Vec<Row>> {
-    let mut rows: Vec<(Row, usize)> = Vec::new();
-    for (k, p) in inputs.iter().enumerate() {
-        rows.extend(read_csv(p)?.into_iter().map(|r| (r, k)));
-    }
-    rows.sort_by_key(|(r, _)| r.config.index);
-    for w in rows.windows(2) {
-        if w[0].0.config.index == w[1].0.config.index {
-            return Err(Error::format(
-                &inputs[w[1].1],
-                format!(
-                    "row index {} is also in {} (the same row in two shards)",
-                    w[1].0.config.index,
-                    inputs[w[0].1].display()
-                ),
-            ));
-        }
-    }
-    // Shard I of N holds the rows k with k % N == I, so a missing shard leaves a gap in the
-    // indices (unless it held only the last rows of the grid, which a CSV cannot tell).
-    if let Some((i, (r, _))) = rows
-        .iter()
-        .enumerate()
-        .find(|(i, (r, _))| r.config.index != *i)
-    {
-        let shown: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
-        return Err(Error::format(
-            &inputs[0],
-            format!(
-                "rows {i} to {} are missing from the merge of {} (a shard left out?)",
-                r.config.index - 1,
-                shown.join(", ")
-            ),
-        ));
-    }
-    let mut rows: Vec<Row> = rows.into_iter().map(|(r, _)| r).collect();
-    finish_rows(&mut rows);
     Ok(rows)
 }
 

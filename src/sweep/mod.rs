@@ -50,7 +50,7 @@
 //! shortest round-trip form (times with 3 decimals), so reading and writing a CSV gives the
 //! same text. Reading matches columns by header name ([`read_csv`]): reordered columns read
 //! the same; a missing or unknown column, or a bad value, is an error naming the file, the
-//! line and the column. [`merge`] reads shard CSVs and writes what one run writes, the `pareto`
+//! line and the column. [`merge()`] reads shard CSVs and writes what one run writes, the `pareto`
 //! column recomputed over the union.
 //!
 //! # Layout
@@ -64,7 +64,8 @@
 //! - [`metrics`]: a row's errors against the reference ([`crate::metrics::relative_rmse`]);
 //! - [`pareto`]: the Pareto front ([`pareto_front`], [`finish_rows`]);
 //! - [`csv`]: the row ([`Row`]) and its CSV, header-keyed on read ([`read_csv`],
-//!   [`write_csv`], [`merge`]);
+//!   [`write_csv`]);
+//! - [`merge`](mod@merge): shard CSVs merged into what one run writes ([`merge()`]);
 //! - [`plot`]: the frame-time-against-error plot of a CSV;
 //! - [`check`]: a stored CSV's deterministic columns against this build's
 //!   ([`deterministic_mismatches`], `brdfkit sweep --check`).
@@ -74,12 +75,13 @@ pub mod check;
 pub mod csv;
 pub mod default_scene;
 pub mod grid;
+pub mod merge;
 pub mod metrics;
 pub mod pareto;
 pub mod plot;
 pub mod run;
 
-pub use self::csv::{csv_text, merge, read_csv, write_csv, Row, CSV_HEADER, DETERMINISTIC_COLUMNS};
+pub use self::csv::{csv_text, read_csv, write_csv, Row, CSV_HEADER, DETERMINISTIC_COLUMNS};
 pub use cache::{
     image_checksum, read_cached_reference, reference_key, REFERENCE_ALGORITHM_VERSION,
 };
@@ -89,5 +91,6 @@ pub use grid::{
     default_counts, default_samplers, lookup_name, parse_lookup, parse_sampler, precision_name,
     sampler_name, Config, DefaultConfig, Grid,
 };
+pub use merge::merge;
 pub use pareto::{finish_rows, pareto_front};
 pub use run::Sweep;
