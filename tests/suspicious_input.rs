@@ -45,6 +45,17 @@ fn suspicious_inputs_are_warned_about() {
     assert_eq!(code, Some(0), "{err}");
     assert!(err.contains("square.exr: 16x16 is not 2:1"), "{err}");
 
+    // Through the light-set cache: the first run decodes the probe and stores its load
+    // report with the lights, the second reads the entry without decoding, and both warn.
+    for pass in ["computed", "cached"] {
+        let mut args = vec!["render", "--env", &square, "-o", "cached.exr"];
+        args.extend_from_slice(&small[..4]);
+        let (code, err) = run(d, &args);
+        assert_eq!(code, Some(0), "{pass}: {err}");
+        assert_eq!(err.contains("(cached)"), pass == "cached", "{pass}: {err}");
+        assert!(err.contains("16x16 is not 2:1"), "{pass}: {err}");
+    }
+
     let black = probe(d, "black.exr", 16, 8, 0.0);
     let (code, err) = render(&black, &[]);
     assert_eq!(code, Some(0), "{err}");

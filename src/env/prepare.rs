@@ -175,7 +175,8 @@ pub struct Prepared {
     pub lights: LightSet,
     /// True when the light set came from the cache (the probe was not decoded).
     pub cache_hit: bool,
-    /// Loader report (cleaning counts) when the probe was decoded.
+    /// Loader report (size, cleaning counts): from decoding the probe, or on a cache hit
+    /// the one the cache entry recorded when it was made.
     pub report: Option<LoadReport>,
     /// The cache file used, if any.
     pub cache_file: Option<PathBuf>,
@@ -215,15 +216,19 @@ pub fn prepare_with_progress(
     let key = file_cache_key(&bytes, &opts, &config);
     let cache_file = cache_dir.map(|d| cache_file_name(d, key));
     let mut lights = None;
+    let mut report = None;
     let mut cache_rejected = None;
     if let Some(cf) = &cache_file {
         match read_cache_entry(cf, key) {
-            Ok(ls) => lights = ls,
+            Ok(Some((ls, rep))) => {
+                lights = Some(ls);
+                report = Some(rep);
+            }
+            Ok(None) => {}
             Err(why) => cache_rejected = Some(why),
         }
     }
     let cache_hit = lights.is_some();
-    let mut report = None;
     let mut lights = match lights {
         Some(ls) => ls,
         None => {
@@ -236,7 +241,7 @@ pub fn prepare_with_progress(
                 // A cache that cannot be written only costs time: ignore the error.
                 if std::fs::create_dir_all(cf.parent().unwrap_or(Path::new("."))).is_ok() {
                     let header = LightSetHeader::new(&config, path.to_str(), &ls);
-                    let entry = CacheEntry::new(key, header, ls.clone());
+                    let entry = CacheEntry::new(key, header, rep, ls.clone());
                     if let Ok(json) = serde_json::to_vec(&entry) {
                         let _ = write_atomic(cf, &json);
                     }

@@ -24,7 +24,7 @@
 //! none of them set, nothing is cached); `render --no-cache` uses none.
 
 use crate::env::lightset_io::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
-use crate::env::{LightSet, LoadOptions, SamplerConfig};
+use crate::env::{LightSet, LoadOptions, LoadReport, SamplerConfig};
 use crate::hash::{self, StableHasher};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -43,7 +43,7 @@ pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// Format tag of a light-set cache entry (`-v2`: the checksum is XXH3-64 in
 /// [`hash::tagged`] form and the lights' fields are `irradiance_*`).
-pub const CACHE_FORMAT: &str = "brdfkit-lightset-cache-v2";
+pub const CACHE_FORMAT: &str = "brdfkit-lightset-cache-v3";
 
 /// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light
 /// sets. No code path picks the user's directory by itself: the caller passes one
@@ -155,12 +155,20 @@ pub struct CacheEntry {
     /// [`lights_checksum`] of `lights` in [`hash::tagged`] form (`xxh3-64:<16 hex>`).
     pub lights_checksum: String,
     pub header: LightSetHeader,
+    /// What loading the probe found (size, cleaned texels), so a cache hit warns about
+    /// the probe as a decode would (a probe that is not 2:1, negative texels).
+    pub load_report: LoadReport,
     pub lights: LightSet,
 }
 
 impl CacheEntry {
     /// The entry for `lights` under `key`, written by this build.
-    pub fn new(key: u64, header: LightSetHeader, lights: LightSet) -> CacheEntry {
+    pub fn new(
+        key: u64,
+        header: LightSetHeader,
+        load_report: LoadReport,
+        lights: LightSet,
+    ) -> CacheEntry {
         CacheEntry {
             format: CACHE_FORMAT.into(),
             crate_version: CRATE_VERSION.into(),
@@ -168,6 +176,7 @@ impl CacheEntry {
             key: format!("{key:016x}"),
             lights_checksum: hash::tagged(lights_checksum(&lights)),
             header,
+            load_report,
             lights,
         }
     }
@@ -183,7 +192,10 @@ pub fn cache_file_name(dir: &Path, key: u64) -> PathBuf {
 /// version and key are this build's and `key`, whose lights pass [`validate`], match the
 /// header's count and hash to the stored checksum. `Ok(None)`: no entry; `Err`: an entry
 /// that is not used, and why.
-pub fn read_cache_entry(path: &Path, key: u64) -> std::result::Result<Option<LightSet>, String> {
+pub fn read_cache_entry(
+    path: &Path,
+    key: u64,
+) -> std::result::Result<Option<(LightSet, LoadReport)>, String> {
     if !path.exists() {
         return Ok(None);
     }
@@ -226,7 +238,7 @@ pub fn read_cache_entry(path: &Path, key: u64) -> std::result::Result<Option<Lig
             e.lights_checksum
         ));
     }
-    Ok(Some(e.lights))
+    Ok(Some((e.lights, e.load_report)))
 }
 
 #[cfg(test)]
@@ -283,9 +295,15 @@ mod tests {
         let mut ls = LightSet::default();
         ls.push(glam::DVec3::Y, glam::DVec3::ONE);
         let header = crate::env::lightset_io::LightSetHeader::new(&cfg, None, &ls);
-        let good = serde_json::to_string(&CacheEntry::new(key, header, ls.clone())).unwrap();
+        let report = LoadReport {
+            negative_texels: 3,
+            non_finite_zeroed: 0,
+            size: (16, 8),
+        };
+        let good =
+            serde_json::to_string(&CacheEntry::new(key, header, report, ls.clone())).unwrap();
         std::fs::write(&path, &good).unwrap();
-        assert_eq!(read_cache_entry(&path, key).unwrap(), Some(ls));
+        assert_eq!(read_cache_entry(&path, key).unwrap(), Some((ls, report)));
         let old = good
             .replace(CACHE_FORMAT, "brdfkit-lightset-cache")
             .replace("\"lights_checksum\":\"xxh3-64:", "\"lights_fnv1a\":\"")

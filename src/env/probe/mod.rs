@@ -97,7 +97,7 @@ impl Default for LoadOptions {
 }
 
 /// What the loader changed to make the probe clean.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct LoadReport {
     /// Texels with at least one negative channel (those channels were clamped to 0).
     pub negative_texels: usize,
