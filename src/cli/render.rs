@@ -184,6 +184,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let resolve_base = base.as_path();
     // Counts the light set's preparation when it is computed (nothing on a cache hit).
     let light_set = match &file.env {
+        Some(env) if env.method == crate::env::prepare::EnvMethod::Transfer => Progress::bar(
+            env.transfer_polar as u64,
+            &format!(
+                "transfer table: {} x {} normals",
+                env.transfer_azimuth, env.transfer_polar
+            ),
+            "rows",
+        ),
         Some(env) => {
             let config = env.sampler_config();
             let what = match config.n() {

@@ -26,6 +26,7 @@ pub mod overlay;
 pub mod prepare;
 pub mod probe;
 pub mod samplers;
+pub mod transfer;
 
 pub use probe::{LoadOptions, LoadReport, Probe, ProbeError};
 /// The samplers under their former module name: every `env::sampling::X` path is

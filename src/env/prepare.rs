@@ -70,6 +70,28 @@ impl SamplerKind {
     }
 }
 
+/// How an environment is shaded (`[env] method`).
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize, serde::Serialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum EnvMethod {
+    /// The probe collapsed into delta lights by `sampler` (the default).
+    #[default]
+    Lights,
+    /// A transfer table over normals from the full probe plus the `exact_lights`
+    /// brightest texels as delta lights ([`crate::env::transfer`]); SH data sets and
+    /// Lambert only.
+    Transfer,
+}
+
+/// Default azimuth nodes of a transfer table.
+pub const DEFAULT_TRANSFER_AZIMUTH: usize = 128;
+/// Default polar nodes of a transfer table (both poles included).
+pub const DEFAULT_TRANSFER_POLAR: usize = 65;
+/// Default number of brightest texels summed exactly beside a transfer table.
+pub const DEFAULT_EXACT_LIGHTS: usize = 16;
+
 /// Largest light count a scene may ask for.
 pub const MAX_LIGHTS: usize = 1 << 16;
 
@@ -96,6 +118,30 @@ pub struct EnvSpec {
     /// Load probes with NaN/Inf texels by setting those texels to black.
     #[serde(default)]
     pub zero_non_finite: bool,
+    /// How the environment is shaded: `lights` (the sampler's delta lights, the default)
+    /// or `transfer` ([`crate::env::transfer`]; `sampler`, `count` and `seed` unused).
+    #[serde(default)]
+    pub method: EnvMethod,
+    /// Transfer table: azimuth nodes (must divide the probe's width).
+    #[serde(default = "default_transfer_azimuth")]
+    pub transfer_azimuth: usize,
+    /// Transfer table: polar nodes, both poles included.
+    #[serde(default = "default_transfer_polar")]
+    pub transfer_polar: usize,
+    /// Transfer: the brightest texels (luminance x solid angle) summed exactly as
+    /// directional lights instead of through the table (0 to [`MAX_LIGHTS`]).
+    #[serde(default = "default_exact_lights")]
+    pub exact_lights: usize,
+}
+
+fn default_transfer_azimuth() -> usize {
+    DEFAULT_TRANSFER_AZIMUTH
+}
+fn default_transfer_polar() -> usize {
+    DEFAULT_TRANSFER_POLAR
+}
+fn default_exact_lights() -> usize {
+    DEFAULT_EXACT_LIGHTS
 }
 
 fn default_count() -> usize {
@@ -119,6 +165,10 @@ impl EnvSpec {
             rotation: 0.0,
             intensity: 1.0,
             zero_non_finite: false,
+            method: EnvMethod::default(),
+            transfer_azimuth: DEFAULT_TRANSFER_AZIMUTH,
+            transfer_polar: DEFAULT_TRANSFER_POLAR,
+            exact_lights: DEFAULT_EXACT_LIGHTS,
         }
     }
 
@@ -128,6 +178,12 @@ impl EnvSpec {
             return Err(Error::field(
                 "env.count",
                 format!("{} is out of range (1 to {MAX_LIGHTS})", self.count),
+            ));
+        }
+        if self.exact_lights > MAX_LIGHTS {
+            return Err(Error::field(
+                "env.exact_lights",
+                format!("{} is out of range (0 to {MAX_LIGHTS})", self.exact_lights),
             ));
         }
         if !self.rotation.is_finite() {

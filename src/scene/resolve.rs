@@ -9,7 +9,8 @@
 use super::camera::{self, Camera};
 use super::material::resolve_material;
 use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
-use crate::env::prepare::{self, CacheDir};
+use crate::env::prepare::{self, CacheDir, EnvMethod};
+use crate::env::transfer::{prepare_transfer, TransferBasis, TransferTable};
 use crate::error::{Error, Result};
 use crate::kernel::lanes::KernelPath;
 use crate::light::Light;
@@ -35,6 +36,9 @@ pub struct Scene {
     pub output: OutputSpec,
     /// What environment preparation did, when the scene has an `[env]`.
     pub env: Option<EnvSummary>,
+    /// The environment's transfer table when `[env] method = "transfer"`
+    /// ([`crate::env::transfer`]); shading adds its radiance to that of `lights`.
+    pub transfer: Option<Arc<TransferTable>>,
 }
 
 /// A summary of the environment light preparation, for the command line to report.
@@ -212,7 +216,41 @@ impl Scene {
         }
 
         let mut env = None;
-        if let Some(spec) = &file.env {
+        let mut transfer = None;
+        if let Some(spec) = file
+            .env
+            .as_ref()
+            .filter(|s| s.method == EnvMethod::Transfer)
+        {
+            let basis = match &material {
+                Material::Sh(ds) => TransferBasis::Sh {
+                    bands: ds.bands(),
+                    cosine: !ds.cosine_included(),
+                },
+                Material::Lambert(_) => TransferBasis::Irradiance,
+                m => {
+                    return Err(Error::field(
+                        "env.method",
+                        format!(
+                            "\"transfer\" shades SH data sets and Lambert only, not {}",
+                            m.name()
+                        ),
+                    ))
+                }
+            };
+            let p = prepare_transfer(spec, base, basis, progress)?;
+            lights.extend(prepare::to_scene_lights(&p.lights));
+            env = Some(EnvSummary {
+                file: base.join(&spec.file),
+                lights: p.lights.len(),
+                cache_hit: false,
+                cache_rejected: None,
+                negative_texels: p.report.negative_texels,
+                probe_size: Some(p.report.size),
+                total_irradiance: p.lights.total_irradiance().to_array(),
+            });
+            transfer = Some(Arc::new(p.table));
+        } else if let Some(spec) = &file.env {
             let prepared = prepare::prepare_with_progress(spec, base, cache.path(), progress)?;
             lights.extend(prepare::to_scene_lights(&prepared.lights));
             env = Some(EnvSummary {
@@ -273,6 +311,7 @@ impl Scene {
             render: r.clone(),
             output: file.output.clone(),
             env,
+            transfer,
         })
     }
 

@@ -8,6 +8,7 @@
 use super::f64_path::shade_f64_no_skips;
 use super::scalar_oracle::shade_scalar_oracle;
 use super::tile::shade_kernels;
+use super::transfer::{add_transfer, fits};
 use super::{FramePrep, ShadeCounts, ShadeOptions, ShadingPath};
 use crate::image_io::Image;
 use crate::raster::VisBuffer;
@@ -36,12 +37,27 @@ pub struct Shaded {
 
 /// Shades every visible pixel of `vis` (rasterized from `scene`) on the path `opts` chooses
 /// ([`ShadeOptions::path_for`]): the kernels, the scalar f32 oracle or the f64 path with no
-/// skips. Every tile of the frame is counted once into `opts.progress`.
+/// skips. Every tile of the frame is counted once into `opts.progress`. When the scene has
+/// a transfer table (`[env] method = "transfer"`), its term is added to every visible pixel
+/// afterwards, on every path (`transfer.rs`).
 ///
 /// # Panics
 /// If the kernel path chosen (by `opts.kernel` or the scene's `render.kernel`) is not
 /// available on this CPU; [`Scene::resolve`] refuses such a scene file.
 pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
+    let mut shaded = shade_lights(scene, vis, opts);
+    if let Some(table) = &scene.transfer {
+        assert!(
+            fits(table, &scene.material),
+            "the scene's transfer table does not fit its material"
+        );
+        add_transfer(scene, vis, table, &mut shaded.image);
+    }
+    shaded
+}
+
+/// [`shade`] without the transfer term: the scene's lights only.
+fn shade_lights(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
     let path = opts.path_for(scene);
     if path == ShadingPath::F64NoSkips {
         return Shaded {

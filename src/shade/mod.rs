@@ -49,6 +49,8 @@
 //!     point lights only).
 //!
 //!   and the per-pixel one that the scalar oracle and the f64 path share.
+//! - `transfer.rs`: the transfer-table term of an environment (`[env] method =
+//!   "transfer"`, [`crate::env::transfer`]), added to every path's image after its lights.
 //! - `counts.rs`: the work counters ([`ShadeCounts`]).
 //! - `scalar_oracle.rs`: the scalar f32 oracle ([`shade_point`] per pixel;
 //!   [`ShadingPath::ScalarOracle`]).
@@ -68,6 +70,7 @@ mod pixel;
 mod prep;
 mod scalar_oracle;
 mod tile;
+mod transfer;
 mod view;
 
 #[doc(hidden)]

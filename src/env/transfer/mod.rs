@@ -1,0 +1,125 @@
+//! Transfer tables: the environment seen by a material, tabulated over normals (issue 14,
+//! deliverables 1 and 2).
+//!
+//! For an SH data set (thesis Def. 12: `f(wi, wo) = sum_k c_k(wo) Y_k(wi)` in the local
+//! shading frame of [`crate::conventions`]) under a distant environment of radiance `L`,
+//! the outgoing radiance is
+//! `L_o(n, wo) = sum_k c_k(wo) T_k(n)` with
+//! `T_k(n) = integral_{wi.n > 0} L(wi) Y_k(local_n(wi)) [cos polar_i] dwi`,
+//! the cosine present only when the data set excludes it. `T` depends on the normal only,
+//! so it is tabulated once per probe, rotation and basis, and each pixel interpolates `T` at
+//! its normal and dots it with its view coefficients `c(wo)`: the per-pixel cost no longer
+//! grows with the number of lights. A Lambert surface (`f = albedo / pi`) is the one-term
+//! case: `T(n)` is the irradiance `E(n) = integral_{wi.n > 0} L(wi) cos polar_i dwi`
+//! ([`TransferBasis::Irradiance`]).
+//!
+//! The integral is the exact sum over every probe texel with its exact solid angle
+//! ([`crate::conventions::probe_texel_solid_angle`]) and the hemisphere clip at the texel
+//! centre, as the converged reference sums the full probe
+//! ([`crate::render::RenderOptions::converged_reference`] on `sampler = "full"`). The `K`
+//! brightest texels (luminance x solid angle) may be left out of the table and summed
+//! exactly per pixel as directional lights through the ordinary kernels: each light that
+//! crosses a normal's horizon makes `T` jump, which no grid interpolates, and under a probe
+//! with a few dominant sources those jumps are most of the table's error (issue 14's
+//! measurements).
+//!
+//! # Grid of normals
+//! Latitude-longitude in the probe's own convention ([`crate::conventions`], "Light
+//! probes"): node `(i, j)` is the normal of polar angle `pi j / (nv - 1)` from +y (both
+//! poles are rows) and probe azimuth `2 pi i / nu`, before the probe rotation. `T` is stored
+//! in the shading frame of each node's normal, which is a smooth function of the grid's
+//! angles (its tangent is `(cos p sin a, sin p, -cos p cos a)` at polar `p`, azimuth `a`,
+//! also on the pole rows, where it is the limit along the node's meridian). So near `+-y`
+//! the table interpolates a smooth function; a pixel's frame is
+//! [`crate::conventions::ShadingFrame::from_normal`], which equals the grid's frame at the
+//! pixel's own angles.
+//!
+//! # Layout
+//! - [`table`]: [`TransferTable`] (values, grid, bilinear lookup in normal);
+//! - [`build`]: building a table from a probe ([`build::build_table`]) and choosing the
+//!   brightest texels ([`build::brightest_texels`]).
+//!
+//! No disk cache: a table is rebuilt per scene (the build time is reported by the bench).
+
+pub mod build;
+pub mod table;
+
+pub use build::{brightest_texels, build_table, BuildFault};
+pub use table::TransferTable;
+
+/// What a transfer table projects the environment onto.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransferBasis {
+    /// The real SH of [`crate::sh::basis`] with `bands` bands, times `cos(polar_i)` when
+    /// `cosine` (for data sets that exclude the cosine, [`crate::brdf::Brdf::includes_cosine`]
+    /// false): `T_k(n)` in W/(m^2 sr) x sr = W/m^2 per unit of `Y_k`.
+    Sh { bands: usize, cosine: bool },
+    /// One term: the irradiance `E(n)` (W/m^2 for a probe in W/(m^2 sr)), for Lambert.
+    Irradiance,
+}
+
+impl TransferBasis {
+    /// Number of terms per colour.
+    pub fn terms(self) -> usize {
+        match self {
+            TransferBasis::Sh { bands, .. } => bands * bands,
+            TransferBasis::Irradiance => 1,
+        }
+    }
+}
+
+use crate::env::prepare::EnvSpec;
+use crate::env::{LightSet, LoadReport};
+use crate::error::Result;
+use crate::progress::Progress;
+use std::path::Path;
+
+/// What [`prepare_transfer`] made for a scene's `[env]` with `method = "transfer"`.
+#[derive(Clone, Debug)]
+pub struct PreparedTransfer {
+    /// The table of every texel but the brightest `exact_lights`.
+    pub table: TransferTable,
+    /// The brightest `exact_lights` texels as directional lights ([`build::texel_lights`]).
+    pub lights: LightSet,
+    /// The probe loader's report.
+    pub report: LoadReport,
+}
+
+/// Loads the probe of `spec` (relative to `base`) and builds its transfer table for
+/// `basis` on the spec's grid, the brightest `spec.exact_lights` texels split off as
+/// lights; `spec.intensity` scales both. Errors name the file or the field.
+pub fn prepare_transfer(
+    spec: &EnvSpec,
+    base: &Path,
+    basis: TransferBasis,
+    progress: &Progress,
+) -> Result<PreparedTransfer> {
+    spec.check()?;
+    let path = base.join(&spec.file);
+    crate::image_io::check_regular_file(
+        &path,
+        crate::env::prepare::MAX_PROBE_FILE_BYTES,
+        "light probe",
+    )
+    .map_err(|e| crate::error::Error::Message(e.to_string()))?;
+    let (probe, report) = crate::env::prepare::load_probe(&path, &spec.load_options())?;
+    let exact = brightest_texels(&probe, spec.exact_lights);
+    let table = build_table(
+        &probe,
+        basis,
+        spec.transfer_azimuth,
+        spec.transfer_polar,
+        &exact,
+        spec.intensity,
+        progress,
+        BuildFault::None,
+    )?;
+    Ok(PreparedTransfer {
+        lights: build::texel_lights(&probe, &exact, spec.intensity),
+        table,
+        report,
+    })
+}
+
+#[cfg(test)]
+mod tests;

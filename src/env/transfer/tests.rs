@@ -1,0 +1,202 @@
+//! Accuracy of transfer tables against an independent sum: every probe texel a light,
+//! the data set's own f64 BRDF ([`crate::brdf::Brdf::eval_f64`]) in f64 frames (the
+//! converged reference's arithmetic, not the table's), at random normal/view pairs; with
+//! seeded faults that must fail the same check.
+
+use super::build::texel_lights;
+use super::*;
+use crate::brdf::Brdf;
+use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
+use crate::env::{LoadOptions, Probe};
+use crate::sh::dataset::ShDataset;
+use glam::{DVec3, Vec3};
+use rand::{Rng, SeedableRng};
+
+/// A 64 x 32 probe: a smooth sky gradient, a warm ground, and three small bright sources
+/// (about 40% of the power), one of them 4 degrees from +y.
+fn probe() -> Probe {
+    let (w, h) = (64, 32);
+    let mut texels = Vec::with_capacity(w * h);
+    for row in 0..h {
+        for col in 0..w {
+            let v = (row as f32 + 0.5) / h as f32;
+            let u = (col as f32 + 0.5) / w as f32;
+            let mut t = if v < 0.5 {
+                [0.4 + 0.6 * v, 0.6 + 0.4 * v, 1.0]
+            } else {
+                [0.5, 0.35 + 0.1 * (6.0 * u).sin(), 0.2]
+            };
+            for (sr, sc, e) in [(0usize, 5usize, 60.0f32), (9, 20, 25.0), (14, 45, 15.0)] {
+                if row == sr && (col == sc || col == sc + 1) {
+                    t = [e, 0.9 * e, 0.7 * e];
+                }
+            }
+            texels.push(t);
+        }
+    }
+    Probe::from_texels("synthetic", w, h, texels, &LoadOptions::default())
+        .unwrap()
+        .0
+}
+
+/// A 4-band data set on an 8 x 4 view grid with a glossy-looking coefficient pattern.
+fn dataset(includes_cosine: bool) -> ShDataset {
+    let (nu, nv, bands) = (8, 4, 4);
+    let nt = bands * bands;
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+    let mut coeffs = Vec::with_capacity(nu * nv * 3 * nt);
+    for _ in 0..nu * nv * 3 {
+        for k in 0..nt {
+            let l = (k as f64).sqrt() as usize;
+            let scale = 0.6f32.powi(l as i32);
+            let v = if k == 0 {
+                0.5
+            } else {
+                rng.gen_range(-0.3..0.3) * scale
+            };
+            coeffs.push(v);
+        }
+    }
+    ShDataset::new(nu, nv, bands, includes_cosine, "test", coeffs).unwrap()
+}
+
+/// Exact outgoing radiance: `sum_texels f(wi, wo) [cos] L Omega`, f64, the texels of
+/// `lights` (every texel of the probe).
+fn exact(ds: &ShDataset, lights: &crate::env::LightSet, n: Vec3, wo: DVec3) -> DVec3 {
+    let f = ShadingFrame::from_normal(n);
+    let (t, b, nn) = (f.t.as_dvec3(), f.b.as_dvec3(), f.n.as_dvec3());
+    let mut sum = DVec3::ZERO;
+    for i in 0..lights.len() {
+        let d = lights.direction(i);
+        let wi = DVec3::new(d.dot(t), d.dot(b), d.dot(nn));
+        if wi.z > 0.0 {
+            let v = ds.eval_f64(wi, wo);
+            let v = if ds.includes_cosine() { v } else { v * wi.z };
+            sum += v * lights.light_irradiance(i);
+        }
+    }
+    sum
+}
+
+/// Relative RMSE (RGB, over pairs) of table + `k` exact texels against [`exact`] at 400
+/// random normal/view pairs (normals uniform on the sphere, views uniform on the upper
+/// hemisphere); the table built with `fault`.
+fn error(includes_cosine: bool, k: usize, fault: BuildFault) -> f64 {
+    let p = probe();
+    let ds = dataset(includes_cosine);
+    let basis = TransferBasis::Sh {
+        bands: 4,
+        cosine: !includes_cosine,
+    };
+    let all: Vec<usize> = (0..p.width() * p.height()).collect();
+    let every = texel_lights(&p, &all, 1.0);
+    let split = brightest_texels(&p, k);
+    let exact_lights = texel_lights(&p, &split, 1.0);
+    let table = build_table(&p, basis, 32, 33, &split, 1.0, &Progress::hidden(), fault).unwrap();
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(11);
+    let (mut num, mut den) = (0.0, 0.0);
+    let mut c = vec![0.0f32; 3 * 16];
+    for _ in 0..400 {
+        let y: f32 = rng.gen_range(-1.0..1.0);
+        let a: f32 = rng.gen_range(0.0..std::f32::consts::TAU);
+        let r = (1.0 - y * y).max(0.0).sqrt();
+        let n = Vec3::new(r * a.cos(), y, r * a.sin());
+        let wz: f32 = rng.gen_range(0.05..1.0);
+        let wa: f32 = rng.gen_range(0.0..std::f32::consts::TAU);
+        let wr = (1.0 - wz * wz).sqrt();
+        let wo = Vec3::new(wr * wa.cos(), wr * wa.sin(), wz);
+        let want = exact(&ds, &every, n, wo.as_dvec3());
+        let (pp, aa) = local_angles(wo);
+        let (s, t) = hemi_texcoord(pp, aa);
+        ds.lookup_coeffs(s, t, ds.coeff_lookup, &mut c);
+        let got = table.radiance(n, &c).as_dvec3() + exact(&ds, &exact_lights, n, wo.as_dvec3());
+        num += (got - want).length_squared();
+        den += want.length_squared();
+    }
+    crate::metrics::relative_l2(num, den)
+}
+
+/// Bound of the check: 1.5% relative RMSE on this 32 x 33 table of a 64 x 32 probe (the
+/// shipped 128 x 65 default on 512 x 256 probes is measured in the report, not here).
+const BOUND: f64 = 0.015;
+
+#[test]
+fn table_matches_the_exact_texel_sum() {
+    for cosine_in_data in [true, false] {
+        for k in [0, 4] {
+            let e = error(cosine_in_data, k, BuildFault::None);
+            eprintln!("includes_cosine {cosine_in_data}, exact lights {k}: rel RMSE {e:.5}");
+            assert!(
+                e < BOUND,
+                "rel RMSE {e} >= {BOUND} (cosine {cosine_in_data}, k {k})"
+            );
+        }
+    }
+}
+
+#[test]
+fn seeded_faults_fail_the_check() {
+    for fault in [BuildFault::TransposedAxes, BuildFault::NoHemisphereClip] {
+        let e = error(true, 4, fault);
+        eprintln!("{fault:?}: rel RMSE {e:.4}");
+        assert!(e > BOUND, "{fault:?} passed the check: rel RMSE {e}");
+    }
+}
+
+/// Lambert: the irradiance table against [`crate::env::reference_irradiance`] (the
+/// light-set module's exact texel sum, an independent peer).
+#[test]
+fn irradiance_table_matches_reference_irradiance() {
+    let p = probe();
+    let table = build_table(
+        &p,
+        TransferBasis::Irradiance,
+        32,
+        33,
+        &[],
+        1.0,
+        &Progress::hidden(),
+        BuildFault::None,
+    )
+    .unwrap();
+    let normals = crate::env::fibonacci_sphere(300);
+    let reference = crate::env::reference_irradiance_many(&p, &normals);
+    let got: Vec<DVec3> = normals
+        .iter()
+        .map(|n| table.radiance(n.as_vec3(), &[1.0, 1.0, 1.0]).as_dvec3())
+        .collect();
+    let (num, den) = crate::metrics::squared_error_sums(&got, &reference);
+    let e = crate::metrics::relative_l2(num, den);
+    eprintln!("irradiance rel RMSE {e:.5}");
+    assert!(e < 0.01, "irradiance rel RMSE {e}");
+}
+
+/// The same table for 1 and 2 threads, bit for bit.
+#[test]
+fn build_is_deterministic_across_thread_counts() {
+    let p = probe();
+    let basis = TransferBasis::Sh {
+        bands: 3,
+        cosine: false,
+    };
+    let build = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                build_table(
+                    &p,
+                    basis,
+                    16,
+                    9,
+                    &[3],
+                    1.0,
+                    &Progress::hidden(),
+                    BuildFault::None,
+                )
+                .unwrap()
+            })
+    };
+    assert_eq!(build(1), build(2));
+}

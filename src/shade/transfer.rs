@@ -1,0 +1,80 @@
+//! The transfer-table term of an environment ([`crate::env::transfer`]), added to every
+//! visible pixel after the lights are shaded.
+//!
+//! Design rule: per pixel, one table lookup at the normal and one dot product with the
+//! material's coefficients at the view, whatever the number of texels behind the table:
+//! `L_o += sum_k c_k(wo) T_k(n)` per colour. The surface, frame and lifted view are those
+//! of every other path (`gbuffer.rs`, [`ShadingFrame::from_normal`], [`super::local_view`]);
+//! `c(wo)` is the data set's filtered coefficient lookup
+//! ([`crate::sh::dataset::ShDataset::lookup_coeffs`], the same filter the kernels use), or
+//! `albedo / pi` for Lambert. f32 on every path (the table is f32).
+
+use super::{local_view, surface_at_index, tile_pixels};
+use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
+use crate::env::transfer::TransferTable;
+use crate::image_io::Image;
+use crate::material::Material;
+use crate::raster::VisBuffer;
+use crate::scene::Scene;
+use crate::sh::dataset::MAX_BANDS;
+use rayon::prelude::*;
+
+/// Adds the transfer term of `table` to every visible pixel of `image` (rendered from
+/// `scene` and `vis`), parallel over bands of one tile row. Materials other than SH data
+/// sets and Lambert add nothing ([`crate::scene::Scene::resolve`] refuses them).
+pub(super) fn add_transfer(
+    scene: &Scene,
+    vis: &VisBuffer,
+    table: &TransferTable,
+    image: &mut Image,
+) {
+    let eye = scene.camera.position;
+    let band_len = (vis.width * vis.tile_size) as usize;
+    let per_tile = (vis.tile_size * vis.tile_size) as usize;
+    let nt = table.terms();
+    image
+        .pixels
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .for_each(|(ty, band)| {
+            let mut cbuf = [0.0f32; 3 * MAX_BANDS * MAX_BANDS];
+            let c = &mut cbuf[..3 * nt];
+            let y0 = ty as u32 * vis.tile_size;
+            for tx in 0..vis.tiles_x as usize {
+                let t = ty * vis.tiles_x as usize + tx;
+                if !vis.tile_occupied[t] {
+                    continue;
+                }
+                for (i, x, y) in tile_pixels(vis, t) {
+                    let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y) else {
+                        continue;
+                    };
+                    match &scene.material {
+                        Material::Sh(ds) => {
+                            let frame = ShadingFrame::from_normal(s.normal);
+                            let wo = local_view(&frame, &s, eye);
+                            let (p, a) = local_angles(wo);
+                            let (u, v) = hemi_texcoord(p, a);
+                            ds.lookup_coeffs(u, v, ds.coeff_lookup, c);
+                        }
+                        Material::Lambert(m) => {
+                            let k = m.albedo / std::f32::consts::PI;
+                            c.copy_from_slice(&[k.x, k.y, k.z]);
+                        }
+                        _ => continue,
+                    }
+                    let at = ((y - y0) * vis.width + x) as usize;
+                    band[at] += table.radiance(s.normal, c);
+                }
+            }
+        });
+}
+
+/// Whether `table` can shade `material` (its basis has the material's term count).
+pub(super) fn fits(table: &TransferTable, material: &Material) -> bool {
+    match material {
+        Material::Sh(ds) => table.terms() == ds.bands() * ds.bands(),
+        Material::Lambert(_) => table.terms() == 1,
+        _ => false,
+    }
+}
