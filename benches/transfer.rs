@@ -1,0 +1,77 @@
+//! Frame time at 640x480 of an 8-band SH material (library `teal-paint`) on a sphere under
+//! the shipped city probe with `[env] method = "transfer"` (128 x 65 table, 16 exact
+//! lights), issue 14's target being >= 100 frames/s; the table build time is measured once
+//! and printed beside it (it runs once per scene, far too long for criterion's samples).
+
+use brdfkit::env::transfer::{prepare_transfer, TransferBasis};
+use brdfkit::progress::Progress;
+use brdfkit::render::{self, RenderOptions};
+use brdfkit::scene::{Scene, SceneFile};
+use brdfkit::shade::{self, ShadeOptions};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::path::Path;
+use std::time::Instant;
+
+/// The allocator the `brdfkit` binary uses (src/main.rs), so frames are timed as they run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+const SCENE: &str = r#"
+[mesh]
+source = "sphere"
+segments = 256
+[material]
+kind = "library"
+name = "teal-paint"
+[env]
+file = "assets/probes/city.exr"
+method = "transfer"
+[render]
+width = 640
+height = 480
+"#;
+
+fn transfer(c: &mut Criterion) {
+    let file = SceneFile::parse(SCENE).unwrap();
+    let base = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let t0 = Instant::now();
+    let scene = Scene::resolve(&file, base).unwrap();
+    eprintln!(
+        "scene resolve (library material, probe load, table build): {:.2} s",
+        t0.elapsed().as_secs_f64()
+    );
+    let ds = scene.material.as_sh().expect("an SH material");
+    let basis = TransferBasis::Sh {
+        bands: ds.bands(),
+        cosine: !ds.cosine_included(),
+    };
+    let spec = file.env.as_ref().unwrap();
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let t1 = Instant::now();
+        let p = pool
+            .install(|| prepare_transfer(spec, base, basis, &Progress::hidden()))
+            .unwrap();
+        eprintln!(
+            "table build alone ({} x {} nodes, {} terms, {} threads, probe load included): {:.2} s",
+            p.table.grid().0,
+            p.table.grid().1,
+            p.table.terms(),
+            threads,
+            t1.elapsed().as_secs_f64()
+        );
+    }
+    let vis = render::rasterize(&scene, false);
+    let mut g = c.benchmark_group("transfer-sphere-640x480-8bands");
+    let fast = ShadeOptions::default();
+    g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis, &fast)));
+    let frame = RenderOptions::default();
+    g.bench_function("frame", |b| b.iter(|| render::render(&scene, &frame)));
+    g.finish();
+}
+
+criterion_group!(benches, transfer);
+criterion_main!(benches);
