@@ -71,8 +71,8 @@ pub fn texel_lights(probe: &Probe, indices: &[usize], intensity: f32) -> LightSe
     ls
 }
 
-/// Builds the transfer table of `probe` (times `intensity`) for `basis` on an `nu x nv`
-/// grid of normals (parent module doc), leaving out the texels `exclude` (summed exactly
+/// Builds the transfer table of `probe` (times `intensity`) for `basis` on the
+/// `grid = (nu, nv)` of normals (parent module doc), leaving out the texels `exclude` (summed exactly
 /// elsewhere, [`texel_lights`]). One progress step per table row (`nv` in all).
 ///
 /// Errors (naming the scene field): `nu` not a divisor of the probe's width, `nu < 3`,
@@ -80,13 +80,13 @@ pub fn texel_lights(probe: &Probe, indices: &[usize], intensity: f32) -> LightSe
 pub fn build_table(
     probe: &Probe,
     basis: TransferBasis,
-    nu: usize,
-    nv: usize,
+    grid: (usize, usize),
     exclude: &[usize],
     intensity: f32,
     progress: &Progress,
     fault: BuildFault,
 ) -> Result<TransferTable> {
+    let (nu, nv) = grid;
     let (w, h) = (probe.width(), probe.height());
     if nu < 3 || w % nu != 0 {
         return Err(Error::field(

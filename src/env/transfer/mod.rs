@@ -107,8 +107,7 @@ pub fn prepare_transfer(
     let table = build_table(
         &probe,
         basis,
-        spec.transfer_azimuth,
-        spec.transfer_polar,
+        (spec.transfer_azimuth, spec.transfer_polar),
         &exact,
         spec.intensity,
         progress,
