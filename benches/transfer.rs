@@ -46,28 +46,29 @@ fn transfer(c: &mut Criterion) {
         cosine: !ds.cosine_included(),
     };
     let spec = file.env.as_ref().unwrap();
-    for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        let t1 = Instant::now();
-        let p = pool
-            .install(|| prepare_transfer(spec, base, basis, &Progress::hidden()))
-            .unwrap();
-        eprintln!(
-            "table build alone ({} x {} nodes, {} terms, {} threads, probe load included): {:.2} s",
-            p.table.grid().0,
-            p.table.grid().1,
-            p.table.terms(),
-            threads,
-            t1.elapsed().as_secs_f64()
-        );
-    }
+    let t1 = Instant::now();
+    let p = prepare_transfer(spec, base, basis, &Progress::hidden()).unwrap();
+    eprintln!(
+        "table build alone ({} x {} nodes, {} terms, probe load included): {:.2} s",
+        p.table.grid().0,
+        p.table.grid().1,
+        p.table.terms(),
+        t1.elapsed().as_secs_f64()
+    );
     let vis = render::rasterize(&scene, false);
     let mut g = c.benchmark_group("transfer-sphere-640x480-8bands");
     let fast = ShadeOptions::default();
     g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis, &fast)));
+    let mut table_only = scene.clone();
+    table_only.lights.clear();
+    g.bench_function("shade-table-only", |b| {
+        b.iter(|| shade::shade(&table_only, &vis, &fast))
+    });
+    let mut lights_only = scene.clone();
+    lights_only.transfer = None;
+    g.bench_function("shade-16-exact-lights-only", |b| {
+        b.iter(|| shade::shade(&lights_only, &vis, &fast))
+    });
     let frame = RenderOptions::default();
     g.bench_function("frame", |b| b.iter(|| render::render(&scene, &frame)));
     g.finish();

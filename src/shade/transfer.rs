@@ -38,6 +38,7 @@ pub(super) fn add_transfer(
         .enumerate()
         .for_each(|(ty, band)| {
             let mut cbuf = [0.0f32; 3 * MAX_BANDS * MAX_BANDS];
+            let mut tbuf = [0.0f32; 3 * MAX_BANDS * MAX_BANDS];
             let c = &mut cbuf[..3 * nt];
             let y0 = ty as u32 * vis.tile_size;
             for tx in 0..vis.tiles_x as usize {
@@ -64,7 +65,7 @@ pub(super) fn add_transfer(
                         _ => continue,
                     }
                     let at = ((y - y0) * vis.width + x) as usize;
-                    band[at] += table.radiance(s.normal, c);
+                    band[at] += table.radiance_with(s.normal, c, &mut tbuf);
                 }
             }
         });

@@ -154,6 +154,7 @@ pub fn build_table(
         nv,
         basis,
         rotation: probe.rotation() as f32,
+        unrotate: (-(probe.rotation() as f32)).sin_cos(),
         values,
     })
 }

@@ -14,6 +14,8 @@ pub struct TransferTable {
     /// Probe rotation about +y, radians: a world normal `n` reads the node of
     /// `rotate_about_up(n, -rotation)`.
     pub(super) rotation: f32,
+    /// `sin` and `cos` of `-rotation`, computed once.
+    pub(super) unrotate: (f32, f32),
     pub(super) values: Vec<f32>,
 }
 
@@ -50,7 +52,7 @@ impl TransferTable {
     /// angles (azimuth wraps; polar nodes include the poles, so no clamping is needed).
     #[inline]
     pub fn corners(&self, n: Vec3) -> Corners {
-        let (s, c) = (-self.rotation).sin_cos();
+        let (s, c) = self.unrotate;
         // rotate_about_up(n, -rotation), in f32.
         let x = n.x * c + n.z * s;
         let z = -n.x * s + n.z * c;
@@ -78,26 +80,51 @@ impl TransferTable {
 
     /// Outgoing radiance `sum_k c_k T_k(n)` per colour at the world unit normal `n`, for
     /// coefficients `c` laid out `[R.., G.., B..]` (`3 x terms` values; for Lambert the one
-    /// coefficient per colour is `albedo / pi`). `T` is interpolated bilinearly (the dot
-    /// products of the four corners, blended: the same value in exact arithmetic).
+    /// coefficient per colour is `albedo / pi`). `T` is interpolated bilinearly at `n`
+    /// ([`TransferTable::corners`]) into `scratch` (`3 x terms` values), then dotted with `c`
+    /// ([`dot`]). Plain multiplies and adds in a fixed order (no FMA, no reassociation).
     #[inline]
-    pub fn radiance(&self, n: Vec3, c: &[f32]) -> Vec3 {
+    pub fn radiance_with(&self, n: Vec3, c: &[f32], scratch: &mut [f32]) -> Vec3 {
         let nt = self.terms();
-        debug_assert_eq!(c.len(), 3 * nt);
-        let mut out = Vec3::ZERO;
-        for (node, w) in self.corners(n) {
-            if w == 0.0 {
-                continue;
-            }
-            let t = self.node(node);
-            let dot = |o: usize| -> f32 {
-                c[o..o + nt]
-                    .iter()
-                    .zip(&t[o..o + nt])
-                    .fold(0.0f32, |s, (a, b)| a.mul_add(*b, s))
-            };
-            out += w * Vec3::new(dot(0), dot(nt), dot(2 * nt));
+        let w3 = 3 * nt;
+        debug_assert_eq!(c.len(), w3);
+        let t = &mut scratch[..w3];
+        let [(n0, a0), (n1, a1), (n2, a2), (n3, a3)] = self.corners(n);
+        let (t0, t1, t2, t3) = (self.node(n0), self.node(n1), self.node(n2), self.node(n3));
+        for ((((d, x0), x1), x2), x3) in t.iter_mut().zip(t0).zip(t1).zip(t2).zip(t3) {
+            *d = a0 * x0 + a1 * x1 + a2 * x2 + a3 * x3;
         }
-        out
+        Vec3::new(
+            dot(&c[..nt], &t[..nt]),
+            dot(&c[nt..2 * nt], &t[nt..2 * nt]),
+            dot(&c[2 * nt..], &t[2 * nt..]),
+        )
     }
+
+    /// [`TransferTable::radiance_with`] with its own scratch buffer (for callers outside a
+    /// pixel loop).
+    pub fn radiance(&self, n: Vec3, c: &[f32]) -> Vec3 {
+        let mut scratch = vec![0.0f32; 3 * self.terms()];
+        self.radiance_with(n, c, &mut scratch)
+    }
+}
+
+/// `sum_k a_k b_k` in f32 with eight partial sums (term `k` into sum `k mod 8`), added
+/// pairwise in a fixed order at the end: the same bits on every machine, and a loop the
+/// compiler turns into SIMD.
+#[inline]
+pub fn dot(a: &[f32], b: &[f32]) -> f32 {
+    debug_assert_eq!(a.len(), b.len());
+    let mut acc = [0.0f32; 8];
+    let mut ca = a.chunks_exact(8);
+    let mut cb = b.chunks_exact(8);
+    for (x, y) in (&mut ca).zip(&mut cb) {
+        for l in 0..8 {
+            acc[l] += x[l] * y[l];
+        }
+    }
+    for (l, (x, y)) in ca.remainder().iter().zip(cb.remainder()).enumerate() {
+        acc[l] += x * y;
+    }
+    ((acc[0] + acc[4]) + (acc[2] + acc[6])) + ((acc[1] + acc[5]) + (acc[3] + acc[7]))
 }
