@@ -10,7 +10,10 @@
 //!    [`mesh`] (Utah teapot from Newell's patches, UV sphere, OBJ via tobj).
 //! 2. **Lights and materials prepared**: [`light`] (delta lights: point, directional),
 //!    [`env`](mod@env) (light probes collapsed into delta-light sets: uniform, importance sampling,
-//!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2),
+//!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2; and,
+//!    opt-in with `[env] method = "transfer"`, [`env::transfer`]: the full probe projected
+//!    onto an SH data set's basis or into irradiance per normal, tabulated once and
+//!    interpolated per pixel by [`shade`]),
 //!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
 //!    D-BRDF with its file format [`brdf::dbrdf::file`], Lambert + D-BRDF lobe, MERL tables,
 //!    and the library's stand-in source models [`brdf::stand_ins`]), [`sh`] (real spherical
