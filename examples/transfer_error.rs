@@ -2,9 +2,10 @@
 //! table of issue 14 (deliverables 1 and 2).
 //!
 //! ```sh
-//! cargo run --release --example transfer_error -- [SIZE] [PROBE...]
+//! cargo run --release --example transfer_error -- [SIZE] [k=EXACT_LIGHTS] [m=MATERIAL] [PROBE...]
 //! ```
 //!
+//! `k=` sets `exact_lights` (default 16); `m=` keeps one material (repeatable).
 //! For every library SH material and Lambert (albedo 0.8) under each shipped probe (or the
 //! ones named: `city`, `studio`, `sky`), renders a 256-segment sphere at SIZE x SIZE
 //! (default 64) with the transfer method (default grid 128 x 65, 16 exact lights) and with
@@ -24,11 +25,11 @@ use brdfkit::scene::{Scene, SceneFile};
 use std::path::Path;
 use std::time::Instant;
 
-fn scene(material: &str, probe: &str, method: &str, size: u32, top: bool) -> Scene {
+fn scene(material: &str, probe: &str, method: &str, size: u32, top: bool, k: usize) -> Scene {
     let sampler = if method == "lights" {
-        "sampler = \"full\"\n"
+        "sampler = \"full\"\n".to_string()
     } else {
-        ""
+        format!("exact_lights = {k}\n")
     };
     let camera = if top {
         "[camera]\nposition = [0.0, 3.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, -1.0]\nfov_y_deg = 8.0\n"
@@ -69,11 +70,20 @@ fn p99(reference: &Image, img: &Image) -> f64 {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let size: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(64);
-    let probes: Vec<&str> = if args.len() > 1 {
-        args[1..].iter().map(|s| s.as_str()).collect()
-    } else {
-        vec!["city", "studio", "sky"]
-    };
+    let k: usize = args
+        .iter()
+        .find_map(|a| a.strip_prefix("k=")?.parse().ok())
+        .unwrap_or(16);
+    let only: Vec<&str> = args.iter().filter_map(|a| a.strip_prefix("m=")).collect();
+    let mut probes: Vec<&str> = args
+        .iter()
+        .skip(1)
+        .filter(|a| !a.contains('='))
+        .map(|s| s.as_str())
+        .collect();
+    if probes.is_empty() {
+        probes = vec!["city", "studio", "sky"];
+    }
     let mut materials: Vec<(String, String)> = brdfkit::library::LIBRARY
         .iter()
         .filter(|e| matches!(e.representation, Representation::Sh { .. }))
@@ -88,30 +98,32 @@ fn main() {
         "lambert".into(),
         "kind = \"lambert\"\nalbedo = [0.8, 0.8, 0.8]".into(),
     ));
+    materials.retain(|(n, _)| only.is_empty() || only.contains(&n.as_str()));
+    println!("exact_lights = {k}");
     println!("| material | probe | rel RMSE | p99 | pole rel RMSE | build s | shade ms |");
     println!("|---|---|---|---|---|---|---|");
     for probe in &probes {
         for (name, spec) in &materials {
             let t0 = Instant::now();
-            let tr = scene(spec, probe, "transfer", size, false);
+            let tr = scene(spec, probe, "transfer", size, false, k);
             let build = t0.elapsed().as_secs_f64();
             let t1 = Instant::now();
             let got = render(&tr, &RenderOptions::default()).image;
             let shade = t1.elapsed().as_secs_f64() * 1e3;
             let reference = render(
-                &scene(spec, probe, "lights", size, false),
+                &scene(spec, probe, "lights", size, false, k),
                 &RenderOptions::converged_reference(),
             )
             .image;
             let e = brdfkit::metrics::relative_rmse(&reference, &got, None);
             let q = p99(&reference, &got);
             let top = render(
-                &scene(spec, probe, "transfer", 24, true),
+                &scene(spec, probe, "transfer", 24, true, k),
                 &RenderOptions::default(),
             )
             .image;
             let top_ref = render(
-                &scene(spec, probe, "lights", 24, true),
+                &scene(spec, probe, "lights", 24, true, k),
                 &RenderOptions::converged_reference(),
             )
             .image;
