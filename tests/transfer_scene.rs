@@ -60,3 +60,42 @@ fn transfer_refuses_other_materials_and_bad_grids() {
     .unwrap();
     assert!(e.to_string().contains("env.transfer_azimuth"), "{e}");
 }
+
+mod common;
+
+/// `render --reference` of a transfer scene is the converged reference (every texel a light,
+/// no table): the same bits as the same scene with `method = "lights"`. Before, `--reference`
+/// set only `sampler = "full"`, so a transfer scene got its table term added on top of the
+/// full probe's lights (the probe counted twice).
+#[test]
+fn reference_of_a_transfer_scene_is_the_full_probe() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let probe = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/studio.exr");
+    for (name, method) in [("t", "transfer"), ("l", "lights")] {
+        let text = format!(
+            "[mesh]\nsource = \"sphere\"\n[material]\n{LAMBERT}\n[env]\nfile = {:?}\n\
+             method = \"{method}\"\ntransfer_azimuth = 64\ntransfer_polar = 33\n",
+            probe.to_str().unwrap()
+        );
+        std::fs::write(d.join(format!("{name}.toml")), text).unwrap();
+        let r = common::brdfkit(d).run(&[
+            "render",
+            &format!("{name}.toml"),
+            "--reference",
+            "--width",
+            "12",
+            "--height",
+            "12",
+            "-o",
+            &format!("{name}.exr"),
+        ]);
+        assert!(r.success(), "{method}: {}", r.stderr);
+    }
+    let t = brdfkit::image_io::read_exr(&d.join("t.exr")).unwrap();
+    let l = brdfkit::image_io::read_exr(&d.join("l.exr")).unwrap();
+    assert!(
+        t.pixels == l.pixels,
+        "--reference of a transfer scene differs"
+    );
+}

@@ -137,7 +137,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     if a.reference {
         if let Some(env) = file.env.as_mut() {
-            env.sampler = crate::env::prepare::SamplerKind::Full;
+            env.use_full_probe();
         }
     }
     if let Some(m) = &a.material {

@@ -155,6 +155,14 @@ fn default_intensity() -> f32 {
 }
 
 impl EnvSpec {
+    /// Makes this environment the converged reference's: every probe texel a light
+    /// (`sampler = "full"`) and no transfer table (`method = "lights"`), whatever the scene
+    /// chose. Used by `render --reference` and the sweep's reference.
+    pub fn use_full_probe(&mut self) {
+        self.sampler = SamplerKind::Full;
+        self.method = EnvMethod::Lights;
+    }
+
     /// An environment light from a probe file with default settings.
     pub fn new(file: PathBuf) -> EnvSpec {
         EnvSpec {

@@ -72,7 +72,7 @@ impl Sweep {
         file.render.threads = 0;
         file.render.precision = Precision::F32;
         if let Some(e) = file.env.as_mut() {
-            e.sampler = SamplerKind::Full;
+            e.use_full_probe();
         }
         let key = reference_key(&file, base)?;
         // Resolve with the full probe: the reference's light set (computed: no light-set
