@@ -70,7 +70,7 @@ pub fn measure(dir: &Path, entry: &Entry, scale: u32) -> Result<Option<MeasuredB
     )
     .image;
     if let Some(env) = file.env.as_mut() {
-        env.sampler = SamplerKind::Full;
+        env.use_full_probe();
     }
     let scene = resolve_named(&file, dir, &scene_path)?;
     let reference = render::render(&scene, &RenderOptions::converged_reference()).image;

@@ -12,7 +12,7 @@ use std::path::Path;
 /// to create, sync or rename the temporary file into that type.
 ///
 /// The temporary file is created by [`tempfile::Builder`] in `path`'s directory (so the
-/// rename stays on one filesystem) as `.<name>.<random>.tmp`, exclusively (`O_EXCL`): two
+/// rename stays on one filesystem) as `.<name>.<pid>-<random>.tmp`, exclusively (`O_EXCL`): two
 /// threads or processes writing the same `path` never share a temporary file, and the
 /// last rename wins. Unix permissions are those of [`std::fs::File::create`] (0666 less
 /// the umask). `write` may reopen the path (`File::create` truncates the same file).
