@@ -76,12 +76,8 @@ pub fn run(a: LightsArgs) -> Result<()> {
         crate::image_io::check_output(p, &["png"], "--overlay")?;
     }
     let (probe, report) = load_probe(&a.probe, &opts)?;
-    if report.negative_texels > 0 {
-        eprintln!(
-            "warning: {}: {} texels with negative values (lossy compression) clamped to 0",
-            a.probe.display(),
-            report.negative_texels
-        );
+    if let Some(w) = report.negative_warning(&a.probe) {
+        eprintln!("warning: {w}");
     }
     let config = a.sampler.config(a.count, a.seed);
     let pb = Progress::bar(

@@ -212,12 +212,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         None => scene?,
     };
     if let Some(e) = &scene.env {
-        if e.negative_texels > 0 {
-            eprintln!(
-                "warning: {}: {} texels with negative values (lossy compression) clamped to 0",
-                e.file.display(),
-                e.negative_texels
-            );
+        if let Some(w) = e.probe_report.and_then(|r| r.negative_warning(&e.file)) {
+            eprintln!("warning: {w}");
         }
         if let Some((w, h)) = e.probe_size {
             if w != 2 * h {

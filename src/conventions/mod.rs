@@ -65,8 +65,10 @@
 //! 4. **Luminance** for importance sampling and median cut is Rec. 709 / sRGB,
 //!    `0.2126 R + 0.7152 G + 0.0722 B`; the thesis uses `0.2125 / 0.7154 / 0.0721`
 //!    ([`crate::env::luminance`]: it moves sample positions, never total power).
-//! 5. **Negative probe texels** (lossy DWAB ringing around bright sources) are clamped to 0
-//!    channel by channel on load ([`crate::env::probe`]); the thesis's probes had none.
+//! 5. **Negative probe texels** (lossy DWAB ringing around bright sources) are set to 0
+//!    channel by channel on load and their mass (radiance x solid angle) is taken from the
+//!    nearby positive texels, so the probe keeps its local signed integral
+//!    ([`crate::env::probe`]); the thesis's probes had none.
 //! 6. **Phong and Blinn-Phong are energy-normalised**: `k_s (a + 2) / (2 pi) cos^a` and
 //!    `k_s (a + 8) / (8 pi) (n.h)^a` (with `k_d / pi`), not the thesis's unnormalised lobes
 //!    (Defs. 3, 4; [`crate::brdf::phong`], [`crate::brdf::blinn_phong`]).

@@ -50,6 +50,9 @@ pub struct EnvSummary {
     /// Why an existing cache entry was ignored ([`prepare::Prepared::cache_rejected`]).
     pub cache_rejected: Option<String>,
     pub negative_texels: usize,
+    /// What the probe loader changed (negative power moved, [`LoadReport::negative_warning`]);
+    /// `None` on a cache hit (the probe was not decoded).
+    pub probe_report: Option<crate::env::LoadReport>,
     /// The probe's size in texels when it was decoded (`None` on a cache hit).
     pub probe_size: Option<(usize, usize)>,
     /// The lights' RGB irradiances at normal incidence summed, after `[env] intensity`
@@ -246,6 +249,7 @@ impl Scene {
                 cache_hit: false,
                 cache_rejected: None,
                 negative_texels: p.report.negative_texels,
+                probe_report: Some(p.report),
                 probe_size: Some(p.report.size),
                 total_irradiance: p.lights.total_irradiance().to_array(),
             });
@@ -259,6 +263,7 @@ impl Scene {
                 cache_hit: prepared.cache_hit,
                 cache_rejected: prepared.cache_rejected,
                 negative_texels: prepared.report.as_ref().map_or(0, |r| r.negative_texels),
+                probe_report: prepared.report,
                 probe_size: prepared.report.as_ref().map(|r| r.size),
                 total_irradiance: prepared.lights.total_irradiance().to_array(),
             });

@@ -17,7 +17,9 @@ use std::path::{Path, PathBuf};
 /// Bump when the output of the converged reference changes for the same scene, so no reference
 /// rendered by older code is read. (Light-set changes are covered by
 /// [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`], also in the key.)
-pub const REFERENCE_ALGORITHM_VERSION: u32 = 1;
+/// 2: negative probe texels keep the signed integral (the reference's full probe changed);
+/// the UV sphere is shaded at the exact sphere seen through each pixel.
+pub const REFERENCE_ALGORITHM_VERSION: u32 = 2;
 
 /// Cache key of a reference render: [`StableHasher`] (XXH3-64) of a key tag, the crate version,
 /// [`REFERENCE_ALGORITHM_VERSION`], [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`],

@@ -36,7 +36,9 @@ use std::path::{Path, PathBuf};
 ///
 /// Bump when the output of `Probe::load` or of any sampler changes (a different light,
 /// irradiance or order for the same inputs), so no cache entry written by older code is read.
-pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 1;
+/// 2: negative texels keep the signed integral (their mass moved into nearby positive
+/// texels) instead of being clamped to 0.
+pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 2;
 
 /// The crate version, part of every cache key (a cache never outlives a release).
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -299,6 +301,7 @@ mod tests {
             negative_texels: 3,
             non_finite_zeroed: 0,
             size: (16, 8),
+            ..LoadReport::default()
         };
         let good =
             serde_json::to_string(&CacheEntry::new(key, header, report, ls.clone())).unwrap();

@@ -5,9 +5,12 @@
 //! `>= 0` once a probe exists; the loader decides (and reports) what happened to the
 //! dirty texels of real files, so no sampler ever sees a negative weight or a NaN.
 //!
-//! * Negative channels (left by lossy DWAB compression around bright texels) are clamped
-//!   to zero and the texels counted in [`LoadReport::negative_texels`], so the caller can
-//!   warn.
+//! * Negative channels (left by lossy DWAB compression around bright texels) keep the
+//!   probe's local signed integral: their mass is moved into nearby positive texels
+//!   (`clean.rs`), the texels counted in [`LoadReport::negative_texels`] and the power moved
+//!   in [`LoadReport::negative_power_moved`], so the caller can warn
+//!   ([`LoadReport::negative_warning`]). This is the one loader: the converged reference,
+//!   every light set and every transfer table see the same cleaned probe.
 //! * Non-finite channels (NaN, +-Inf) are an error naming the file and the count, unless
 //!   [`LoadOptions::zero_non_finite`] is set, in which case the whole texel becomes black
 //!   and is counted in [`LoadReport::non_finite_zeroed`].
@@ -97,15 +100,63 @@ impl Default for LoadOptions {
 }
 
 /// What the loader changed to make the probe clean.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LoadReport {
-    /// Texels with at least one negative channel (those channels were clamped to 0).
+    /// Texels with at least one negative channel (those channels were set to 0 and their
+    /// mass moved into nearby positive texels, `clean.rs`).
     pub negative_texels: usize,
+    /// Per RGB channel, the power of the negative texels moved into nearby positive ones:
+    /// `sum |v| x solid angle` over negative channels (W/m^2 for a probe in W/(m^2 sr)).
+    #[serde(default)]
+    pub negative_power_moved: [f64; 3],
+    /// Per RGB channel, negative power that could not be placed because the whole probe's
+    /// signed integral of that channel is negative (those channels end all black).
+    #[serde(default)]
+    pub negative_power_unplaced: [f64; 3],
+    /// Per RGB channel, the probe's signed integral `sum v x solid angle` before cleaning
+    /// (W/m^2), which cleaning keeps.
+    #[serde(default)]
+    pub signed_power: [f64; 3],
     /// Texels with a non-finite channel that were set to black (only with
     /// [`LoadOptions::zero_non_finite`]).
     pub non_finite_zeroed: usize,
     /// The probe's size in texels, `(width, height)`; an equirectangular probe is 2:1.
     pub size: (usize, usize),
+}
+
+impl LoadReport {
+    /// The warning for a probe whose negative texels were cleaned, `None` when there were
+    /// none: the texel count and the power moved, absolute (luminance-weighted with
+    /// [`crate::env::LUMINANCE_WEIGHTS`], W/m^2 for a probe in W/(m^2 sr)) and as a
+    /// percentage of the probe's signed luminance power.
+    pub fn negative_warning(&self, file: &Path) -> Option<String> {
+        if self.negative_texels == 0 {
+            return None;
+        }
+        let lum = |p: [f64; 3]| {
+            (0..3)
+                .map(|c| crate::env::LUMINANCE_WEIGHTS[c] * p[c])
+                .sum::<f64>()
+        };
+        let (moved, total) = (lum(self.negative_power_moved), lum(self.signed_power));
+        let mut msg = format!(
+            "{}: {} texels with negative values (lossy compression): their power, {:.4e} W/m^2 \
+             ({:.3}% of the probe's {:.4e} W/m^2, luminance), was moved into nearby positive \
+             texels, keeping the signed integral",
+            file.display(),
+            self.negative_texels,
+            moved,
+            100.0 * moved / total.abs().max(f64::MIN_POSITIVE),
+            total
+        );
+        let unplaced = lum(self.negative_power_unplaced);
+        if unplaced > 0.0 {
+            msg += &format!(
+                "; {unplaced:.4e} W/m^2 could not be placed (a channel's signed integral is negative) and was dropped"
+            );
+        }
+        Some(msg)
+    }
 }
 
 /// An equirectangular light probe: linear RGB radiance (units of the file, typically
@@ -189,13 +240,7 @@ impl Probe {
                 *t = [0.0; 3];
                 continue;
             }
-            if t.iter().any(|&c| c < 0.0) {
-                report.negative_texels += 1;
-                for c in t.iter_mut() {
-                    *c = c.max(0.0);
-                }
-            }
-            // -0.0 would survive max(0.0); normalise it so hashes see one zero.
+            // -0.0 is not negative mass; normalise it so hashes see one zero.
             for c in t.iter_mut() {
                 if *c == 0.0 {
                     *c = 0.0;
@@ -211,6 +256,7 @@ impl Probe {
             }
             report.non_finite_zeroed = non_finite;
         }
+        clean::move_negative_mass(&mut texels, width, height, &mut report);
         Ok((
             Probe {
                 width,
@@ -293,6 +339,7 @@ impl Probe {
     }
 }
 
+mod clean;
 mod read;
 use read::{check_size, read_exr, read_hdr};
 pub use read::{HDR_TEXELS_PER_BYTE, HDR_TEXEL_SLACK};

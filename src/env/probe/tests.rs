@@ -52,14 +52,181 @@ impl Probe {
     }
 }
 
+/// Exact solid angle of a texel in row `row` of a `w x h` probe, written out here from the
+/// closed form `(2 pi / w)(cos(pi row / h) - cos(pi (row + 1) / h))`, not taken from the
+/// loader.
+fn omega(row: usize, w: usize, h: usize) -> f64 {
+    let pi = std::f64::consts::PI;
+    std::f64::consts::TAU / w as f64
+        * ((pi * row as f64 / h as f64).cos() - (pi * (row + 1) as f64 / h as f64).cos())
+}
+
+/// Per channel signed integral `sum v x omega`, in f64.
+fn signed_power(t: &[[f32; 3]], w: usize, h: usize) -> [f64; 3] {
+    let mut p = [0.0; 3];
+    for (i, v) in t.iter().enumerate() {
+        for c in 0..3 {
+            p[c] += v[c] as f64 * omega(i / w, w, h);
+        }
+    }
+    p
+}
+
+/// The cleaning contract: no channel negative, and each channel's signed integral kept to
+/// `1e-6` relative (of the channel's absolute mass, so a channel near zero is not
+/// divided by ~0).
+fn check_cleaned(raw: &[[f32; 3]], cleaned: &[[f32; 3]], w: usize, h: usize) -> Result<(), String> {
+    if let Some(i) = cleaned.iter().position(|t| t.iter().any(|&c| c < 0.0)) {
+        return Err(format!("texel {i} negative: {:?}", cleaned[i]));
+    }
+    let (before, after) = (signed_power(raw, w, h), signed_power(cleaned, w, h));
+    for c in 0..3 {
+        let scale: f64 = raw
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (v[c] as f64).abs() * omega(i / w, w, h))
+            .sum();
+        let rel = (after[c] - before[c]).abs() / scale.max(f64::MIN_POSITIVE);
+        if rel > 1e-6 {
+            return Err(format!(
+                "channel {c}: signed power {} -> {} (relative change {rel:.3e} > 1e-6)",
+                before[c], after[c]
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Item 6's seeded fault: plain clamping, what the loader did before.
+fn clamp_only(raw: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    raw.iter().map(|t| t.map(|c| c.max(0.0))).collect()
+}
+
 #[test]
-fn negatives_clamped_and_counted() {
-    let t = vec![[1.0, -2.0, 3.0], [-0.0, 0.5, 0.5], [-1.0, -1.0, -1.0]];
-    let (p, rep) = Probe::from_texels("neg", 3, 1, t, &LoadOptions::default()).unwrap();
-    assert_eq!(rep.negative_texels, 2);
-    assert_eq!(p.texel(0, 0), [1.0, 0.0, 3.0]);
-    assert_eq!(p.texel(0, 2), [0.0, 0.0, 0.0]);
-    assert!(p.texel(0, 1)[0].is_sign_positive());
+fn shipped_probes_keep_signed_power_and_end_non_negative() {
+    for name in ["city.exr", "studio.exr", "sky.exr"] {
+        let path = assets().join(name);
+        let (w, h, raw) = read::read_exr(&path, &LoadOptions::default()).unwrap();
+        let (p, rep) = Probe::load(&path, &LoadOptions::default()).unwrap();
+        check_cleaned(&raw, p.texels(), w, h).unwrap_or_else(|e| panic!("{name}: {e}"));
+        // The report: texels counted, power moved = the negative mass, computed here.
+        let negatives = raw.iter().filter(|t| t.iter().any(|&c| c < 0.0)).count();
+        assert_eq!(rep.negative_texels, negatives, "{name}");
+        for c in 0..3 {
+            let neg: f64 = raw
+                .iter()
+                .enumerate()
+                .map(|(i, v)| (-(v[c] as f64)).max(0.0) * omega(i / w, w, h))
+                .sum();
+            assert!(
+                (rep.negative_power_moved[c] - neg).abs() <= 1e-12 * neg.max(1.0),
+                "{name} channel {c}: {} vs {neg}",
+                rep.negative_power_moved[c]
+            );
+            assert_eq!(rep.negative_power_unplaced[c], 0.0, "{name}");
+        }
+        // The seeded fault, plain clamping, breaks the contract on every shipped probe.
+        let err = check_cleaned(&raw, &clamp_only(&raw), w, h)
+            .expect_err("clamping must not keep the signed power");
+        assert!(err.contains("relative change"), "{name}: {err}");
+        let warning = rep.negative_warning(&path).unwrap();
+        assert!(
+            warning.contains(name) && warning.contains("% of the probe's"),
+            "{warning}"
+        );
+    }
+}
+
+#[test]
+fn negative_texel_mass_comes_from_its_3x3_window_by_power() {
+    // 8x4 probe, all 1 except texel (1, 3) = -0.5. Its 3x3 window (rows 0-2, cols 2-4) has
+    // 3 texels of row 0 and 5 of rows 1-2 (rows 1 and 2 have the same solid angle), positive
+    // mass S = 3 omega0 + 5 omega1 >= 0.5 omega1, so those 8 texels are scaled by
+    // k = 1 - 0.5 omega1 / S and every other texel keeps 1.
+    let (w, h) = (8, 4);
+    let mut t = vec![[1.0f32; 3]; w * h];
+    t[w + 3] = [-0.5, 1.0, -0.5];
+    let (p, rep) = Probe::from_texels("hand", w, h, t.clone(), &LoadOptions::default()).unwrap();
+    let (o0, o1) = (omega(0, w, h), omega(1, w, h));
+    let k = 1.0 - 0.5 * o1 / (3.0 * o0 + 5.0 * o1);
+    for row in 0..h {
+        for col in 0..w {
+            let in_window = row <= 2 && (2..=4).contains(&col) && (row, col) != (1, 3);
+            let want_rb = if (row, col) == (1, 3) {
+                0.0
+            } else if in_window {
+                k
+            } else {
+                1.0
+            };
+            let got = p.texel(row, col);
+            assert!(
+                (got[0] as f64 - want_rb).abs() < 1e-7 && (got[2] as f64 - want_rb).abs() < 1e-7,
+                "({row}, {col}): {got:?}, want {want_rb}"
+            );
+            assert_eq!(got[1], 1.0, "({row}, {col}): green untouched");
+        }
+    }
+    assert_eq!(rep.negative_texels, 1);
+    assert!((rep.negative_power_moved[0] - 0.5 * o1).abs() < 1e-15);
+    assert_eq!(rep.negative_power_moved[1], 0.0);
+    check_cleaned(&t, p.texels(), w, h).unwrap();
+}
+
+#[test]
+fn too_little_mass_nearby_widens_the_window() {
+    // One row (every texel the same solid angle 4 pi / 8): [1, 1, 1, -3, 1, 1, 1, 1]. The
+    // radius-1 window holds mass 2 < 3; radius 2 holds 4, so its four texels are scaled
+    // by 1 - 3/4 and the rest keep 1.
+    let mut t = vec![[1.0f32; 3]; 8];
+    t[3] = [-3.0; 3];
+    let (p, rep) = Probe::from_texels("widen", 8, 1, t.clone(), &LoadOptions::default()).unwrap();
+    let want = [1.0, 0.25, 0.25, 0.0, 0.25, 0.25, 1.0, 1.0];
+    for (col, &v) in want.iter().enumerate() {
+        assert_eq!(p.texel(0, col), [v; 3], "col {col}");
+    }
+    assert!((rep.negative_power_moved[0] - 3.0 * 4.0 * std::f64::consts::PI / 8.0).abs() < 1e-12);
+    check_cleaned(&t, p.texels(), 8, 1).unwrap();
+    assert!(check_cleaned(&t, &clamp_only(&t), 8, 1).is_err());
+    // -0.0 is no negative mass and ends +0.0.
+    let (p, rep) = Probe::from_texels(
+        "z",
+        2,
+        1,
+        vec![[-0.0, 1.0, 1.0]; 2],
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(rep.negative_texels, 0);
+    assert!(p.texel(0, 0)[0].is_sign_positive());
+}
+
+#[test]
+fn a_channel_with_negative_total_ends_black_and_reports_the_unplaced_power() {
+    let t = vec![[1.0, 1.0, 1.0], [-3.0, 1.0, 1.0], [1.0, 1.0, 1.0], [1.0; 3]];
+    let (p, rep) = Probe::from_texels("neg", 4, 1, t, &LoadOptions::default()).unwrap();
+    assert!(p.texels().iter().all(|t| t[0] == 0.0 && t[1] == 1.0));
+    let lune = std::f64::consts::PI; // 4 pi / 4
+    assert!(
+        (rep.negative_power_unplaced[0] - 0.0).abs() < 1e-12,
+        "{rep:?}"
+    );
+    // 3 lunes of +1 against one of -3: exactly balanced, nothing unplaced; now unbalance.
+    let t = vec![[1.0, 1.0, 1.0], [-4.0, 1.0, 1.0], [1.0, 1.0, 1.0], [1.0; 3]];
+    let (p, rep) = Probe::from_texels("neg", 4, 1, t, &LoadOptions::default()).unwrap();
+    assert!(p.texels().iter().all(|t| t[0] == 0.0));
+    assert!(
+        (rep.negative_power_unplaced[0] - lune).abs() < 1e-12,
+        "{rep:?}"
+    );
+    assert!(
+        (rep.negative_power_moved[0] - 3.0 * lune).abs() < 1e-12,
+        "{rep:?}"
+    );
+    assert!(rep
+        .negative_warning(Path::new("neg"))
+        .unwrap()
+        .contains("could not be placed"));
 }
 
 #[test]
