@@ -9,8 +9,9 @@
 //!    isolates shading (frames, light directions and falloff, the BRDF formula, the light sum,
 //!    view lifting) from geometry; bound [`AT_SURFACE`].
 //! 2. against the exact sphere ray-cast in f64 from the same camera (`closed_form_common`),
-//!    on the pixels both cover. This adds the tessellation, the rasterizer's snapping and
-//!    barycentrics and the normal interpolation; bound [`tessellation_bound`].
+//!    on the pixels both cover. The renderer shades the UV sphere's exact sphere along each
+//!    pixel's ray (`mesh::Mesh::exact_sphere`), so this adds only its ray and intersection;
+//!    [`tessellation_bound`] (the bound for interpolated facets) holds with room.
 //!
 //! Expected values are written here from the documented formulas (thesis Def. 10: the
 //! pixel is `sum_k f(l_k, v) cos E_k`; `brdf::lambert`, `brdf::blinn_phong`, `light`), never
@@ -223,8 +224,10 @@ fn blinn_phong_sphere_directional_light() {
         Some(blinn_phong_slope(EXPONENT)),
     );
 
-    // The analytic check sees tessellation: at the default 16 segments the glossy lobe is
-    // far outside the 256-segment bound (the issue measured 17%).
+    // The renderer shades the exact sphere through each pixel (`Mesh::exact_sphere`), so at
+    // the default 16 segments the glossy lobe is as close as at 256 (with the facets'
+    // interpolated normals it was far outside that bound: the issue measured 17%; the facet
+    // fault is `tests/exact_sphere.rs`'s).
     let coarse = blinn_phong_scene(16, l, e);
     let exact = common_hits(&analytic_sphere(&coarse), &renderer_surfaces(&coarse));
     let img = brdfkit::render::render(&coarse, &Default::default()).image;
@@ -238,7 +241,7 @@ fn blinn_phong_sphere_directional_light() {
     eprintln!(
         "blinn-phong at 16 segments against the exact sphere: {an} (256-segment bound {bound:.3e})"
     );
-    assert!(an.max_abs_over_peak > bound, "{an}");
+    assert!(an.max_abs_over_peak <= bound, "{an}");
 }
 
 /// D-BRDF with a constant half-vector table: normalised by `integral p (h.n) dω_h = 1` it is

@@ -19,6 +19,11 @@ pub struct Mesh {
     /// Unit vertex normals, one per position.
     pub normals: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
+    /// The exact surface this mesh tessellates, when it is a sphere ([`sphere::uv_sphere`]):
+    /// shading intersects each pixel's camera ray with it ([`crate::shade::surface_at`])
+    /// instead of interpolating across the facets. `None` for any other mesh, and after
+    /// [`Mesh::transform`] or [`Mesh::append`].
+    pub exact_sphere: Option<sphere::ExactSphere>,
 }
 
 /// Axis-aligned bounds of a mesh.
@@ -84,8 +89,10 @@ impl Mesh {
     }
 
     /// Applies `world_from_object`: positions by the affine map, normals by its inverse
-    /// transpose (renormalised).
+    /// transpose (renormalised). Drops [`Mesh::exact_sphere`] (a general affine map does not
+    /// keep a sphere).
     pub fn transform(&mut self, world_from_object: glam::Affine3A) {
+        self.exact_sphere = None;
         let normal_matrix = glam::Mat3::from(world_from_object.matrix3)
             .inverse()
             .transpose();
@@ -97,8 +104,9 @@ impl Mesh {
         }
     }
 
-    /// Appends another mesh.
+    /// Appends another mesh. Drops [`Mesh::exact_sphere`] (the result is no longer one).
     pub fn append(&mut self, other: &Mesh) {
+        self.exact_sphere = None;
         let base = self.positions.len() as u32;
         self.positions.extend_from_slice(&other.positions);
         self.normals.extend_from_slice(&other.normals);

@@ -60,6 +60,7 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
                 .chunks_exact(3)
                 .map(|c| [c[0], c[1], c[2]])
                 .collect(),
+            exact_sphere: None,
         };
         if let Some(bad) = part
             .triangles

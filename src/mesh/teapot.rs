@@ -165,6 +165,7 @@ fn weld(mesh: &mut Mesh, tol: f32) {
         positions,
         normals,
         triangles,
+        exact_sphere: None,
     };
 }
 

@@ -72,6 +72,37 @@ pub struct VisBuffer {
     pub tile_occupied: Vec<bool>,
     /// The set-up triangles that `visible` indexes.
     pub triangles: Vec<SetupTriangle>,
+    /// The camera ray through each pixel centre, when the caller knows the camera
+    /// ([`crate::render::rasterize`] sets it): the G-buffer intersects it with a mesh's
+    /// exact sphere ([`crate::mesh::Mesh::exact_sphere`]).
+    pub rays: Option<PixelRays>,
+}
+
+/// The pinhole camera's rays through pixel centres, in f64 world space: pixel `(x, y)`'s ray
+/// is `eye + t dir(x, y)` with `dir` the view-space vector `(ndc_x tan_x, ndc_y tan_y, -1)`
+/// turned into world space, `ndc_x = 2 (x + 1/2) / width - 1`, `ndc_y = 1 - 2 (y + 1/2) /
+/// height` (the rasterizer's viewport mapping, `setup.rs`), so `t` is the distance along the
+/// view axis (the clip w).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelRays {
+    pub eye: glam::DVec3,
+    /// Columns: the camera's right, up and backward (view +x, +y, +z) world axes.
+    pub world_from_view: glam::DMat3,
+    /// `tan(fov_y / 2) * width / height` and `tan(fov_y / 2)`.
+    pub tan_half: (f64, f64),
+    pub width: u32,
+    pub height: u32,
+}
+
+impl PixelRays {
+    /// World direction (not unit; view-space z = -1) of the ray through pixel `(x, y)`.
+    #[inline]
+    pub fn dir(&self, x: u32, y: u32) -> glam::DVec3 {
+        let ndc_x = 2.0 * (x as f64 + 0.5) / self.width as f64 - 1.0;
+        let ndc_y = 1.0 - 2.0 * (y as f64 + 0.5) / self.height as f64;
+        self.world_from_view
+            * glam::DVec3::new(ndc_x * self.tan_half.0, ndc_y * self.tan_half.1, -1.0)
+    }
 }
 
 impl VisBuffer {
@@ -222,5 +253,6 @@ pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> V
         coverage,
         tile_occupied,
         triangles: setup,
+        rays: None,
     }
 }

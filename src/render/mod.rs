@@ -48,7 +48,18 @@ pub fn rasterize(scene: &Scene, count_coverage: bool) -> VisBuffer {
         near: scene.camera.near,
         count_coverage,
     };
-    raster::rasterize(&clip_positions(scene), &scene.mesh.triangles, &cfg)
+    let mut vis = raster::rasterize(&clip_positions(scene), &scene.mesh.triangles, &cfg);
+    let view_from_world = scene.camera.view_from_world().as_dmat4();
+    let ty = (0.5 * scene.camera.fov_y_deg as f64).to_radians().tan();
+    vis.rays = Some(raster::PixelRays {
+        eye: scene.camera.position.as_dvec3(),
+        // The inverse of a rotation is its transpose.
+        world_from_view: glam::DMat3::from_mat4(view_from_world).transpose(),
+        tan_half: (ty * r.width as f64 / r.height as f64, ty),
+        width: r.width,
+        height: r.height,
+    });
+    vis
 }
 
 /// Tiles of the frame `scene` renders to (its `render.width` x `render.height` in tiles of

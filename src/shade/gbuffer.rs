@@ -3,7 +3,13 @@
 //! Design rule: geometry only, no shading. Per pixel, the perspective-correct barycentrics
 //! of the source triangle give the world position and the interpolated normal; back faces
 //! (two-sided mode) get the normal flipped, so the inside of the teapot is lit as a surface
-//! facing the viewer. Every shading path (the tile loop, the scalar oracle, the f64 path)
+//! facing the viewer. Where the mesh tessellates an exact sphere
+//! ([`crate::mesh::Mesh::exact_sphere`]) and the visibility buffer knows the camera
+//! ([`crate::raster::PixelRays`]), the camera ray through the pixel centre is intersected
+//! with that sphere in f64 instead: position, normal and view depth are the sphere's, first
+//! intersection for front faces and second for back faces; a ray that misses (at the
+//! silhouette: a facet pixel just outside the true outline, by rounding) keeps the facet's
+//! values. Every shading path (the tile loop, the scalar oracle, the f64 path)
 //! and the AOVs ([`crate::aov`]) read surfaces through here, so they all see the same one.
 
 use crate::mesh::Mesh;
@@ -47,6 +53,18 @@ pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) 
         .try_normalize()
         .or_else(|| geometric.try_normalize())
         .unwrap_or(Vec3::Y);
+    let mut position = position;
+    let mut view_depth = 1.0 / vis.depth[i];
+    if let (Some(sphere), Some(rays)) = (mesh.exact_sphere, vis.rays) {
+        let dir = rays.dir(x, y);
+        if let Some(s) = sphere.ray_parameter(rays.eye, dir, !t.front_facing) {
+            let hit = rays.eye + s * dir;
+            position = hit.as_vec3();
+            normal = sphere.normal_at(hit).normalize().as_vec3();
+            // dir has view-space z = -1: s is the depth along the view axis.
+            view_depth = s as f32;
+        }
+    }
     if !t.front_facing {
         normal = -normal;
     }
@@ -54,7 +72,7 @@ pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) 
         position,
         normal,
         front_facing: t.front_facing,
-        view_depth: 1.0 / vis.depth[i],
+        view_depth,
     })
 }
 
