@@ -99,7 +99,8 @@ fn every_path_counts_each_tile_once_for_any_thread_count() {
 #[test]
 fn the_scalar_oracle_path_is_shade_point_at_every_pixel() {
     // Independently of the tile loop: shade_point per pixel, row by row, over the lights
-    // and bands the frame kept (the scalar oracle applies the kernels' skips).
+    // and bands the frame kept, plus the dropped lights where they are restored (the scalar
+    // oracle applies the kernels' skips).
     for material in ["blue-silk", "lindt-paper"] {
         let s = scene(material);
         let vis = render::rasterize(&s, false);
@@ -113,7 +114,17 @@ fn the_scalar_oracle_path_is_shade_point_at_every_pixel() {
         for y in 0..vis.height {
             for x in 0..vis.width {
                 expected.push(surface_at(&s.mesh, &vis, x, y).map_or(Vec3::ZERO, |surf| {
-                    shade_point(brdf, &prep.dropped.kept, &surf, s.camera.position)
+                    let kept = shade_point(brdf, &prep.dropped.kept, &surf, s.camera.position);
+                    // Where leaving the dropped lights out could change the pixel by more
+                    // than `drop_lights` of its value, they are shaded too (kernel::skip).
+                    if brdfkit::kernel::skip::needs_restore(
+                        kept,
+                        prep.dropped.restore_below(surf.normal),
+                    ) {
+                        kept + shade_point(brdf, &prep.dropped.removed, &surf, s.camera.position)
+                    } else {
+                        kept
+                    }
                 }));
             }
         }

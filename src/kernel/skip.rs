@@ -6,19 +6,33 @@
 //! [`crate::render`]), probe preprocessing already cached ([`crate::env::prepare`]). The
 //! two skips here trade a bounded error for work:
 //!
-//! # Negligible lights ([`drop_weak_lights`])
+//! # Negligible lights ([`drop_weak_lights`], [`restore_threshold`])
 //! The weakest directional lights (by the largest channel of their irradiance `E_k`, ties
-//! by index) are dropped while, in every colour channel, the dropped irradiance
+//! by index) are set aside while, in every colour channel, their irradiance
 //! `E_drop = sum_{dropped} E_k` stays at most `fraction x` the total. A pixel is
-//! `L = sum_k f(l_k, v) cos(polar_k) E_k` (thesis Def. 10), so dropping the set `D` changes
-//! it by
+//! `L = sum_k f(l_k, v) cos(polar_k) E_k` (thesis Def. 10), so leaving out the set `D`
+//! changes it by
 //! `|dL| = |sum_{k in D} f cos E_k| <= E_drop x M`, with `M` the material's bound on
 //! `|f cos|` ([`crate::brdf::Brdf::max_cosine_weighted`]: Lambert `albedo/pi`,
 //! Blinn-Phong `kd/pi + ks (a+8)/(8 pi)`, Phong `kd/pi + ks (a+2)/(2 pi)`, D-BRDF
-//! `c max(p) max(1, R_s)`, SH data sets `max|c| L/sqrt(4 pi)` by Cauchy-Schwarz). Relative
-//! to the brightest value any pixel could take (`E_total M`), the change is at most
-//! `fraction`. Models without a bound drop nothing; point lights are never dropped (their
-//! irradiance depends on the distance).
+//! `c max(p) max(1, R_s)`, SH data sets `max|c| L/sqrt(4 pi)` by Cauchy-Schwarz).
+//!
+//! That bound is relative to the brightest value any pixel could take (`E_total M`), not
+//! to the pixel: under a glossy lobe the dim dropped lights made visible highlights (3% of
+//! glossy pixels at `fraction = 1e-3`, issue 14), and on the dark side of a studio probe a
+//! Lambert pixel changed by 5%. So the bound is made relative to each pixel. Only the
+//! dropped lights above the pixel's horizon (`n.l_k > 0`) reach it, so
+//! `|dL| <= M E_D(n)` with `E_D(n) = sum_{k in D, n.l_k > 0} E_k` (a horizon test per
+//! dropped light, no BRDF). The pixel is first shaded with the kept lights (`L_kept`), and
+//! where in some channel `M E_D(n) > fraction x |L_kept|` ([`LightDrop::restore_below`],
+//! [`needs_restore`]) the dropped lights are shaded for that pixel too and added. Every
+//! pixel then has `|dL| <= fraction x |L_kept|` in each channel, and `|L_kept| <= L` where
+//! the terms are non-negative (every BRDF; SH fits can ring below zero, where the bound
+//! holds relative to `L_kept`). A material with a narrow lobe has a large `M` next to its
+//! typical `f cos`, so its pixels get the dropped lights back almost everywhere: for glossy
+//! materials the skip turns itself off.
+//! Models without a bound drop nothing; point lights are never dropped (their irradiance
+//! depends on the distance).
 //!
 //! # SH bands beyond what a material needs ([`crate::sh::dataset::ShDataset::effective_bands`])
 //! A data set declares a band energy threshold; shading uses the first `L` of its `B` bands,
@@ -38,20 +52,25 @@ use crate::light::Light;
 use glam::Vec3;
 
 /// Default fraction of the total directional irradiance that may be dropped (weakest
-/// lights first): 1e-3. The change it allows is at most 1e-3 of the brightest value a
-/// pixel could take (`E_total M`), below half a step (1/510) of an 8-bit display code for
-/// an image exposed so that value is white; in practice it drops the dim tail of uniform
-/// and stratified light sets (golden `fig3-6-uniform-city`: 1 of 64 lights) and nothing
-/// from median-cut or importance sets, whose lights carry nearly equal irradiance; Lloyd's
+/// lights first): 1e-3, which is also the largest change it allows at any pixel relative
+/// to that pixel's value (module doc). In practice it drops the dim tail of uniform and
+/// stratified light sets (golden `fig3-6-uniform-city`: 1 of 64 lights) and nothing from
+/// median-cut or importance sets, whose lights carry nearly equal irradiance; Lloyd's
 /// relaxation moves irradiance between regions and can leave a few dim ones (golden
-/// `fig3-8-lloyd-studio`: 2 of 64, 9.7e-4 of the irradiance).
+/// `fig3-8-lloyd-studio`: 2 of 64).
 pub const DEFAULT_DROP_LIGHTS: f32 = 1e-3;
 
 /// The light set after dropping negligible lights, and what was dropped.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightDrop {
-    /// The lights shaded, in their original order.
+    /// The lights shaded at every pixel, in their original order.
     pub kept: Vec<Light>,
+    /// The lights set aside, in their original order: shaded only at the pixels where
+    /// leaving them out could change more than `fraction` of the value ([`needs_restore`]).
+    pub removed: Vec<Light>,
+    /// The material's bound `M` on `|f cos|` divided by the fraction (0 when nothing is
+    /// dropped): [`LightDrop::restore_below`] is `E_D(n)` times this.
+    pub restore_scale: Vec3,
     /// Number of directional lights dropped.
     pub dropped: usize,
     /// Sum of the dropped lights' irradiance at normal incidence (RGB, W/m^2).
@@ -60,11 +79,12 @@ pub struct LightDrop {
     pub total_irradiance: Vec3,
 }
 
-/// Drops the weakest directional lights of `lights` while, in every channel, their summed
-/// irradiance stays at most `fraction x` the total (module doc). `fraction <= 0` (or NaN)
-/// drops nothing. Deterministic: order by the largest channel, ties by index; the kept
-/// lights keep their original order. Never fails.
-pub fn drop_weak_lights(lights: &[Light], fraction: f32) -> LightDrop {
+/// Sets aside the weakest directional lights of `lights` while, in every channel, their
+/// summed irradiance stays at most `fraction x` the total (module doc), for a material with
+/// `|f cos| <= max_f_cos` (which [`LightDrop::restore_below`] uses). `fraction <= 0`
+/// (or NaN) drops nothing. Deterministic: order by the largest channel, ties by index; the
+/// kept and removed lights keep their original order. Never fails.
+pub fn drop_weak_lights(lights: &[Light], fraction: f32, max_f_cos: Vec3) -> LightDrop {
     let irr = |l: &Light| match *l {
         Light::Directional { irradiance, .. } => Some(irradiance),
         Light::Point { .. } => None,
@@ -72,6 +92,8 @@ pub fn drop_weak_lights(lights: &[Light], fraction: f32) -> LightDrop {
     let total = lights.iter().filter_map(irr).fold(Vec3::ZERO, |a, e| a + e);
     let mut out = LightDrop {
         kept: lights.to_vec(),
+        removed: Vec::new(),
+        restore_scale: Vec3::ZERO,
         dropped: 0,
         dropped_irradiance: Vec3::ZERO,
         total_irradiance: total,
@@ -102,13 +124,34 @@ pub fn drop_weak_lights(lights: &[Light], fraction: f32) -> LightDrop {
         out.dropped += 1;
     }
     out.dropped_irradiance = sum;
-    out.kept = lights
-        .iter()
-        .zip(&drop)
-        .filter(|(_, d)| !**d)
-        .map(|(l, _)| *l)
-        .collect();
+    let (kept, removed): (Vec<(Light, bool)>, Vec<(Light, bool)>) =
+        lights.iter().copied().zip(drop).partition(|(_, d)| !*d);
+    out.kept = kept.into_iter().map(|(l, _)| l).collect();
+    out.removed = removed.into_iter().map(|(l, _)| l).collect();
+    out.restore_scale = max_f_cos / fraction;
     out
+}
+
+impl LightDrop {
+    /// Per channel, the kept radiance below which a pixel with unit normal `n` gets the
+    /// removed lights back: `M E_D(n) / fraction`, `E_D(n)` the removed lights' irradiance
+    /// summed over those above the horizon of `n` (module doc). Zero when nothing was
+    /// removed.
+    pub fn restore_below(&self, n: Vec3) -> Vec3 {
+        let mut e = Vec3::ZERO;
+        for l in &self.removed {
+            if let Light::Directional {
+                to_light,
+                irradiance,
+            } = *l
+            {
+                if n.dot(to_light) > 0.0 {
+                    e += irradiance;
+                }
+            }
+        }
+        e * self.restore_scale
+    }
 }
 
 /// The largest change (RGB, radiance) dropping lights of summed irradiance
@@ -116,6 +159,14 @@ pub fn drop_weak_lights(lights: &[Light], fraction: f32) -> LightDrop {
 /// their product (module doc).
 pub fn light_drop_bound(dropped_irradiance: Vec3, max_f_cos: Vec3) -> Vec3 {
     dropped_irradiance * max_f_cos
+}
+
+/// Whether a pixel whose kept lights give `kept_radiance` must have the dropped lights
+/// shaded too: some channel's `|L_kept|` below `restore_below`
+/// ([`LightDrop::restore_below`]; never where that is 0).
+#[inline]
+pub fn needs_restore(kept_radiance: Vec3, restore_below: Vec3) -> bool {
+    kept_radiance.abs().cmplt(restore_below).any()
 }
 
 /// `sqrt(sum_{l=kept}^{bands-1} (2l+1)/(4 pi)) = sqrt((bands^2 - kept^2)/(4 pi))`: by the SH
@@ -150,18 +201,32 @@ mod tests {
     fn drops_the_weakest_within_the_fraction_and_keeps_order() {
         let lights = [dir(5.0), dir(0.1), dir(3.0), dir(0.2), dir(0.05)];
         // total 8.35; 5 % = 0.4175: 0.05 + 0.1 + 0.2 = 0.35 fits, + 3.0 does not.
-        let d = drop_weak_lights(&lights, 0.05);
+        let m = Vec3::new(0.1, 0.2, 0.3);
+        let d = drop_weak_lights(&lights, 0.05, m);
         assert_eq!(d.dropped, 3);
         assert_eq!(d.kept, vec![dir(5.0), dir(3.0)]);
+        assert_eq!(d.removed, vec![dir(0.1), dir(0.2), dir(0.05)]);
         assert!((d.dropped_irradiance.x - 0.35).abs() < 1e-6);
-        assert_eq!(drop_weak_lights(&lights, 0.0).kept, lights.to_vec());
-        assert_eq!(drop_weak_lights(&lights, f32::NAN).dropped, 0);
+        // Restore below M E_D(n) / fraction: all three removed lights are above the
+        // horizon of +y (0.35 x (0.1, 0.2, 0.3) / 0.05), none of -y's.
+        let below = d.restore_below(Vec3::Y);
+        let want = Vec3::new(0.7, 1.4, 2.1);
+        assert!((below - want).abs().max_element() < 1e-5, "{below}");
+        assert_eq!(d.restore_below(-Vec3::Y), Vec3::ZERO);
+        assert!(needs_restore(Vec3::new(1.0, 1.0, 3.0), below));
+        assert!(needs_restore(Vec3::new(1.0, -1.5, 3.0), below));
+        assert!(!needs_restore(Vec3::new(0.8, 1.5, 2.2), below));
+        assert!(!needs_restore(Vec3::ZERO, Vec3::ZERO));
+        assert_eq!(drop_weak_lights(&lights, 0.0, m).kept, lights.to_vec());
+        let none = drop_weak_lights(&lights, 0.0, m);
+        assert_eq!(none.restore_below(Vec3::Y), Vec3::ZERO);
+        assert_eq!(drop_weak_lights(&lights, f32::NAN, m).dropped, 0);
         // A light whose weakest channel is small but another channel large is not weak.
         let coloured = Light::Directional {
             to_light: Vec3::Y,
             irradiance: Vec3::new(0.0, 0.0, 4.0),
         };
-        let d = drop_weak_lights(&[dir(1.0), coloured], 0.5);
+        let d = drop_weak_lights(&[dir(1.0), coloured], 0.5, m);
         assert_eq!(d.dropped, 0, "dropping either exceeds half of some channel");
     }
 

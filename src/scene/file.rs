@@ -106,8 +106,9 @@ pub struct RenderSpec {
     /// Arithmetic of the shaded image (not of AOVs); default [`Precision::F32`].
     pub precision: Precision,
     /// Fraction of the total directional irradiance that may be dropped, weakest lights
-    /// first (0 <= x < 1; 0 turns it off). See [`crate::kernel::skip`]. Not used by the
-    /// f64 path, which shades every light.
+    /// first (0 <= x < 1; 0 turns it off), and the largest change it may make to any pixel
+    /// relative to that pixel's value: pixels it could change more get the dropped lights
+    /// back. See [`crate::kernel::skip`]. Not used by the f64 path, which shades every light.
     pub drop_lights: f32,
     /// Whether SH data sets are shaded with only the bands their declared threshold needs.
     pub band_skip: bool,

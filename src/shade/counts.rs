@@ -17,6 +17,10 @@ pub struct ShadeCounts {
     /// (pixel x light) pairs handed to the kernel: per tile, its pixels times the live
     /// lights of the chunks its normal cone keeps plus the point lights.
     pub light_pairs: u64,
+    /// Pixels that got the dropped lights back because leaving them out could change more
+    /// than `render.drop_lights` of their value ([`crate::kernel::skip::needs_restore`]);
+    /// their pairs with those lights are in `light_pairs`.
+    pub pixels_restored: u64,
 }
 
 impl std::ops::Add for ShadeCounts {
@@ -27,6 +31,7 @@ impl std::ops::Add for ShadeCounts {
             tiles_skipped: self.tiles_skipped + o.tiles_skipped,
             pixels_shaded: self.pixels_shaded + o.pixels_shaded,
             light_pairs: self.light_pairs + o.light_pairs,
+            pixels_restored: self.pixels_restored + o.pixels_restored,
         }
     }
 }

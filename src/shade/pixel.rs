@@ -42,6 +42,47 @@ impl FramePrep<'_> {
                 scratch.push(wi, if includes_cosine { e } else { e * wi.z });
             }
         }
+        self.sum_gathered(s, wo, coeff_buf, scratch)
+    }
+
+    /// Radiance of one surface point lit by the dropped lights only
+    /// ([`FramePrep::dropped_dir`], every chunk, no point light): what the tile loop adds
+    /// where [`crate::kernel::skip::needs_restore`] says leaving them out could change the
+    /// pixel by more than `render.drop_lights` of its value.
+    #[inline(always)]
+    pub fn shade_dropped<S: Isa>(
+        &self,
+        s: S,
+        surf: &Surface,
+        coeff_buf: &mut Vec<f32>,
+        scratch: &mut kernel::gather::Scratch,
+    ) -> Vec3 {
+        let frame = ShadingFrame::from_normal(surf.normal);
+        let wo = local_view(&frame, surf, self.eye);
+        scratch.clear();
+        let includes_cosine = self.brdf.includes_cosine();
+        let chunks: Vec<u32> = (0..self.dropped_dir.chunks() as u32).collect();
+        kernel::gather::gather_dir(
+            s,
+            &frame,
+            includes_cosine,
+            &self.dropped_dir,
+            &chunks,
+            scratch,
+        );
+        self.sum_gathered(s, wo, coeff_buf, scratch)
+    }
+
+    /// The gathered lights of `scratch` summed by the SH kernel or the material's lane
+    /// model, at local view direction `wo`.
+    #[inline(always)]
+    fn sum_gathered<S: Isa>(
+        &self,
+        s: S,
+        wo: Vec3,
+        coeff_buf: &mut Vec<f32>,
+        scratch: &mut kernel::gather::Scratch,
+    ) -> Vec3 {
         match &self.sh {
             Some((ds, rec)) => {
                 if scratch.n == 0 {

@@ -23,6 +23,10 @@ use std::borrow::Cow;
 pub struct FramePrep<'a> {
     pub brdf: &'a dyn Brdf,
     pub dir: DirLights,
+    /// The dropped directional lights ([`skip::LightDrop::removed`]), laid out for the
+    /// kernels: shaded at the pixels [`skip::needs_restore`] picks
+    /// ([`FramePrep::shade_dropped`]).
+    pub dropped_dir: DirLights,
     pub points: Vec<Light>,
     /// The SH data set shaded (truncated to its effective bands when the band skip is on)
     /// and its recurrence constants.
@@ -70,12 +74,13 @@ impl<'a> FramePrep<'a> {
     /// in code (or such options) can get here.
     pub(crate) fn with_options(scene: &'a Scene, opts: &ShadeOptions) -> FramePrep<'a> {
         let brdf = scene.material.as_brdf();
-        let fraction = match brdf.max_cosine_weighted() {
-            Some(_) => scene.render.drop_lights,
-            None => 0.0,
+        let (fraction, max_f_cos) = match brdf.max_cosine_weighted() {
+            Some(m) => (scene.render.drop_lights, m),
+            None => (0.0, Vec3::ZERO),
         };
-        let dropped = skip::drop_weak_lights(&scene.lights, fraction);
+        let dropped = skip::drop_weak_lights(&scene.lights, fraction, max_f_cos);
         let dir = DirLights::from_lights(&dropped.kept);
+        let dropped_dir = DirLights::from_lights(&dropped.removed);
         let chunk_live = (0..dir.chunks())
             .map(|c| {
                 (c * LANES..(c + 1) * LANES)
@@ -104,6 +109,7 @@ impl<'a> FramePrep<'a> {
                 _ => (0, 0),
             },
             dir,
+            dropped_dir,
             points: scene
                 .lights
                 .iter()

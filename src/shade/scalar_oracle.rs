@@ -11,6 +11,7 @@ use super::{local_view, FramePrep, Surface};
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::ShadingFrame;
 use crate::image_io::Image;
+use crate::kernel::skip::needs_restore;
 use crate::light::Light;
 use crate::progress::Progress;
 use crate::raster::VisBuffer;
@@ -37,10 +38,10 @@ pub fn shade_point(brdf: &dyn Brdf, lights: &[Light], surface: &Surface, eye: Ve
 /// The scalar oracle ([`super::ShadingPath::ScalarOracle`]): [`shade_point`] at every
 /// visible pixel, no kernel, no culling; every tile counted into `progress`.
 ///
-/// It shades what the fast path shades: the light set and SH bands that `prep` kept
-/// (dropping negligible lights and bands is a decision about the scene, bounded in
-/// [`crate::kernel::skip`], not about the kernel), so the two differ only by the kernel's
-/// arithmetic. The f64 path (`f64_path.rs`) is the other check: every light, every band, f64.
+/// It shades what the fast path shades: the light set and SH bands that `prep` kept, plus
+/// the dropped lights at the pixels [`needs_restore`] picks (dropping negligible lights and
+/// bands is a decision about the scene, bounded in [`crate::kernel::skip`], not about the
+/// kernel), so the two differ only by the kernel's arithmetic. The f64 path (`f64_path.rs`) is the other check: every light, every band, f64.
 pub(super) fn shade_scalar_oracle(
     prep: &FramePrep,
     scene: &Scene,
@@ -51,8 +52,13 @@ pub(super) fn shade_scalar_oracle(
         Some((ds, _)) => ds.as_ref(),
         None => scene.material.as_brdf(),
     };
-    let lights = &prep.dropped.kept;
+    let d = &prep.dropped;
     shade_per_pixel(scene, vis, progress, |s| {
-        shade_point(brdf, lights, s, scene.camera.position)
+        let kept = shade_point(brdf, &d.kept, s, scene.camera.position);
+        if !d.removed.is_empty() && needs_restore(kept, d.restore_below(s.normal)) {
+            kept + shade_point(brdf, &d.removed, s, scene.camera.position)
+        } else {
+            kept
+        }
     })
 }

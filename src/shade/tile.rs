@@ -15,7 +15,7 @@
 use super::{surface_at_index, tile_pixels, FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES};
-use crate::kernel::{self, cluster::Cone};
+use crate::kernel::{self, cluster::Cone, skip::needs_restore};
 use crate::progress::Progress;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
@@ -33,7 +33,7 @@ pub(super) fn shade_kernels(
     let mut img = Image::new(vis.width, vis.height);
     let band_len = (vis.width * vis.tile_size) as usize;
     // Per-pixel lists, or the pixel-packed point-light path's eight lanes per light.
-    let room = prep.dir.len() + LANES * prep.points.len();
+    let room = prep.dir.len().max(prep.dropped_dir.len()) + LANES * prep.points.len();
     // Parallel over bands of one tile row (contiguous in the image, so tiles write their
     // pixels in place); each worker keeps its buffers across the tiles it shades.
     let counts: Vec<ShadeCounts> = img
@@ -150,6 +150,7 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             None
         };
         let chunks = prep.dir.chunks_for(cone);
+        let mut restored = 0u64;
         match &prep.sh {
             Some((ds, rec)) if prep.dir.is_empty() => {
                 for batch in surfaces.chunks(LANES) {
@@ -161,7 +162,14 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             }
             _ => {
                 for (at, surf) in surfaces.iter() {
-                    band[*at] = prep.shade_surface(s, surf, &chunks, buf, scratch);
+                    let mut rgb = prep.shade_surface(s, surf, &chunks, buf, scratch);
+                    if !prep.dropped.removed.is_empty()
+                        && needs_restore(rgb, prep.dropped.restore_below(surf.normal))
+                    {
+                        rgb += prep.shade_dropped(s, surf, buf, scratch);
+                        restored += 1;
+                    }
+                    band[*at] = rgb;
                 }
             }
         }
@@ -174,7 +182,9 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             tiles_shaded: 1,
             tiles_skipped: 0,
             pixels_shaded: surfaces.len() as u64,
-            light_pairs: surfaces.len() as u64 * lights,
+            light_pairs: surfaces.len() as u64 * lights
+                + restored * prep.dropped.removed.len() as u64,
+            pixels_restored: restored,
         }
     }
 }
