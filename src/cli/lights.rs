@@ -38,7 +38,9 @@ pub struct LightsArgs {
     /// Load probes with NaN/Inf texels, setting those texels to black (default: error).
     #[arg(long)]
     pub zero_non_finite: bool,
-    /// Print the irradiance error against the full probe.
+    /// Print the irradiance error against the full probe, and the per-pixel error of a
+    /// small Lambert sphere and Blinn-Phong spheres (exponents 50 and 200) rendered with
+    /// the light set against the full probe ([`super::lights_report`]).
     #[arg(long)]
     pub report: bool,
 }
@@ -108,6 +110,13 @@ pub fn run(a: LightsArgs) -> Result<()> {
         let normals = fibonacci_sphere(REPORT_NORMALS);
         let reference = reference_irradiance_many(&probe, &normals);
         println!("irradiance error vs the full probe (relative RMS over {REPORT_NORMALS} normals): {:.6}", irradiance_error(&lights, &normals, &reference));
+        let size = super::lights_report::SIZE;
+        for e in super::lights_report::sphere_errors(&probe, &lights, size) {
+            println!(
+                "per-pixel error vs the full probe, {} sphere ({size}x{size}, {} px, f64): relative RMSE {:.6}, p99 {:.6}",
+                e.material, e.pixels, e.rel_rmse, e.p99
+            );
+        }
     }
     if let (Some(p), Some(json)) = (&a.output, out_kind) {
         if json {

@@ -7,6 +7,7 @@ pub mod cache;
 pub mod compare;
 mod golden;
 pub mod lights;
+pub mod lights_report;
 pub mod parse;
 mod render;
 pub mod source;
