@@ -7,7 +7,8 @@
 //!
 //! ## Stages (modules follow the data's path)
 //! 1. **Scene and assets in**: [`scene`] (TOML scene file, defaults, checks; [`scene::camera`]),
-//!    [`mesh`] (Utah teapot from Newell's patches, UV sphere, OBJ via tobj).
+//!    [`mesh`] (Utah teapot from Newell's patches, UV sphere, OBJ via tobj; the UV sphere
+//!    names its exact sphere, which shading intersects per pixel instead of its facets).
 //! 2. **Lights and materials prepared**: [`light`] (delta lights: point, directional),
 //!    [`env`](mod@env) (light probes collapsed into delta-light sets: uniform, importance sampling,
 //!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2; and,
