@@ -61,13 +61,12 @@ impl FramePrep<'_> {
         let wo = local_view(&frame, surf, self.eye);
         scratch.clear();
         let includes_cosine = self.brdf.includes_cosine();
-        let chunks: Vec<u32> = (0..self.dropped_dir.chunks() as u32).collect();
         kernel::gather::gather_dir(
             s,
             &frame,
             includes_cosine,
             &self.dropped_dir,
-            &chunks,
+            &self.dropped_chunks,
             scratch,
         );
         self.sum_gathered(s, wo, coeff_buf, scratch)

@@ -27,6 +27,8 @@ pub struct FramePrep<'a> {
     /// kernels: shaded at the pixels [`skip::needs_restore`] picks
     /// ([`FramePrep::shade_dropped`]).
     pub dropped_dir: DirLights,
+    /// Every chunk of `dropped_dir` (no culling for the restored lights).
+    pub(crate) dropped_chunks: Vec<u32>,
     pub points: Vec<Light>,
     /// The SH data set shaded (truncated to its effective bands when the band skip is on)
     /// and its recurrence constants.
@@ -109,6 +111,7 @@ impl<'a> FramePrep<'a> {
                 _ => (0, 0),
             },
             dir,
+            dropped_chunks: (0..dropped_dir.chunks() as u32).collect(),
             dropped_dir,
             points: scene
                 .lights
