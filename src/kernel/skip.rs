@@ -124,10 +124,16 @@ pub fn drop_weak_lights(lights: &[Light], fraction: f32, max_f_cos: Vec3) -> Lig
         out.dropped += 1;
     }
     out.dropped_irradiance = sum;
-    let (kept, removed): (Vec<(Light, bool)>, Vec<(Light, bool)>) =
-        lights.iter().copied().zip(drop).partition(|(_, d)| !*d);
-    out.kept = kept.into_iter().map(|(l, _)| l).collect();
-    out.removed = removed.into_iter().map(|(l, _)| l).collect();
+    let pick = |want: bool| -> Vec<Light> {
+        lights
+            .iter()
+            .zip(&drop)
+            .filter(|(_, d)| **d == want)
+            .map(|(l, _)| *l)
+            .collect()
+    };
+    out.kept = pick(false);
+    out.removed = pick(true);
     out.restore_scale = max_f_cos / fraction;
     out
 }
