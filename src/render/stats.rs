@@ -44,6 +44,11 @@ impl std::fmt::Display for RenderStats {
         )?;
         writeln!(
             f,
+            "pixels given the dropped lights back (per-pixel bound): {}",
+            s.pixels_restored
+        )?;
+        writeln!(
+            f,
             "sh bands: {} of {}",
             self.sh_bands_used, self.sh_bands_stored
         )?;
