@@ -12,7 +12,7 @@ use brdfkit::shade::{shade, CutStats, ShadeOptions};
 use std::path::Path;
 use std::sync::Arc;
 
-const SIDE: u32 = 32;
+const SIDE: u32 = 24;
 
 fn scene(probe: &str, material: &str, env_extra: &str) -> brdfkit::error::Result<Scene> {
     let text = format!(
@@ -66,7 +66,7 @@ fn reference(probe: &str, material: &str) -> Image {
 
 /// Blinn-Phong exponent 200 and the library D-BRDF (lindt-paper) under every shipped probe,
 /// default `cut_error` (1%) and `cut_max`: relative RMSE against the converged reference
-/// below issue 14's 1% (measured, 32 x 32, on this machine: see the report printed with
+/// below issue 14's 1% (measured, 24 x 24, on this machine: see the report printed with
 /// `--nocapture`; the largest is well under the bound). The mean cut is printed beside it.
 #[test]
 fn lightcuts_match_the_converged_reference() {
@@ -88,7 +88,7 @@ fn lightcuts_match_the_converged_reference() {
                 cuts.largest,
                 cuts.capped
             );
-            assert!(cuts.pixels > 300, "{probe} {name}: {} pixels", cuts.pixels);
+            assert!(cuts.pixels > 200, "{probe} {name}: {} pixels", cuts.pixels);
             assert!(e < 0.01, "{probe} {name}: rel RMSE {e}");
             worst = worst.max(e);
         }

@@ -24,7 +24,7 @@ fn inside(rng: &mut Pcg64, cone: &Cone, k: usize) -> Vec3 {
     let u = a.cross(t).normalize();
     let v = a.cross(u);
     let alpha = cone.sin.atan2(cone.cos);
-    let angle = if k % 8 == 0 {
+    let angle = if k.is_multiple_of(8) {
         alpha
     } else {
         alpha * rng.gen::<f32>().sqrt()
