@@ -98,11 +98,11 @@ pub const DEFAULT_EXACT_LIGHTS: usize = 16;
 /// Default `cut_error` of light cuts: a cluster's error bound at most 1% of the pixel's
 /// estimate (issue 14's accuracy target is 1% relative RMSE).
 pub const DEFAULT_CUT_ERROR: f32 = 0.01;
-/// Default `cut_max` of light cuts. Why 1000: under the shipped probes the mean cut at the
-/// default `cut_error` is far smaller (tens to a few hundred clusters), so the cap only
-/// stops the few pixels where a bound stays loose (grazing views, a lobe across a bright
-/// source), keeping a frame's worst pixel under ~10x the mean's cost; see the sweep in
-/// `tests/lightcuts_scene.rs` for the cut sizes measured.
+/// Default `cut_max` of light cuts. Why 1000: at the default `cut_error` (1%), Blinn-Phong
+/// exponent 200 and the library D-BRDF under the shipped probes need mean cuts of 230-380
+/// clusters and at most ~550 (`examples/lightcuts_error.rs`, 48 x 48), so the cap stops no
+/// pixel there; it bounds the cost of a pixel whose bound stays loose (about 4x the mean),
+/// and at `cut_error = 0.003` it starts to stop a few pixels (studio: 20 of ~1,400).
 pub const DEFAULT_CUT_MAX: usize = 1000;
 
 /// Largest light count a scene may ask for.

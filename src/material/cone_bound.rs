@@ -46,8 +46,9 @@
 //!   theta_h)` (all azimuths when the cone holds a pole). Over that box of texel
 //!   coordinates, up to 3 texels a side, the bilinear blend's exact maximum (at a corner,
 //!   an edge's crossing of a grid line, or a texel centre inside: a bilinear cell has no
-//!   interior maximum); a larger box takes its footprint's largest texel, and a per-row
-//!   maximum ([`DbrdfBound`]) answers the all-azimuth case in one read per row.
+//!   interior maximum); a larger box takes its footprint's largest texel, two reads per
+//!   row from a sparse table of runs ([`DbrdfBound`]; the all-azimuth case reads a
+//!   per-row maximum).
 //! * Lambert + D-BRDF lobe: the sum of the two bounds.
 //! * SH data sets and MERL tables have no cone bound here: [`ConeBound::new`] refuses them.
 
@@ -219,6 +220,9 @@ pub struct DbrdfBound {
     nv: usize,
     p: Vec<f32>,
     row_max: Vec<f32>,
+    /// `runs[k][j nu + i]`: the largest of row `j`'s texels `i .. i + 2^k` (azimuth
+    /// wrapped), for `2^k <= nu`: any run of a row in two reads (a sparse table).
+    runs: Vec<Vec<f32>>,
     max: f32,
     c: f32,
     rs: Vec3,
@@ -241,11 +245,24 @@ impl DbrdfBound {
             .map(|r| r.iter().copied().fold(0.0f32, f32::max))
             .collect();
         let max = row_max.iter().copied().fold(0.0f32, f32::max);
+        let mut runs = vec![p.clone()];
+        while 2usize << (runs.len() - 1) <= nu {
+            let half = 1usize << (runs.len() - 1);
+            let prev = runs.last().expect("level 0");
+            let next: Vec<f32> = (0..nu * nv)
+                .map(|k| {
+                    let (j, i) = (k / nu, k % nu);
+                    prev[k].max(prev[j * nu + (i + half) % nu])
+                })
+                .collect();
+            runs.push(next);
+        }
         DbrdfBound {
             nu,
             nv,
             p,
             row_max,
+            runs,
             max,
             c: d.c,
             rs: d.rs,
@@ -280,17 +297,24 @@ impl DbrdfBound {
         }
         let i0 = u0.floor() as i64;
         let i1 = u1.floor() as i64 + 1;
-        if i1 - i0 + 1 >= self.nu as i64 {
+        let len = (i1 - i0 + 1) as usize;
+        if len >= self.nu {
             return self.row_max[j0..=j1].iter().copied().fold(0.0f32, f32::max);
         }
-        let mut best = 0.0f32;
-        for j in j0..=j1 {
-            let r = &self.p[j * self.nu..(j + 1) * self.nu];
-            for i in i0..=i1 {
-                best = best.max(r[i.rem_euclid(self.nu as i64) as usize]);
-            }
-        }
-        best
+        (j0..=j1)
+            .map(|j| self.run_max(j, i0, len))
+            .fold(0.0f32, f32::max)
+    }
+
+    /// The largest of row `j`'s texels `start .. start + len` (wrapped; `1 <= len <= nu`):
+    /// two overlapping runs of `2^k` texels from the sparse table.
+    #[inline]
+    fn run_max(&self, j: usize, start: i64, len: usize) -> f32 {
+        let k = (usize::BITS - 1 - len.leading_zeros()) as usize;
+        let a = start.rem_euclid(self.nu as i64) as usize;
+        let b = (a + len - (1 << k)) % self.nu;
+        let runs = &self.runs[k];
+        runs[j * self.nu + a].max(runs[j * self.nu + b])
     }
 
     /// The bilinear `p` at continuous texel coordinates `(u, v)` (`u = s nu - 1/2`,
