@@ -6,6 +6,7 @@ use crate::brdf::{AshikhminShirley, BlinnPhong, LambertDbrdf, Phong};
 use crate::brdf::{DBrdf, Lambert};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
+use std::f32::consts::TAU;
 use std::sync::Arc;
 
 fn random_unit(rng: &mut Pcg64) -> Vec3 {
