@@ -4,6 +4,15 @@
 //! probes; issue 14's target is >= 30 frames/s on this 2-core machine. The light tree's
 //! build time (probe load included) is measured once per probe and printed beside it, with
 //! each frame's mean cut size.
+//!
+//! Measured (2026-11-30, load average 9-14 on the 2 cores: four helpers building and
+//! testing): frame 14.0 s (city, Blinn-Phong 200, mean cut 251), 42.6 s (city, lindt-paper,
+//! mean cut 379), 12.0 s (studio, Blinn-Phong 200, mean cut 239); tree build 0.2-0.3 s.
+//! The target is far out of reach: a frame is ~162k shaded pixels x (2 x cut - 1) node
+//! evaluations (81M for Blinn-Phong under city), each a cone bound plus a BRDF evaluation;
+//! 30 frames/s would leave under 1 ns per node on two cores. What bounds it is the cut
+//! size the 1% accuracy needs times the bound's cost (trigonometry for the D-BRDF's half
+//! vector box, `powf` for Blinn-Phong); see the report on branch `lightcuts`.
 
 use brdfkit::env::lightcuts::prepare_lightcuts;
 use brdfkit::render::{self, RenderOptions};
