@@ -43,8 +43,8 @@
 //!
 //! # The tree ([`LightTree`])
 //! A binary tree over every texel of positive weight (a 512 x 256 probe: ~131k leaves,
-//! ~262k nodes of 60 bytes, ~16 MB), built top-down once per scene and probe (no cache; ~0.3 s for the
-//! shipped probes): a cluster's texels are sorted along the largest extent of their
+//! ~262k nodes of 60 bytes, ~16 MB), built top-down once per scene and probe (no cache;
+//! 0.2-0.3 s for the shipped probes, probe load included): a cluster's texels are sorted along the largest extent of their
 //! directions' bounding box and split at the luminance-weighted median, so a bright texel
 //! (the sun, a studio lamp) gets a cluster of its own within a few levels. Each node stores
 //! (arrays of one value per node) its total irradiance, its representative direction, and a
