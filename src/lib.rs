@@ -14,7 +14,9 @@
 //!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2; and,
 //!    opt-in with `[env] method = "transfer"`, [`env::transfer`]: the full probe projected
 //!    onto an SH data set's basis or into irradiance per normal, tabulated once and
-//!    interpolated per pixel by [`shade`]),
+//!    interpolated per pixel by [`shade`]; opt-in with `[env] method = "lightcuts"`,
+//!    [`env::lightcuts`]: every texel a light in a light tree, cut per pixel by [`shade`]
+//!    within the bounds of [`material::cone_bound`], Walter et al. 2005),
 //!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
 //!    D-BRDF with its file format [`brdf::dbrdf::file`], Lambert + D-BRDF lobe, MERL tables,
 //!    and the library's stand-in source models [`brdf::stand_ins`]), [`sh`] (real spherical

@@ -15,6 +15,9 @@
 //! any model per light (the scalar oracle, the f64 path, the per-light fallback of the
 //! lane kernels). Units and conventions are those of [`crate::brdf`]: local shading frame,
 //! directions away from the surface, values in 1/sr.
+//!
+//! [`cone_bound`]: per model, an upper bound of `f cos` over a cone of incident directions
+//! (what adaptive light cuts need), a function of this enum.
 
 use crate::brdf::{
     AshikhminShirley, BlinnPhong, Brdf, DBrdf, Lambert, LambertDbrdf, MerlBrdf, Phong,
@@ -22,6 +25,8 @@ use crate::brdf::{
 use crate::sh::dataset::ShDataset;
 use glam::{DVec3, Vec3};
 use std::sync::Arc;
+
+pub mod cone_bound;
 
 /// Every BRDF model the renderer can shade (module doc). Tabulated models are shared
 /// ([`Arc`]), so cloning a scene copies no table.

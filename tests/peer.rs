@@ -211,6 +211,7 @@ fn scene(meta: &Value, config: Config, lights: Option<Vec<Light>>) -> Scene {
         output: OutputSpec::default(),
         env: None,
         transfer: None,
+        lightcuts: None,
     }
 }
 

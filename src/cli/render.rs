@@ -192,6 +192,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
             ),
             "rows",
         ),
+        // The light tree's build (~0.3 s) is not counted.
+        Some(env) if env.method == crate::env::prepare::EnvMethod::Lightcuts => Progress::hidden(),
         Some(env) => {
             let config = env.sampler_config();
             let what = match config.n() {

@@ -21,6 +21,7 @@
 //! spherical k-means seeded from median cut), and the full probe (the converged
 //! reference).
 
+pub mod lightcuts;
 pub mod lightset_io;
 pub mod overlay;
 pub mod prepare;

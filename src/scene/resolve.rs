@@ -9,6 +9,7 @@
 use super::camera::{self, Camera};
 use super::material::resolve_material;
 use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
+use crate::env::lightcuts::{prepare_lightcuts, LightCuts};
 use crate::env::prepare::{self, CacheDir, EnvMethod};
 use crate::env::transfer::{prepare_transfer, TransferBasis, TransferTable};
 use crate::error::{Error, Result};
@@ -39,6 +40,9 @@ pub struct Scene {
     /// The environment's transfer table when `[env] method = "transfer"`
     /// ([`crate::env::transfer`]); shading adds its radiance to that of `lights`.
     pub transfer: Option<Arc<TransferTable>>,
+    /// The environment's light tree and cut parameters when `[env] method = "lightcuts"`
+    /// ([`crate::env::lightcuts`]); shading adds each pixel's cut to `lights`.
+    pub lightcuts: Option<Arc<LightCuts>>,
 }
 
 /// A summary of the environment light preparation, for the command line to report.
@@ -220,7 +224,28 @@ impl Scene {
 
         let mut env = None;
         let mut transfer = None;
+        let mut lightcuts = None;
         if let Some(spec) = file
+            .env
+            .as_ref()
+            .filter(|s| s.method == EnvMethod::Lightcuts)
+        {
+            crate::material::cone_bound::ConeBound::new(&material)
+                .map_err(|why| Error::field("env.method", format!("\"lightcuts\": {why}")))?;
+            let p = prepare_lightcuts(spec, base)?;
+            // Every texel of positive weight is a light (a leaf of the tree).
+            let tree = &p.cuts.tree;
+            env = Some(EnvSummary {
+                file: base.join(&spec.file),
+                lights: tree.len().div_ceil(2),
+                cache_hit: false,
+                cache_rejected: None,
+                negative_texels: p.report.negative_texels,
+                probe_size: Some(p.report.size),
+                total_irradiance: tree.leaf_irradiance_sum().to_array(),
+            });
+            lightcuts = Some(Arc::new(p.cuts));
+        } else if let Some(spec) = file
             .env
             .as_ref()
             .filter(|s| s.method == EnvMethod::Transfer)
@@ -317,6 +342,7 @@ impl Scene {
             output: file.output.clone(),
             env,
             transfer,
+            lightcuts,
         })
     }
 

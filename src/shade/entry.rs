@@ -6,6 +6,7 @@
 //! path uses none of them (no skips).
 
 use super::f64_path::shade_f64_no_skips;
+use super::lightcuts::{add_lightcuts, CutStats};
 use super::scalar_oracle::shade_scalar_oracle;
 use super::tile::shade_kernels;
 use super::transfer::{add_transfer, fits};
@@ -33,13 +34,17 @@ pub struct Shaded {
     /// SH bands stored in the material's data set and bands shaded (0, 0 if not SH or on
     /// the f64 path).
     pub sh_bands: (usize, usize),
+    /// Light-cut sizes when the scene has light cuts (`[env] method = "lightcuts"`; all
+    /// zero otherwise).
+    pub cuts: CutStats,
 }
 
 /// Shades every visible pixel of `vis` (rasterized from `scene`) on the path `opts` chooses
 /// ([`ShadeOptions::path_for`]): the kernels, the scalar f32 oracle or the f64 path with no
 /// skips. Every tile of the frame is counted once into `opts.progress`. When the scene has
 /// a transfer table (`[env] method = "transfer"`), its term is added to every visible pixel
-/// afterwards, on every path (`transfer.rs`).
+/// afterwards, on every path (`transfer.rs`); so is the light-cut term of a scene with light
+/// cuts (`[env] method = "lightcuts"`, `lightcuts.rs`).
 ///
 /// # Panics
 /// If the kernel path chosen (by `opts.kernel` or the scene's `render.kernel`) is not
@@ -52,6 +57,9 @@ pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
             "the scene's transfer table does not fit its material"
         );
         add_transfer(scene, vis, table, &mut shaded.image);
+    }
+    if let Some(cuts) = &scene.lightcuts {
+        shaded.cuts = add_lightcuts(scene, vis, cuts, &mut shaded.image);
     }
     shaded
 }
@@ -68,6 +76,7 @@ fn shade_lights(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
             lights_dropped: 0,
             dropped_fraction: 0.0,
             sh_bands: (0, 0),
+            cuts: CutStats::default(),
         };
     }
     let prep = FramePrep::with_options(scene, opts);
@@ -90,5 +99,6 @@ fn shade_lights(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
             .map(|c| d.dropped_irradiance[c] / d.total_irradiance[c])
             .fold(0.0, f32::max),
         sh_bands: prep.sh_bands,
+        cuts: CutStats::default(),
     }
 }

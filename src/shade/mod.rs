@@ -51,6 +51,9 @@
 //!   and the per-pixel one that the scalar oracle and the f64 path share.
 //! - `transfer.rs`: the transfer-table term of an environment (`[env] method =
 //!   "transfer"`, [`crate::env::transfer`]), added to every path's image after its lights.
+//! - `lightcuts.rs`: the light-cut term of an environment (`[env] method = "lightcuts"`,
+//!   [`crate::env::lightcuts`]): per pixel a cut through the light tree, added to every
+//!   path's image after its lights ([`CutStats`]: the cut sizes).
 //! - `counts.rs`: the work counters ([`ShadeCounts`]).
 //! - `scalar_oracle.rs`: the scalar f32 oracle ([`shade_point`] per pixel;
 //!   [`ShadingPath::ScalarOracle`]).
@@ -64,6 +67,7 @@ mod entry;
 mod f64_path;
 mod fault;
 mod gbuffer;
+mod lightcuts;
 mod options;
 mod packed;
 mod pixel;
@@ -79,6 +83,7 @@ pub use {
     counts::ShadeCounts,
     entry::{shade, Shaded},
     gbuffer::{surface_at, surface_at_index, tile_pixels, Surface},
+    lightcuts::CutStats,
     options::{ShadeOptions, ShadingPath},
     prep::FramePrep,
     scalar_oracle::shade_point,

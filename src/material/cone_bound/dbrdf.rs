@@ -1,0 +1,158 @@
+//! The D-BRDF's share of the cone bounds: the largest `p(h)` of its half-vector table over
+//! a cone of half vectors, and its `f cos` bound (derivation in the parent module doc,
+//! "D-BRDF").
+
+use super::{schlick_max, Cone, ConeAngles};
+use crate::brdf::DBrdf;
+use glam::Vec3;
+use std::f32::consts::{FRAC_PI_2, TAU};
+
+/// What a D-BRDF's bound needs: its table, the per-row maxima and the largest value.
+#[derive(Clone, Debug)]
+pub struct DbrdfBound {
+    nu: usize,
+    nv: usize,
+    p: Vec<f32>,
+    row_max: Vec<f32>,
+    /// `runs[k][j nu + i]`: the largest of row `j`'s texels `i .. i + 2^k` (azimuth
+    /// wrapped), for `2^k <= nu`: any run of a row in two reads (a sparse table).
+    runs: Vec<Vec<f32>>,
+    max: f32,
+    c: f32,
+    rs: Vec3,
+}
+
+/// Largest box (texels per side) whose exact bilinear maximum [`DbrdfBound::box_max`]
+/// computes; a larger one takes the largest texel of its footprint.
+const BOX_TEXELS: f32 = 3.0;
+
+impl DbrdfBound {
+    /// Precomputes the per-row maxima of `d`'s table.
+    pub fn new(d: &DBrdf) -> DbrdfBound {
+        let (nu, nv) = d.grid();
+        let p = d.table().to_vec();
+        let row_max: Vec<f32> = p
+            .chunks(nu)
+            .map(|r| r.iter().copied().fold(0.0f32, f32::max))
+            .collect();
+        let max = row_max.iter().copied().fold(0.0f32, f32::max);
+        let mut runs = vec![p.clone()];
+        while 2usize << (runs.len() - 1) <= nu {
+            let half = 1usize << (runs.len() - 1);
+            let prev = runs.last().expect("level 0");
+            let next: Vec<f32> = (0..nu * nv)
+                .map(|k| {
+                    let (j, i) = (k / nu, k % nu);
+                    prev[k].max(prev[j * nu + (i + half) % nu])
+                })
+                .collect();
+            runs.push(next);
+        }
+        DbrdfBound {
+            nu,
+            nv,
+            p,
+            row_max,
+            runs,
+            max,
+            c: d.c,
+            rs: d.rs,
+        }
+    }
+
+    /// The largest `p(h)` over the half vectors in `h` (`None`: every half vector), module
+    /// doc.
+    pub fn p_max(&self, h: Option<&Cone>) -> f32 {
+        let Some(h) = h else { return self.max };
+        let ConeAngles {
+            theta,
+            phi,
+            beta,
+            azimuth_half_width,
+        } = ConeAngles::of(h);
+        let lo = (theta - beta).clamp(0.0, FRAC_PI_2);
+        let hi = (theta + beta).clamp(0.0, FRAC_PI_2);
+        // Rows whose bilinear footprint meets [lo, hi]: v = t nv - 1/2, rows floor(v) and
+        // floor(v) + 1, clamped.
+        let row = |a: f32| (a / FRAC_PI_2) * self.nv as f32 - 0.5;
+        let j0 = (row(lo).floor() as i64).clamp(0, self.nv as i64 - 1) as usize;
+        let j1 = (row(hi).floor() as i64 + 1).clamp(0, self.nv as i64 - 1) as usize;
+        let Some(delta) = azimuth_half_width else {
+            return self.row_max[j0..=j1].iter().copied().fold(0.0f32, f32::max);
+        };
+        let col = |a: f32| (a / TAU) * self.nu as f32 - 0.5;
+        let (u0, u1) = (col(phi - delta), col(phi + delta));
+        let (v0, v1) = (row(lo), row(hi));
+        if u1 - u0 <= BOX_TEXELS && v1 - v0 <= BOX_TEXELS {
+            return self.box_max(u0, u1, v0, v1) * (1.0 + 1e-6);
+        }
+        let i0 = u0.floor() as i64;
+        let i1 = u1.floor() as i64 + 1;
+        let len = (i1 - i0 + 1) as usize;
+        if len >= self.nu {
+            return self.row_max[j0..=j1].iter().copied().fold(0.0f32, f32::max);
+        }
+        (j0..=j1)
+            .map(|j| self.run_max(j, i0, len))
+            .fold(0.0f32, f32::max)
+    }
+
+    /// The largest of row `j`'s texels `start .. start + len` (wrapped; `1 <= len <= nu`):
+    /// two overlapping runs of `2^k` texels from the sparse table.
+    #[inline]
+    pub(super) fn run_max(&self, j: usize, start: i64, len: usize) -> f32 {
+        let k = (usize::BITS - 1 - len.leading_zeros()) as usize;
+        let a = start.rem_euclid(self.nu as i64) as usize;
+        let b = (a + len - (1 << k)) % self.nu;
+        let runs = &self.runs[k];
+        runs[j * self.nu + a].max(runs[j * self.nu + b])
+    }
+
+    /// The bilinear `p` at continuous texel coordinates `(u, v)` (`u = s nu - 1/2`,
+    /// `v = t nv - 1/2`: [`crate::conventions::hemi_bilinear_texels`]'s arithmetic, azimuth
+    /// wrapped, rows clamped).
+    #[inline]
+    fn bilinear(&self, u: f32, v: f32) -> f32 {
+        let (uf, vf) = (u.floor(), v.floor());
+        let (a, b) = (u - uf, v - vf);
+        let i0 = (uf as i64).rem_euclid(self.nu as i64) as usize;
+        let i1 = (i0 + 1) % self.nu;
+        let j0 = (vf as i64).clamp(0, self.nv as i64 - 1) as usize;
+        let j1 = (vf as i64 + 1).clamp(0, self.nv as i64 - 1) as usize;
+        let p = |i: usize, j: usize| self.p[j * self.nu + i];
+        (1.0 - a) * (1.0 - b) * p(i0, j0)
+            + a * (1.0 - b) * p(i1, j0)
+            + (1.0 - a) * b * p(i0, j1)
+            + a * b * p(i1, j1)
+    }
+
+    /// The exact largest bilinear `p` over the box `[u0, u1] x [v0, v1]` of texel
+    /// coordinates: inside a cell the blend is bilinear, with no interior maximum, and on
+    /// a cell edge it is linear, so the maximum is at a box corner, where a box edge
+    /// crosses a grid line, or at a texel centre inside; every such point is a pair of
+    /// candidates `{u0, integers in (u0, u1), u1} x {v0, integers in (v0, v1), v1}`.
+    fn box_max(&self, u0: f32, u1: f32, v0: f32, v1: f32) -> f32 {
+        let axis = |a: f32, b: f32| {
+            let first = a.floor() as i64 + 1;
+            let last = b.ceil() as i64 - 1;
+            std::iter::once(a)
+                .chain((first..=last).map(|k| k as f32))
+                .chain(std::iter::once(b))
+        };
+        let mut best = 0.0f32;
+        for v in axis(v0, v1) {
+            for u in axis(u0, u1) {
+                best = best.max(self.bilinear(u, v));
+            }
+        }
+        best
+    }
+
+    /// The bound of the D-BRDF's `f cos` (module doc) given `c_i`, `wo` and the half vectors.
+    #[inline]
+    pub(super) fn f_cos_max(&self, ci: f32, wo: Vec3, h: Option<&Cone>, kh_min: f32) -> Vec3 {
+        let b = wo.z.min(1.0);
+        let ratio = ci / (ci + b - ci * b);
+        self.c * self.p_max(h) * ratio * schlick_max(self.rs, kh_min)
+    }
+}

@@ -1,0 +1,228 @@
+//! The light-cut term of an environment ([`crate::env::lightcuts`]), added to every visible
+//! pixel after the lights are shaded.
+//!
+//! Design rule: per pixel, one cut through the scene's light tree, refined from the root by
+//! a max-heap of cluster error bounds (Walter et al. 2005, section 4.2; the criterion and
+//! the bound are in [`crate::env::lightcuts`] and [`crate::material::cone_bound`]). The
+//! surface, frame and lifted view are those of every other path (`gbuffer.rs`,
+//! [`ShadingFrame::from_normal`], [`super::local_view`]); a cluster's light is its
+//! representative direction in that frame, shaded as [`super::shade_point`] shades a
+//! directional light (`f(wi, wo) cos(polar_i) E` when above the horizon). f32 on every path.
+//! Deterministic: the heap's order is a total order on (bound, node index), and the
+//! pixel's radiance is summed over the final cut in the heap's storage order, which depends
+//! only on the sequence of pushes and pops.
+
+use super::{local_view, surface_at_index, tile_pixels};
+use crate::conventions::ShadingFrame;
+use crate::env::lightcuts::{LightCuts, LightTree};
+use crate::env::LUMINANCE_WEIGHTS;
+use crate::image_io::Image;
+use crate::material::cone_bound::{BoundFault, Cone, ConeBound};
+use crate::material::Material;
+use crate::raster::VisBuffer;
+use crate::scene::Scene;
+use glam::Vec3;
+use rayon::prelude::*;
+use std::collections::BinaryHeap;
+
+/// Cut sizes of one frame: pixels cut, clusters summed over them, the largest cut, and the
+/// pixels whose cut stopped at `cut_max` before meeting `cut_error`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CutStats {
+    pub pixels: u64,
+    pub clusters: u64,
+    pub largest: u64,
+    pub capped: u64,
+}
+
+impl CutStats {
+    /// Mean clusters per pixel (0 with no pixel).
+    pub fn mean(&self) -> f64 {
+        if self.pixels == 0 {
+            0.0
+        } else {
+            self.clusters as f64 / self.pixels as f64
+        }
+    }
+
+    fn add(self, o: CutStats) -> CutStats {
+        CutStats {
+            pixels: self.pixels + o.pixels,
+            clusters: self.clusters + o.clusters,
+            largest: self.largest.max(o.largest),
+            capped: self.capped + o.capped,
+        }
+    }
+}
+
+/// A cluster of the cut: the heap key (bound bits above, inverted node index below, so
+/// the larger bound and then the lower index come first) and its estimate.
+#[derive(Clone, Copy, Debug)]
+struct Cluster {
+    key: u64,
+    estimate: Vec3,
+}
+
+impl PartialEq for Cluster {
+    fn eq(&self, o: &Self) -> bool {
+        self.key == o.key
+    }
+}
+impl Eq for Cluster {}
+impl PartialOrd for Cluster {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Cluster {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.key.cmp(&o.key)
+    }
+}
+
+#[inline]
+fn luminance(v: Vec3) -> f32 {
+    let w = LUMINANCE_WEIGHTS;
+    w[0] as f32 * v.x + w[1] as f32 * v.y + w[2] as f32 * v.z
+}
+
+/// One node as a member of the cut: estimate and heap key.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+fn cluster(
+    tree: &LightTree,
+    i: usize,
+    bound: &ConeBound,
+    material: &Material,
+    frame: &ShadingFrame,
+    wo: Vec3,
+    fault: BoundFault,
+) -> Cluster {
+    let e = tree.irradiance[i];
+    let wi = frame.to_local(tree.rep[i]);
+    let estimate = if wi.z > 0.0 {
+        material.eval(wi, wo) * wi.z * e
+    } else {
+        Vec3::ZERO
+    };
+    let err = if tree.is_leaf(i) {
+        0.0
+    } else {
+        let cone = Cone {
+            axis: frame.to_local(tree.axis[i]),
+            cos: tree.cos_half[i],
+            sin: tree.sin_half[i],
+            sin_half: tree.sin_quarter[i],
+        };
+        let b = if fault == BoundFault::None {
+            bound.f_cos_max(&cone, wo)
+        } else {
+            bound.f_cos_max_with_fault(material, &cone, wo, fault)
+        };
+        let l = luminance(b * e);
+        // A NaN bound refines (largest key); a bound is >= 0, so its bits order as it does.
+        if l >= 0.0 {
+            l
+        } else if l.is_nan() {
+            f32::MAX
+        } else {
+            0.0
+        }
+    };
+    Cluster {
+        key: ((err.to_bits() as u64) << 32) | (u32::MAX - i as u32) as u64,
+        estimate,
+    }
+}
+
+/// The radiance (RGB) of the light tree of `cuts` at a surface with shading frame `frame`,
+/// view `wo` (local, above the horizon), and the cut's size and whether `cut_max` stopped
+/// it (parent module doc). `heap` is scratch space (cleared first).
+fn cut_radiance(
+    cuts: &LightCuts,
+    bound: &ConeBound,
+    material: &Material,
+    frame: &ShadingFrame,
+    wo: Vec3,
+    heap: &mut BinaryHeap<Cluster>,
+) -> (Vec3, usize, bool) {
+    let tree = &cuts.tree;
+    heap.clear();
+    if tree.is_empty() {
+        return (Vec3::ZERO, 0, false);
+    }
+    let at = |i: usize| cluster(tree, i, bound, material, frame, wo, cuts.fault);
+    let root = at(0);
+    let mut total = root.estimate;
+    heap.push(root);
+    let mut capped = false;
+    while let Some(top) = heap.peek() {
+        let err = f32::from_bits((top.key >> 32) as u32);
+        if !(err > cuts.cut_error * luminance(total)) {
+            break;
+        }
+        if heap.len() >= cuts.cut_max {
+            capped = true;
+            break;
+        }
+        let top = heap.pop().expect("peeked");
+        let i = (u32::MAX - (top.key & 0xffff_ffff) as u32) as usize;
+        let (l, r) = (at(tree.left[i] as usize), at(tree.right[i] as usize));
+        total += l.estimate + r.estimate - top.estimate;
+        heap.push(l);
+        heap.push(r);
+    }
+    let sum = heap.iter().fold(Vec3::ZERO, |s, c| s + c.estimate);
+    (sum, heap.len(), capped)
+}
+
+/// Adds the light-cut term of `cuts` to every visible pixel of `image` (rendered from
+/// `scene` and `vis`), parallel over bands of one tile row; returns the cut sizes. The
+/// material must have a cone bound ([`ConeBound::new`]; [`crate::scene::Scene::resolve`]
+/// refuses a scene whose material has none).
+pub(super) fn add_lightcuts(
+    scene: &Scene,
+    vis: &VisBuffer,
+    cuts: &LightCuts,
+    image: &mut Image,
+) -> CutStats {
+    let bound = ConeBound::new(&scene.material).expect("resolve checked the material");
+    let eye = scene.camera.position;
+    let band_len = (vis.width * vis.tile_size) as usize;
+    let per_tile = (vis.tile_size * vis.tile_size) as usize;
+    let stats: Vec<CutStats> = image
+        .pixels
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .map(|(ty, band)| {
+            let mut heap = BinaryHeap::with_capacity(cuts.cut_max + 1);
+            let mut stats = CutStats::default();
+            let y0 = ty as u32 * vis.tile_size;
+            for tx in 0..vis.tiles_x as usize {
+                let t = ty * vis.tiles_x as usize + tx;
+                if !vis.tile_occupied[t] {
+                    continue;
+                }
+                for (i, x, y) in tile_pixels(vis, t) {
+                    let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y) else {
+                        continue;
+                    };
+                    let frame = ShadingFrame::from_normal(s.normal);
+                    let wo = local_view(&frame, &s, eye);
+                    let (l, n, capped) =
+                        cut_radiance(cuts, &bound, &scene.material, &frame, wo, &mut heap);
+                    let at = ((y - y0) * vis.width + x) as usize;
+                    band[at] += l;
+                    stats = stats.add(CutStats {
+                        pixels: 1,
+                        clusters: n as u64,
+                        largest: n as u64,
+                        capped: capped as u64,
+                    });
+                }
+            }
+            stats
+        })
+        .collect();
+    stats.into_iter().fold(CutStats::default(), CutStats::add)
+}
