@@ -241,6 +241,7 @@ impl Scene {
                 cache_hit: false,
                 cache_rejected: None,
                 negative_texels: p.report.negative_texels,
+                probe_report: Some(p.report),
                 probe_size: Some(p.report.size),
                 total_irradiance: tree.leaf_irradiance_sum().to_array(),
             });
