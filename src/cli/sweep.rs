@@ -103,6 +103,11 @@ pub fn run(a: SweepArgs) -> Result<bool> {
     if let Some(p) = &a.plot {
         crate::image_io::check_output(p, &["png"], "--plot")?;
     }
+    // Names the class in the plot's title and the printed choice (with --merge too).
+    let what = a
+        .class
+        .map(|c| format!(", class {}", c.name()))
+        .unwrap_or_default();
     if !a.merge.is_empty() {
         let rows = sweep::merge(&a.merge)?;
         sweep::write_csv(&output, &rows)?;
@@ -113,10 +118,10 @@ pub fn run(a: SweepArgs) -> Result<bool> {
             a.merge.len()
         );
         if let Some(p) = &a.plot {
-            sweep::plot::write_plot(p, &rows, &plot_title(&rows, ""))?;
+            sweep::plot::write_plot(p, &rows, &plot_title(&rows, &what))?;
             eprintln!("wrote {}", p.display());
         }
-        report_fastest(&rows, "");
+        report_fastest(&rows, &what);
         return Ok(true);
     }
     let shard = match &a.shard {
@@ -164,10 +169,7 @@ pub fn run(a: SweepArgs) -> Result<bool> {
         (None, Some(c)) => (c.scene_file()?, PathBuf::from(".")),
         (None, None) => (sweep::default_scene_file()?, PathBuf::from(".")),
     };
-    let what = a
-        .class
-        .map(|c| format!(", class {}", c.name()))
-        .unwrap_or_default();
+
     if let Some(w) = a.width {
         file.render.width = w;
     }

@@ -90,17 +90,35 @@ struct Record {
     method: MethodKind,
     #[serde(with = "columns::sampler")]
     sampler: Option<SamplerKind>,
-    #[serde(with = "columns::dash")]
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::lights"
+    )]
     lights: Option<usize>,
-    #[serde(with = "columns::dash")]
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::transfer_azimuth"
+    )]
     transfer_azimuth: Option<usize>,
-    #[serde(with = "columns::dash")]
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::transfer_polar"
+    )]
     transfer_polar: Option<usize>,
-    #[serde(with = "columns::dash")]
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::exact_lights"
+    )]
     exact_lights: Option<usize>,
-    #[serde(with = "columns::dash")]
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::cut_error"
+    )]
     cut_error: Option<f32>,
-    #[serde(with = "columns::dash")]
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::cut_max"
+    )]
     cut_max: Option<usize>,
     order: usize,
     #[serde(with = "columns::lookup")]

@@ -140,6 +140,8 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 26))
             .margin(20)
+            // Room below the axis for the two marked rows' labels.
+            .margin_bottom(70)
             .x_label_area_size(55)
             .y_label_area_size(80)
             .build_cartesian_2d(
@@ -243,54 +245,56 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
 
         // The default configuration (black) and the fastest row within the bound (green),
-        // ringed and labelled: the default's label above its ring, the other below.
+        // ringed; their labels below the plot, one line each, so they never cover each
+        // other, the front or a point.
         let fastest = super::fastest_within(rows, bound).map(|r| r.config.index);
-        let marked = rows.iter().filter(ok).filter_map(|r| {
+        let green = RGBColor(0, 140, 70);
+        let mut labels: Vec<(String, RGBColor)> = Vec::new();
+        for r in rows.iter().filter(ok) {
+            let is_fastest = fastest == Some(r.config.index);
+            if !(r.default || is_fastest) {
+                continue;
+            }
             let on = if r.pareto {
                 "on the front"
             } else {
                 "dominated"
             };
             let text = format!(
-                "{}: {:.2} ms, rel. RMSE {:.4} ({on})",
+                "{}: {:.2} ms, rel. RMSE {:.3}% ({on})",
                 describe(&r.config),
                 r.frame_ms,
-                r.rel_rmse
+                r.rel_rmse * 100.0
             );
-            match (r.default, fastest == Some(r.config.index)) {
-                (true, true) => Some((r, format!("default = fastest <= 1%: {text}"), BLACK, -34)),
-                (true, false) => Some((r, format!("default: {text}"), BLACK, -34)),
-                (false, true) => Some((
-                    r,
-                    format!("fastest <= 1%: {text}"),
-                    RGBColor(0, 140, 70),
-                    18,
-                )),
-                (false, false) => None,
-            }
-        });
-        for (r, label, color, dy) in marked {
-            let p = (r.frame_ms, r.rel_rmse);
+            let (label, color) = match (r.default, is_fastest) {
+                (true, true) => (format!("default, fastest within 1%: {text}"), green),
+                (true, false) => (format!("default (black ring): {text}"), BLACK),
+                _ => (format!("fastest within 1% (green ring): {text}"), green),
+            };
             chart
-                .draw_series(std::iter::once(Circle::new(p, 9, color.stroke_width(3))))
+                .draw_series(std::iter::once(Circle::new(
+                    (r.frame_ms, r.rel_rmse),
+                    9,
+                    color.stroke_width(3),
+                )))
                 .map_err(plot_err(path))?;
-            // Starting just right of the ring, shifted left as far as needed to stay inside
-            // the plot (about 7 px per character at 17 px).
-            let width = label.len() as i32 * 7;
-            let (px, _) = chart.backend_coord(&p);
-            let area = chart.plotting_area().get_pixel_range().0;
-            let start = (px + 14).min(area.end - width - 4).max(area.start + 4);
-            let dx = start - px;
-            chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at(p)
-                        + Text::new(
-                            label,
-                            (dx, dy),
-                            ("sans-serif", 17).into_font().color(&color),
-                        ),
-                ))
-                .map_err(plot_err(path))?;
+            labels.push((label, color));
+        }
+        if fastest.is_none() {
+            labels.push((
+                format!("no configuration within {}% relative RMSE", bound * 100.0),
+                green,
+            ));
+        }
+        // Below the x axis, above the footer line.
+        for (k, (label, color)) in labels.iter().rev().enumerate() {
+            let y = h as i32 - 48 - 22 * k as i32;
+            root.draw(&Text::new(
+                label.clone(),
+                (90, y),
+                ("sans-serif", 17).into_font().color(color),
+            ))
+            .map_err(plot_err(path))?;
         }
 
         chart

@@ -95,7 +95,9 @@ pub mod method {
     }
 }
 
-/// An optional number column: the value as `{}` writes it, `-` for none.
+/// An optional number column: the value as `{}` writes it, `-` for none. Its
+/// deserializers, one per column, name the column in errors (the `csv` crate does not
+/// know it for a custom error).
 pub mod dash {
     use super::*;
     use std::fmt::Display;
@@ -111,16 +113,46 @@ pub mod dash {
         }
     }
 
-    pub fn deserialize<'de, T: FromStr, D: Deserializer<'de>>(
+    fn parse<'de, T: FromStr, D: Deserializer<'de>>(
+        column: &str,
         d: D,
     ) -> std::result::Result<Option<T>, D::Error> {
         let text = String::deserialize(d)?;
         if text == "-" {
             return Ok(None);
         }
-        text.parse()
-            .map(Some)
-            .map_err(|_| D::Error::custom("is not a number or -"))
+        text.parse().map(Some).map_err(|_| {
+            D::Error::custom(format!("column {column}: {text:?} is not a number or -"))
+        })
+    }
+
+    pub fn lights<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Option<usize>, D::Error> {
+        parse("lights", d)
+    }
+    pub fn transfer_azimuth<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Option<usize>, D::Error> {
+        parse("transfer_azimuth", d)
+    }
+    pub fn transfer_polar<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Option<usize>, D::Error> {
+        parse("transfer_polar", d)
+    }
+    pub fn exact_lights<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Option<usize>, D::Error> {
+        parse("exact_lights", d)
+    }
+    pub fn cut_error<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Option<f32>, D::Error> {
+        parse("cut_error", d)
+    }
+    pub fn cut_max<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Option<usize>, D::Error> {
+        parse("cut_max", d)
     }
 }
 
