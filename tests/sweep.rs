@@ -141,6 +141,12 @@ fn shards_merge_into_the_single_run() {
         want > 0.0 && (stored - want).abs() <= 1e-12 * want,
         "sweep {stored}, render {want}"
     );
+    // Seeded faults: a sweep that built another table for that row (no exact lights, row
+    // 13; 2 bands, row 14) would fail this comparison.
+    for wrong in [13, 14] {
+        let e: f64 = all[wrong].split(',').nth(12).unwrap().parse().unwrap();
+        assert!((e - want).abs() > 1e-6 * want, "row {wrong}: {e} vs {want}");
+    }
 
     for n in [2usize, 3] {
         let mut parts = Vec::new();
