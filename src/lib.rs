@@ -51,7 +51,8 @@
 //!
 //! Off the rendering path: [`acquire`] measures any BRDF as an SH data set (projection,
 //! least squares, error and ringing reports) or fits a D-BRDF to it (thesis 2.3.3-2.3.6).
-//! [`sweep`] renders a grid of configurations against the converged reference (run time
+//! [`sweep`] renders a grid of configurations (every `[env] method` and its parameters, on
+//! any scene or one of three material classes) against the converged reference (run time
 //! against error, Pareto front); [`turntable`] renders animated sequences; [`shard`] splits
 //! either over machines.
 //!

@@ -340,14 +340,24 @@ fn bad_shard_specs() {
 
 #[test]
 fn unreadable_sweep_csv_in_merge() {
-    let header = "index,sampler,lights,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
-    let good = format!("{header}\n0,median-cut,1,8,bilinear,f32,0.5,1,0.1,0,1.000,2.000,1\n");
-    let bad = format!("{header}\n1,median-cut,2,8,bilinear,f32,0.4,1,0.1,0,1.000,2.000,1\n2,median-cut,4,8,bilinear,f32,zero,1,0.1,0,1.000,2.000,1\n");
+    let header = brdfkit::sweep::CSV_HEADER;
+    let good = format!(
+        "{header}\n0,lights,median-cut,1,-,-,-,-,-,8,bilinear,f32,0.5,1,0.1,0,1.000,2.000,1\n"
+    );
+    let bad = format!("{header}\n1,lights,median-cut,2,-,-,-,-,-,8,bilinear,f32,0.4,1,0.1,0,1.000,2.000,1\n2,transfer,-,-,32,17,0,-,-,8,bilinear,f32,zero,1,0.1,0,1.000,2.000,1\n");
+    // A shard written before the method axis.
+    let old = "index,sampler,lights,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto\n1,median-cut,2,8,bilinear,f32,0.4,1,0.1,0,1.000,2.000,1\n";
     let d = dir_with(&[
         ("a.csv", &good),
         ("b.csv", &bad),
         ("c.csv", "name,value\n1,2\n"),
+        ("old.csv", old),
     ]);
+    assert_error(
+        d.path(),
+        &["sweep", "--merge", "a.csv", "old.csv", "-o", "all.csv"],
+        &["old.csv", "line 1", "before the method axis", "regenerate"],
+    );
     assert_error(
         d.path(),
         &["sweep", "--merge", "a.csv", "b.csv", "-o", "all.csv"],

@@ -6,7 +6,9 @@
 //! pareto flag computed from frame_ms). Only the deterministic columns can agree between
 //! two runs, so only they are compared; the measured ones differ run to run by nature.
 //! The scene is tiny (32x24, a 16x8 probe, so the full-probe reference has 128 lights) to
-//! keep the test fast.
+//! keep the test fast. Its grid has both methods: lights (sampler x count) and transfer (an
+//! 8x5 table with 0 or 2 exact lights), and a transfer row's error is checked against
+//! `brdfkit render` of the same `[env] method = "transfer"` scene, an independent path.
 
 use std::path::{Path, PathBuf};
 
@@ -47,7 +49,7 @@ fn setup() -> tempfile::TempDir {
     d
 }
 
-const GRID: [&str; 12] = [
+const GRID: [&str; 16] = [
     "--samplers",
     "lloyd,importance",
     "--counts",
@@ -56,6 +58,10 @@ const GRID: [&str; 12] = [
     "2,8",
     "--lookups",
     "bilinear",
+    "--transfer-grids",
+    "8x5",
+    "--exact-lights",
+    "0,2",
     "--frames",
     "1",
     "--cache",
@@ -67,7 +73,12 @@ fn deterministic(csv: &Path) -> Vec<String> {
         .unwrap()
         .lines()
         .skip(1)
-        .map(|l| l.split(',').take(10).collect::<Vec<_>>().join(","))
+        .map(|l| {
+            l.split(',')
+                .take(brdfkit::sweep::DETERMINISTIC_COLUMNS)
+                .collect::<Vec<_>>()
+                .join(",")
+        })
         .collect()
 }
 
@@ -85,15 +96,57 @@ fn shards_merge_into_the_single_run() {
     assert!(first.contains("rendering the reference"), "{first}");
     assert!(dir.join("all.png").is_file());
     let all = deterministic(&dir.join("all.csv"));
-    assert_eq!(all.len(), 12);
+    // 12 lights rows (2 samplers x 3 counts x 2 orders), then 4 transfer rows (2 exact
+    // light counts x 2 orders).
+    assert_eq!(all.len(), 16);
+    assert!(
+        all[11].starts_with("11,lights,importance,16,-,-,-,-,-,8,"),
+        "{all:?}"
+    );
+    assert!(
+        all[12].starts_with("12,transfer,-,-,8,5,0,-,-,2,"),
+        "{all:?}"
+    );
+    assert!(
+        all[15].starts_with("15,transfer,-,-,8,5,2,-,-,8,"),
+        "{all:?}"
+    );
     // Exactly one default row: the scene's lloyd (default sampler), 4 lights, 8 bands,
     // bilinear (the library's lookup), f32.
     let defaults: Vec<&String> = all.iter().filter(|l| l.ends_with(",1")).collect();
     assert_eq!(defaults.len(), 1, "{all:?}");
     assert!(
-        defaults[0].contains(",lloyd,4,8,bilinear,f32,"),
+        defaults[0].contains(",lights,lloyd,4,-,-,-,-,-,8,bilinear,f32,"),
         "{defaults:?}"
     );
+    // The last transfer row (8x5 table, 2 exact lights, 8 bands) against `brdfkit render`
+    // of that scene: the same relative RMSE against the cached reference (the background
+    // is black in both images, so the whole frame's sums are the covered pixels').
+    std::fs::write(
+        dir.join("transfer.toml"),
+        "[material]\nkind = \"library\"\nname = \"blue-silk\"\n\n[env]\nfile = \"probe.exr\"\nmethod = \"transfer\"\ntransfer_azimuth = 8\ntransfer_polar = 5\nexact_lights = 2\n\n[render]\nwidth = 32\nheight = 24\n",
+    )
+    .unwrap();
+    brdfkit(dir, &["render", "transfer.toml", "-o", "transfer.exr"]);
+    let reference: Vec<PathBuf> = std::fs::read_dir(dir.join("ref-cache"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "exr"))
+        .collect();
+    let reference = brdfkit::image_io::read_exr(&reference[0]).unwrap();
+    let rendered = brdfkit::image_io::read_exr(&dir.join("transfer.exr")).unwrap();
+    let want = brdfkit::metrics::relative_rmse(&reference, &rendered, None);
+    let stored: f64 = all[15].split(',').nth(12).unwrap().parse().unwrap();
+    assert!(
+        want > 0.0 && (stored - want).abs() <= 1e-12 * want,
+        "sweep {stored}, render {want}"
+    );
+    // Seeded faults: a sweep that built another table for that row (no exact lights, row
+    // 13; 2 bands, row 14) would fail this comparison.
+    for wrong in [13, 14] {
+        let e: f64 = all[wrong].split(',').nth(12).unwrap().parse().unwrap();
+        assert!((e - want).abs() > 1e-6 * want, "row {wrong}: {e} vs {want}");
+    }
 
     for n in [2usize, 3] {
         let mut parts = Vec::new();
@@ -182,7 +235,7 @@ fn shards_merge_into_the_single_run() {
     );
     // Errors fall as the light count grows on the largest order (Lloyd is a deterministic
     // sampler; 16 lights beat 1 light by far under this probe).
-    let rmse = |l: &str| l.split(',').nth(6).unwrap().parse::<f64>().unwrap();
+    let rmse = |l: &str| l.split(',').nth(12).unwrap().parse::<f64>().unwrap();
     let mc: Vec<&String> = all
         .iter()
         .filter(|l| l.contains(",lloyd,") && l.contains(",8,bilinear,"))

@@ -1,7 +1,8 @@
 //! `brdfkit sweep --check CSV` (issue 13, deliverable 2): a stored sweep CSV whose
 //! deterministic columns (index .. default) no longer match this build is reported row by
-//! row with exit 1; measured columns never count. Small: 8 rows of the default scene at
-//! 32x24, the reference rendered once into a temporary cache and shared by every run.
+//! row with exit 1; measured columns never count. Small: 10 rows of the default scene at
+//! 32x24 (8 lights rows, 2 transfer rows on a 32x17 table), the reference rendered once
+//! into a temporary cache and shared by every run.
 //! (.ci/sweep-check runs the same check on assets/readme/sweep.csv at its own size.)
 
 use std::path::Path;
@@ -14,6 +15,10 @@ const GRID: &[&str] = &[
     "16,128",
     "--orders",
     "8",
+    "--transfer-grids",
+    "32x17",
+    "--exact-lights",
+    "16",
     "--width",
     "32",
     "--height",
@@ -63,23 +68,31 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
     let made = sweep(dir, &["-o", "stored.csv"]);
     assert_eq!(made.code, Some(0), "{}", made.stderr);
     let stored = std::fs::read_to_string(dir.join("stored.csv")).unwrap();
-    assert_eq!(stored.lines().count(), 9, "header and 8 rows:\n{stored}");
+    assert_eq!(stored.lines().count(), 11, "header and 10 rows:\n{stored}");
+    assert!(
+        stored
+            .lines()
+            .nth(9)
+            .unwrap()
+            .starts_with("8,transfer,-,-,32,17,16,"),
+        "{stored}"
+    );
 
     // The CSV this build wrote: every row matches.
     let ok = sweep(dir, &["--check", "stored.csv"]);
     assert_eq!(ok.code, Some(0), "{}{}", ok.stdout, ok.stderr);
     assert!(ok.stdout.is_empty(), "{}", ok.stdout);
     assert!(
-        ok.stderr.contains("8 of 8 rows (shard 0/1) match"),
+        ok.stderr.contains("10 of 10 rows (shard 0/1) match"),
         "{}",
         ok.stderr
     );
 
-    // Measured columns (prep_ms 10, frame_ms 11, pareto 12) are not compared.
+    // Measured columns (prep_ms 16, frame_ms 17, pareto 18) are not compared.
     let timed = edit(
-        &edit(&edit(&stored, 2, 10, "999.000"), 2, 11, "0.001"),
+        &edit(&edit(&stored, 2, 16, "999.000"), 2, 17, "0.001"),
         2,
-        12,
+        18,
         "0",
     );
     std::fs::write(dir.join("timed.csv"), timed).unwrap();
@@ -87,21 +100,26 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
     assert_eq!(r.code, Some(0), "{}{}", r.stdout, r.stderr);
 
     // Seeded faults: one deterministic value edited (rel_rmse of row 5 in its last
-    // digit; flip_mean of row 2), each found and named; a shard checks only its rows.
-    let rel = stored.lines().nth(6).unwrap().split(',').nth(6).unwrap();
+    // digit; flip_mean of row 8, a transfer row), each found and named; a shard checks
+    // only its rows.
+    let rel = stored.lines().nth(6).unwrap().split(',').nth(12).unwrap();
     let last = rel.chars().last().unwrap();
     let bumped = format!(
         "{}{}",
         &rel[..rel.len() - 1],
         if last == '9' { '8' } else { '9' }
     );
-    let edited = edit(&edit(&stored, 5, 6, &bumped), 2, 8, "0.5");
+    let edited = edit(&edit(&stored, 5, 12, &bumped), 8, 14, "0.5");
     std::fs::write(dir.join("edited.csv"), edited).unwrap();
     let r = sweep(dir, &["--check", "edited.csv"]);
     assert_eq!(r.code, Some(1), "{}{}", r.stdout, r.stderr);
     assert!(r.stdout.contains("row 5: stored     5,"), "{}", r.stdout);
     assert!(r.stdout.contains(&bumped), "{}", r.stdout);
-    assert!(r.stdout.contains("row 2: stored "), "{}", r.stdout);
+    assert!(
+        r.stdout.contains("row 8: stored     8,transfer,"),
+        "{}",
+        r.stdout
+    );
     assert_eq!(
         r.stdout.lines().count(),
         4,
@@ -109,18 +127,19 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
         r.stdout
     );
     assert!(
-        r.stderr.contains("6 of 8 rows (shard 0/1) match; 2 differ"),
+        r.stderr
+            .contains("8 of 10 rows (shard 0/1) match; 2 differ"),
         "{}",
         r.stderr
     );
     let shard = sweep(dir, &["--check", "edited.csv", "--shard", "1/2"]);
     assert_eq!(shard.code, Some(1), "{}", shard.stderr);
-    assert!(shard.stdout.contains("row 5:") && !shard.stdout.contains("row 2:"));
-    let shard = sweep(dir, &["--check", "edited.csv", "--shard", "0/4"]);
+    assert!(shard.stdout.contains("row 5:") && !shard.stdout.contains("row 8:"));
+    let shard = sweep(dir, &["--check", "edited.csv", "--shard", "2/4"]);
     assert_eq!(
         shard.code,
         Some(0),
-        "rows 0 and 4 are untouched: {}",
+        "rows 2 and 6 are untouched: {}",
         shard.stdout
     );
 

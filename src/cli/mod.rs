@@ -80,24 +80,35 @@ pub enum Command {
     Cache(CacheArgs),
     /// Run time against error: render a scene over a grid of configurations, write CSV and a plot.
     #[command(
-        long_about = "Renders a scene over a grid of configurations (sampler x light count x SH order x \
-lookup x precision) and measures for each the error against the converged reference (every probe \
-texel a light, f64, no culling: `render --reference`) and the time taken. Writes one CSV row per \
-configuration and, with --plot, a PNG of frame time against relative RMSE (log axes, one colour per \
-sampler, the Pareto front drawn, the default configuration marked).\n\n\
+        long_about = "Renders a scene over a grid of configurations (environment method and its parameters \
+x SH order x lookup x precision) and measures for each the error against the converged reference \
+(every probe texel a light, f64, no culling: `render --reference`) and the time taken. Writes one CSV \
+row per configuration and, with --plot, a PNG of frame time against relative RMSE (log axes, one \
+colour per method and sampler, the Pareto front drawn, the 1% line, the default configuration and \
+the fastest configuration within 1% marked). Prints the fastest configuration on the Pareto front \
+at <= 1% relative RMSE.\n\n\
+Methods ([env] method): lights (sampler x light count), transfer (table grid azimuth x polar x \
+exact lights; SH data sets and Lambert only, left out for other materials).\n\n\
 Default scene: the teapot in blue-silk (library SH material, 8 bands) under assets/probes/city.exr, \
-160x120. Default grid: samplers uniform, importance, stratified, median-cut, lloyd x counts 1, 2, 4, \
-..., 1024 x orders 1..8 x lookups nearest, bilinear x precision f32: 880 rows.\n\n\
-CSV columns: index, sampler, lights, order, lookup, precision, rel_rmse (relative RMSE over covered \
-pixels), max_err (largest absolute channel error, linear radiance), flip_mean (FLIP of the tone-mapped \
-images), default (1 for the scene's own configuration): deterministic, the same on every machine; \
-then prep_ms (light-set preparation), frame_ms (median frame time), pareto (1 if no other row is \
-both faster and more accurate, over frame_ms and rel_rmse): measured, they vary run to run.\n\n\
+160x120. --class diffuse|sh-glossy|glossy: a sphere in Lambert, teal-paint (SH, 8 bands) or \
+Blinn-Phong exponent 200 under the same probe, 128x96, with SH orders 2, 4, 6, 8 and the bilinear \
+lookup only (the flags below replace that). Default grid: methods lights, transfer; \
+samplers uniform, importance, stratified, median-cut, lloyd x counts 1, 2, 4, ..., 1024; transfer \
+grids 32x17, 64x33, 128x65 x exact lights 0, 16, 64; x orders 1..8 x lookups nearest, bilinear x \
+precision f32: 1024 rows for an 8-band SH material.\n\n\
+CSV columns: index, method, sampler, lights, transfer_azimuth, transfer_polar, exact_lights, \
+cut_error, cut_max (the method's parameters, - where not the row's method's), order, lookup, \
+precision, rel_rmse (relative RMSE over covered pixels), max_err (largest absolute channel error, \
+linear radiance), flip_mean (FLIP of the tone-mapped images), default (1 for the scene's own \
+configuration): deterministic, the same on every machine; then prep_ms (the method's preparation: \
+light set or transfer table), frame_ms (median frame time), pareto (1 if no other row is both \
+faster and more accurate, over frame_ms and rel_rmse): measured, they vary run to run. A CSV \
+written before the method column is refused (regenerate it).\n\n\
 The reference is rendered once (minutes for the default scene) and cached as EXR in --cache, keyed \
 by a hash of the scene, its input files, the brdfkit version and the reference algorithm version, \
 and checked on read (size, finite pixels, a checksum file beside it); --no-cache \
-renders it without the cache. The sweep reads no other cache (light sets are computed).",
-        after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (880 rows)\n  brdfkit sweep --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\n\nChecking a stored CSV against this build (deterministic columns, exactly; CI does this for the README's):\n  brdfkit sweep --check assets/readme/sweep.csv --shard 11/41   # 22 of its 880 rows\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
+renders it without the cache. The sweep reads no other cache (light sets and tables are computed).",
+        after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (1024 rows)\n  brdfkit sweep --class sh-glossy -o sh.csv --plot sh.png # one material class\n  brdfkit sweep --methods lights --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --methods transfer --transfer-grids 64x33 --exact-lights 0,16 -o t.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\n\nChecking a stored CSV against this build (deterministic columns, exactly; CI does this for the README's):\n  brdfkit sweep --check assets/readme/sweep.csv --shard 11/41\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
     )]
     Sweep(SweepArgs),
 }
@@ -111,12 +122,24 @@ pub struct SweepArgs {
     #[arg(long, value_name = "PNG")]
     pub plot: Option<PathBuf>,
     /// Scene file (TOML) with an [env] to sweep. Default: blue-silk teapot, city probe, 160x120.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", conflicts_with = "class")]
     pub scene: Option<PathBuf>,
-    /// Samplers, comma-separated. Default: uniform,importance,stratified,median-cut,lloyd.
+    /// A material class's built-in scene instead: a sphere under the city probe, 128x96, in Lambert (diffuse), teal-paint (sh-glossy, SH 8 bands) or Blinn-Phong exponent 200 (glossy).
+    #[arg(long, value_enum)]
+    pub class: Option<crate::sweep::MaterialClass>,
+    /// Environment methods, comma-separated: lights, transfer. Default both (transfer only for SH data sets and Lambert).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub methods: Vec<crate::sweep::MethodKind>,
+    /// Transfer-table grids AZIMUTHxPOLAR (azimuth nodes dividing the probe's width), comma-separated. Default 32x17,64x33,128x65.
+    #[arg(long, value_delimiter = ',', value_name = "AxP")]
+    pub transfer_grids: Vec<String>,
+    /// Transfer: numbers of brightest texels summed exactly beside the table, comma-separated. Default 0,16,64.
+    #[arg(long, value_delimiter = ',')]
+    pub exact_lights: Vec<usize>,
+    /// Lights: samplers, comma-separated. Default: uniform,importance,stratified,median-cut,lloyd.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub samplers: Vec<crate::env::prepare::SamplerKind>,
-    /// Light counts, comma-separated. Default: 1,2,4,...,1024.
+    /// Lights: light counts, comma-separated. Default: 1,2,4,...,1024.
     #[arg(long, value_delimiter = ',')]
     pub counts: Vec<usize>,
     /// SH orders (bands), comma-separated; orders above the data set's are dropped. Default 1..8.

@@ -34,11 +34,56 @@ fn parse_precisions(v: &[String]) -> Result<Vec<Precision>> {
         .collect()
 }
 
-fn plot_title(rows: &[sweep::Row]) -> String {
+/// Parses `--transfer-grids` values `AZIMUTHxPOLAR`.
+fn parse_transfer_grids(v: &[String]) -> Result<Vec<(usize, usize)>> {
+    v.iter()
+        .map(|s| {
+            s.trim()
+                .split_once('x')
+                .and_then(|(a, p)| Some((a.parse().ok()?, p.parse().ok()?)))
+                .ok_or_else(|| {
+                    Error::field(
+                        "--transfer-grids",
+                        format!("{s:?} is not AZIMUTHxPOLAR (e.g. 64x33)"),
+                    )
+                })
+        })
+        .collect()
+}
+
+fn plot_title(rows: &[sweep::Row], what: &str) -> String {
     format!(
-        "brdfkit sweep: frame time against error ({} configurations)",
+        "brdfkit sweep{what}: frame time against error ({} configurations)",
         rows.len()
     )
+}
+
+/// Prints the fastest row within 1% relative RMSE ([`sweep::fastest_within`]).
+fn report_fastest(rows: &[sweep::Row], what: &str) {
+    let bound = sweep::ERROR_BOUND;
+    match sweep::fastest_within(rows, bound) {
+        Some(r) => println!(
+            "fastest on the Pareto front at rel_rmse <= {bound}{what}: {} (row {}: {:.3} ms, rel_rmse {:.5}, prep {:.0} ms)",
+            sweep::describe(&r.config),
+            r.config.index,
+            r.frame_ms,
+            r.rel_rmse,
+            r.prep_ms
+        ),
+        None => {
+            let best = rows.iter().min_by(|a, b| a.rel_rmse.total_cmp(&b.rel_rmse));
+            println!(
+                "fastest on the Pareto front at rel_rmse <= {bound}{what}: none; the most accurate row is {}",
+                best.map_or("-".into(), |r| format!(
+                    "{} (row {}: {:.3} ms, rel_rmse {:.5})",
+                    sweep::describe(&r.config),
+                    r.config.index,
+                    r.frame_ms,
+                    r.rel_rmse
+                ))
+            );
+        }
+    }
 }
 
 /// `brdfkit sweep`; `Ok(false)` when `--check` finds rows that differ (exit 1).
@@ -58,6 +103,11 @@ pub fn run(a: SweepArgs) -> Result<bool> {
     if let Some(p) = &a.plot {
         crate::image_io::check_output(p, &["png"], "--plot")?;
     }
+    // Names the class in the plot's title and the printed choice (with --merge too).
+    let what = a
+        .class
+        .map(|c| format!(", class {}", c.name()))
+        .unwrap_or_default();
     if !a.merge.is_empty() {
         let rows = sweep::merge(&a.merge)?;
         sweep::write_csv(&output, &rows)?;
@@ -68,16 +118,28 @@ pub fn run(a: SweepArgs) -> Result<bool> {
             a.merge.len()
         );
         if let Some(p) = &a.plot {
-            sweep::plot::write_plot(p, &rows, &plot_title(&rows))?;
+            sweep::plot::write_plot(p, &rows, &plot_title(&rows, &what))?;
             eprintln!("wrote {}", p.display());
         }
+        report_fastest(&rows, &what);
         return Ok(true);
     }
     let shard = match &a.shard {
         Some(s) => Shard::parse(s)?,
         None => Shard::ALL,
     };
-    let mut grid = Grid::default();
+    let mut grid = a
+        .class
+        .map_or_else(Grid::default, sweep::MaterialClass::grid);
+    if !a.methods.is_empty() {
+        grid.methods = a.methods.clone();
+    }
+    if !a.transfer_grids.is_empty() {
+        grid.transfer_grids = parse_transfer_grids(&a.transfer_grids)?;
+    }
+    if !a.exact_lights.is_empty() {
+        grid.exact_lights = a.exact_lights.clone();
+    }
     if !a.samplers.is_empty() {
         grid.samplers = a.samplers.clone();
     }
@@ -99,13 +161,15 @@ pub fn run(a: SweepArgs) -> Result<bool> {
             format!("{} is out of range (1 to 100)", a.frames),
         ));
     }
-    let (mut file, base) = match &a.scene {
-        Some(p) => (
+    let (mut file, base) = match (&a.scene, a.class) {
+        (Some(p), _) => (
             SceneFile::load(p)?,
             p.parent().map(Path::to_path_buf).unwrap_or_default(),
         ),
-        None => (sweep::default_scene_file()?, PathBuf::from(".")),
+        (None, Some(c)) => (c.scene_file()?, PathBuf::from(".")),
+        (None, None) => (sweep::default_scene_file()?, PathBuf::from(".")),
     };
+
     if let Some(w) = a.width {
         file.render.width = w;
     }
@@ -135,6 +199,9 @@ pub fn run(a: SweepArgs) -> Result<bool> {
         );
         Progress::bar(tiles, "reference", "tiles")
     })?;
+    for note in &sw.notes {
+        eprintln!("note: {note}");
+    }
     if let Some(why) = &sw.reference_rejected {
         eprintln!("warning: cached reference ignored and rewritten: {why}");
     }
@@ -150,9 +217,8 @@ pub fn run(a: SweepArgs) -> Result<bool> {
     let pb = Progress::bar(configs.len() as u64, "sweep", "rows");
     let rows = sw.run(&configs, |r| {
         pb.set_message(format!(
-            "sweep {} {} o{}",
-            sweep::sampler_name(r.config.sampler),
-            r.config.lights,
+            "sweep {} o{}",
+            r.config.method.label(),
             r.config.order
         ));
         pb.inc(1);
@@ -197,9 +263,12 @@ pub fn run(a: SweepArgs) -> Result<bool> {
             }
         );
     }
+    if shard.is_all() {
+        report_fastest(&rows, &what);
+    }
     if let Some(p) = &a.plot {
         if shard.is_all() {
-            sweep::plot::write_plot(p, &rows, &plot_title(&rows))?;
+            sweep::plot::write_plot(p, &rows, &plot_title(&rows, &what))?;
             eprintln!("wrote {}", p.display());
         } else {
             eprintln!("--plot: skipped for a shard (plot the merged CSV: --merge ... --plot)");

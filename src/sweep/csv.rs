@@ -7,31 +7,46 @@
 //! and a bad value is an error naming the file, the line and the column. Writing is fixed:
 //! the columns in [`CSV_HEADER`]'s order, integers in decimal, errors in Rust's shortest
 //! round-trip form, times with 3 decimals, flags as `0`/`1`, so reading a CSV and writing
-//! it again gives the same bytes (`assets/readme/sweep.csv` is checked that way).
+//! it again gives the same bytes (`assets/readme/sweep.csv` is checked that way). How each
+//! column's text is written and read is `csv/columns.rs`.
 
-use super::Config;
-use super::{lookup_name, parse_lookup, parse_sampler, precision_name, sampler_name};
+mod columns;
+
+use super::{Config, MethodAxis, MethodKind};
 use crate::env::prepare::SamplerKind;
 use crate::error::{Error, Result};
 use crate::image_io;
 use crate::scene::Precision;
 use crate::sh::dataset::Lookup;
-use serde::de::Error as _;
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
-/// The CSV header: deterministic columns first, then measured ones.
-pub const CSV_HEADER: &str =
+/// The CSV header: deterministic columns first (the configuration: `method` and its
+/// parameters, `-` where a parameter is not the row's method's; then the errors and the
+/// default flag), then measured ones. `cut_error` and `cut_max` are the parameters of
+/// `lightcuts`, a method this build does not sweep yet (always `-`; the grid module's doc,
+/// "Adding a method").
+pub const CSV_HEADER: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
+
+/// The header of sweep CSVs written before the method axis (no `method` column), recognised
+/// only to say so when one is read.
+const HEADER_BEFORE_METHODS: &str =
     "index,sampler,lights,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
 
 /// Number of deterministic leading columns of [`CSV_HEADER`] (`index` .. `default`).
-pub const DETERMINISTIC_COLUMNS: usize = 10;
+pub const DETERMINISTIC_COLUMNS: usize = 16;
 
 /// The column names of [`CSV_HEADER`], in order (the field names of `Record`).
-const COLUMNS: [&str; 13] = [
+const COLUMNS: [&str; 19] = [
     "index",
+    "method",
     "sampler",
     "lights",
+    "transfer_azimuth",
+    "transfer_polar",
+    "exact_lights",
+    "cut_error",
+    "cut_max",
     "order",
     "lookup",
     "precision",
@@ -56,7 +71,8 @@ pub struct Row {
     pub flip_mean: f64,
     /// Whether this is the scene's own configuration.
     pub default: bool,
-    /// Light-set preparation time, milliseconds (measured).
+    /// The method's preparation time, milliseconds (measured): the light set's sampling,
+    /// or the transfer table's build and the choice of its exact lights.
     pub prep_ms: f64,
     /// Median frame time, milliseconds (measured).
     pub frame_ms: f64,
@@ -65,41 +81,85 @@ pub struct Row {
 }
 
 /// A CSV line as serde sees it: one field per column, named as in [`CSV_HEADER`] and in its
-/// order (serialization writes fields in declaration order).
+/// order (serialization writes fields in declaration order). A method parameter is `None`
+/// (written `-`) on the rows of other methods.
 #[derive(Serialize, Deserialize)]
 struct Record {
     index: usize,
-    #[serde(with = "sampler_column")]
-    sampler: SamplerKind,
-    lights: usize,
+    #[serde(with = "columns::method")]
+    method: MethodKind,
+    #[serde(with = "columns::sampler")]
+    sampler: Option<SamplerKind>,
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::lights"
+    )]
+    lights: Option<usize>,
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::transfer_azimuth"
+    )]
+    transfer_azimuth: Option<usize>,
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::transfer_polar"
+    )]
+    transfer_polar: Option<usize>,
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::exact_lights"
+    )]
+    exact_lights: Option<usize>,
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::cut_error"
+    )]
+    cut_error: Option<f32>,
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::cut_max"
+    )]
+    cut_max: Option<usize>,
     order: usize,
-    #[serde(with = "lookup_column")]
+    #[serde(with = "columns::lookup")]
     lookup: Option<Lookup>,
-    #[serde(with = "precision_column")]
+    #[serde(with = "columns::precision")]
     precision: Precision,
-    #[serde(serialize_with = "shortest")]
+    #[serde(serialize_with = "columns::shortest")]
     rel_rmse: f64,
-    #[serde(serialize_with = "shortest")]
+    #[serde(serialize_with = "columns::shortest")]
     max_err: f64,
-    #[serde(serialize_with = "shortest")]
+    #[serde(serialize_with = "columns::shortest")]
     flip_mean: f64,
-    #[serde(serialize_with = "flag", deserialize_with = "default_flag")]
+    #[serde(
+        serialize_with = "columns::flag",
+        deserialize_with = "columns::default_flag"
+    )]
     default: bool,
-    #[serde(serialize_with = "millis")]
+    #[serde(serialize_with = "columns::millis")]
     prep_ms: f64,
-    #[serde(serialize_with = "millis")]
+    #[serde(serialize_with = "columns::millis")]
     frame_ms: f64,
-    #[serde(serialize_with = "flag", deserialize_with = "pareto_flag")]
+    #[serde(
+        serialize_with = "columns::flag",
+        deserialize_with = "columns::pareto_flag"
+    )]
     pareto: bool,
 }
 
 impl From<&Row> for Record {
     fn from(r: &Row) -> Record {
         let c = &r.config;
-        Record {
+        let mut rec = Record {
             index: c.index,
-            sampler: c.sampler,
-            lights: c.lights,
+            method: c.method.kind(),
+            sampler: None,
+            lights: None,
+            transfer_azimuth: None,
+            transfer_polar: None,
+            exact_lights: None,
+            cut_error: None,
+            cut_max: None,
             order: c.order,
             lookup: c.lookup,
             precision: c.precision,
@@ -110,122 +170,106 @@ impl From<&Row> for Record {
             prep_ms: r.prep_ms,
             frame_ms: r.frame_ms,
             pareto: r.pareto,
+        };
+        match c.method {
+            MethodAxis::Lights { sampler, count } => {
+                rec.sampler = Some(sampler);
+                rec.lights = Some(count);
+            }
+            MethodAxis::Transfer {
+                azimuth,
+                polar,
+                exact_lights,
+            } => {
+                rec.transfer_azimuth = Some(azimuth);
+                rec.transfer_polar = Some(polar);
+                rec.exact_lights = Some(exact_lights);
+            }
         }
+        rec
     }
 }
 
-impl From<Record> for Row {
-    fn from(r: Record) -> Row {
-        Row {
-            config: Config {
-                index: r.index,
-                sampler: r.sampler,
-                lights: r.lights,
-                order: r.order,
-                lookup: r.lookup,
-                precision: r.precision,
+impl Record {
+    /// The row, or the message of the first method parameter that is missing (`-` on a
+    /// row of its method) or present on a row of another method.
+    fn into_row(self) -> std::result::Result<Row, String> {
+        let method = self.method;
+        let name = method.name();
+        let params: [(&str, bool, MethodKind); 7] = [
+            ("sampler", self.sampler.is_some(), MethodKind::Lights),
+            ("lights", self.lights.is_some(), MethodKind::Lights),
+            (
+                "transfer_azimuth",
+                self.transfer_azimuth.is_some(),
+                MethodKind::Transfer,
+            ),
+            (
+                "transfer_polar",
+                self.transfer_polar.is_some(),
+                MethodKind::Transfer,
+            ),
+            (
+                "exact_lights",
+                self.exact_lights.is_some(),
+                MethodKind::Transfer,
+            ),
+            // lightcuts' parameters: no method of this build has them (module doc).
+            (
+                "cut_error",
+                self.cut_error.is_some(),
+                method_without(method),
+            ),
+            ("cut_max", self.cut_max.is_some(), method_without(method)),
+        ];
+        for (column, given, of) in params {
+            if given && of != method {
+                return Err(format!(
+                    "column {column}: a {name} row has no {column} (write -)"
+                ));
+            }
+            if !given && of == method {
+                return Err(format!(
+                    "column {column}: a {name} row needs a {column}, not -"
+                ));
+            }
+        }
+        let axis = match method {
+            MethodKind::Lights => MethodAxis::Lights {
+                sampler: self.sampler.expect("checked above"),
+                count: self.lights.expect("checked above"),
             },
-            rel_rmse: r.rel_rmse,
-            max_err: r.max_err,
-            flip_mean: r.flip_mean,
-            default: r.default,
-            prep_ms: r.prep_ms,
-            frame_ms: r.frame_ms,
-            pareto: r.pareto,
-        }
+            MethodKind::Transfer => MethodAxis::Transfer {
+                azimuth: self.transfer_azimuth.expect("checked above"),
+                polar: self.transfer_polar.expect("checked above"),
+                exact_lights: self.exact_lights.expect("checked above"),
+            },
+        };
+        Ok(Row {
+            config: Config {
+                index: self.index,
+                method: axis,
+                order: self.order,
+                lookup: self.lookup,
+                precision: self.precision,
+            },
+            rel_rmse: self.rel_rmse,
+            max_err: self.max_err,
+            flip_mean: self.flip_mean,
+            default: self.default,
+            prep_ms: self.prep_ms,
+            frame_ms: self.frame_ms,
+            pareto: self.pareto,
+        })
     }
 }
 
-/// An error column as `{}` writes it: Rust's shortest round-trip decimal, no exponent.
-fn shortest<S: Serializer>(x: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_str(x)
-}
-
-/// A time in milliseconds with 3 decimals (1 us).
-fn millis<S: Serializer>(x: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_str(&format_args!("{x:.3}"))
-}
-
-fn flag<S: Serializer>(b: &bool, s: S) -> std::result::Result<S::Ok, S::Error> {
-    s.serialize_u8(*b as u8)
-}
-
-fn parse_flag<'de, D: Deserializer<'de>>(
-    column: &str,
-    d: D,
-) -> std::result::Result<bool, D::Error> {
-    match String::deserialize(d)?.as_str() {
-        "0" => Ok(false),
-        "1" => Ok(true),
-        other => Err(D::Error::custom(format!(
-            "column {column}: {other:?} is not 0 or 1"
-        ))),
-    }
-}
-
-fn default_flag<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<bool, D::Error> {
-    parse_flag("default", d)
-}
-
-fn pareto_flag<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<bool, D::Error> {
-    parse_flag("pareto", d)
-}
-
-/// The `sampler` column: [`sampler_name`] / [`parse_sampler`].
-mod sampler_column {
-    use super::*;
-
-    pub fn serialize<S: Serializer>(v: &SamplerKind, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_str(&sampler_name(*v))
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(
-        d: D,
-    ) -> std::result::Result<SamplerKind, D::Error> {
-        let name = String::deserialize(d)?;
-        parse_sampler(&name)
-            .ok_or_else(|| D::Error::custom(format!("column sampler: unknown sampler {name:?}")))
-    }
-}
-
-/// The `lookup` column: [`lookup_name`] / [`parse_lookup`].
-mod lookup_column {
-    use super::*;
-
-    pub fn serialize<S: Serializer>(
-        v: &Option<Lookup>,
-        s: S,
-    ) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_str(lookup_name(*v))
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(
-        d: D,
-    ) -> std::result::Result<Option<Lookup>, D::Error> {
-        let name = String::deserialize(d)?;
-        parse_lookup(&name)
-            .ok_or_else(|| D::Error::custom(format!("column lookup: unknown lookup {name:?}")))
-    }
-}
-
-/// The `precision` column: [`precision_name`].
-mod precision_column {
-    use super::*;
-
-    pub fn serialize<S: Serializer>(v: &Precision, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_str(precision_name(*v))
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(
-        d: D,
-    ) -> std::result::Result<Precision, D::Error> {
-        let name = String::deserialize(d)?;
-        [Precision::F32, Precision::F64]
-            .into_iter()
-            .find(|&p| precision_name(p) == name)
-            .ok_or_else(|| {
-                D::Error::custom(format!("column precision: unknown precision {name:?}"))
-            })
+/// A method other than `m`: the owner of a parameter no swept method has (`cut_error`,
+/// `cut_max` until `lightcuts` is swept), so the parameter is refused on every row.
+fn method_without(m: MethodKind) -> MethodKind {
+    match m {
+        MethodKind::Lights => MethodKind::Transfer,
+        MethodKind::Transfer => MethodKind::Lights,
     }
 }
 
@@ -285,6 +329,14 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>> {
 fn check_header(headers: &::csv::StringRecord) -> std::result::Result<(), String> {
     if headers.is_empty() {
         return Err("empty file, no CSV header".into());
+    }
+    if headers.iter().collect::<Vec<_>>().join(",") == HEADER_BEFORE_METHODS {
+        return Err(
+            "a sweep CSV from before the method axis (no method column): its rows are \
+             lights rows of an older grid and its index numbering may not be this build's; \
+             regenerate it with this build (`brdfkit sweep`, see `brdfkit sweep --help`)"
+                .into(),
+        );
     }
     for (i, h) in headers.iter().enumerate() {
         if !COLUMNS.contains(&h) {
@@ -356,7 +408,11 @@ fn parse_csv(path: &Path, bytes: &[u8]) -> Result<Vec<Row>> {
         let r: Record = record
             .deserialize(Some(&headers))
             .map_err(|e| Error::format(path, content_error(&e, &headers, Some(&record))))?;
-        rows.push(Row::from(r));
+        let line = record.position().map_or(0, ::csv::Position::line);
+        rows.push(
+            r.into_row()
+                .map_err(|m| Error::format(path, format!("line {line}: {m}")))?,
+        );
     }
     Ok(rows)
 }

@@ -1,13 +1,29 @@
 //! The grid of a sweep: its axes ([`Grid`]), one point of it ([`Config`]), the scene's own
 //! point ([`DefaultConfig`]), and the names the CLI, the CSV and the plot give axis values.
 //!
-//! Design rule: the enumeration order is fixed (sampler outermost, then light count, SH
-//! order, lookup, precision innermost) and a [`Config::index`] is the position in the
-//! *whole* grid, so shards ([`crate::shard`]) and merged CSVs agree on it. An axis value has
-//! one name everywhere: [`sampler_name`], [`lookup_name`] and [`precision_name`] write it,
-//! [`parse_sampler`] and [`parse_lookup`] read it back.
+//! Design rule: the enumeration order is fixed (the environment method outermost with its
+//! own parameters, then SH order, lookup, precision innermost) and a [`Config::index`] is
+//! the position in the *whole* grid, so shards ([`crate::shard`]) and merged CSVs agree on
+//! it. An axis value has one name everywhere: [`sampler_name`], [`lookup_name`],
+//! [`precision_name`] and [`MethodKind::name`] write it, [`parse_sampler`],
+//! [`parse_lookup`] and [`MethodKind::parse`] read it back.
+//!
+//! # The method axis
+//! [`MethodKind`] is a method of `[env] method` ([`EnvMethod`]) the sweep can run,
+//! [`MethodAxis`] one value of the axis: a method with its parameters. `lights` comes
+//! first (sampler x light count, as before methods were swept, so a lights-only grid has
+//! the same row indices as then), then `transfer` (table grid `azimuth x polar` pairs x
+//! `exact_lights`).
+//!
+//! Adding a method (the slot for `lightcuts`, `[env] method = "lightcuts"` with `cut_error`
+//! and `cut_max`): a variant in [`MethodKind`] and in [`MethodAxis`] with its parameters,
+//! its parameter lists in [`Grid`] (`cut_errors`, `cut_maxes`), and then the arms the
+//! compiler asks for (every `match` here and in `csv.rs`, `run.rs` and `plot.rs` is
+//! exhaustive): the enumeration in [`Grid::method_points`], [`MethodAxis::of_spec`],
+//! the CSV's `cut_error`/`cut_max` columns (already in the header, `-` until then) and the
+//! runner's preparation of the method's scene.
 
-use crate::env::prepare::SamplerKind;
+use crate::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use crate::error::{Error, Result};
 use crate::scene::Precision;
 use crate::sh::dataset::Lookup;
@@ -26,6 +42,131 @@ pub fn default_samplers() -> Vec<SamplerKind> {
         SamplerKind::MedianCut,
         SamplerKind::Lloyd,
     ]
+}
+
+/// Default transfer-table grids `(azimuth, polar)` nodes: 32 x 17, 64 x 33 and 128 x 65
+/// (the last one the `[env]` default; each divides the shipped probes' 512 columns).
+pub fn default_transfer_grids() -> Vec<(usize, usize)> {
+    vec![(32, 17), (64, 33), (128, 65)]
+}
+
+/// Default numbers of brightest texels summed exactly beside a transfer table: 0, 16
+/// (the `[env]` default) and 64.
+pub fn default_exact_lights() -> Vec<usize> {
+    vec![0, 16, 64]
+}
+
+/// The environment methods a sweep runs (the outer axis), a subset of `[env] method`
+/// ([`EnvMethod`]) under the same names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum MethodKind {
+    /// Delta lights from a sampler (`[env] method = "lights"`): sampler x count.
+    Lights,
+    /// Transfer table plus the brightest texels (`[env] method = "transfer"`): table grid
+    /// x exact lights. SH data sets and Lambert only.
+    Transfer,
+}
+
+impl MethodKind {
+    /// Every method, in the grid's order.
+    pub const ALL: [MethodKind; 2] = [MethodKind::Lights, MethodKind::Transfer];
+
+    /// The `[env] method` this is.
+    pub fn env_method(self) -> EnvMethod {
+        match self {
+            MethodKind::Lights => EnvMethod::Lights,
+            MethodKind::Transfer => EnvMethod::Transfer,
+        }
+    }
+
+    /// The name, as `[env] method` and `--method` spell it (`lights`, `transfer`).
+    pub fn name(self) -> String {
+        use clap::ValueEnum;
+        self.env_method()
+            .to_possible_value()
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default()
+    }
+
+    /// Parses [`MethodKind::name`]'s output.
+    pub fn parse(s: &str) -> Option<MethodKind> {
+        MethodKind::ALL.into_iter().find(|m| m.name() == s)
+    }
+}
+
+/// One value of the method axis: an environment method with its parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MethodAxis {
+    /// `count` delta lights from `sampler` (`[env] sampler`, `count`).
+    Lights { sampler: SamplerKind, count: usize },
+    /// A transfer table of `azimuth x polar` nodes (`[env] transfer_azimuth`,
+    /// `transfer_polar`) and the `exact_lights` brightest texels as lights.
+    Transfer {
+        azimuth: usize,
+        polar: usize,
+        exact_lights: usize,
+    },
+}
+
+impl MethodAxis {
+    /// The method.
+    pub fn kind(&self) -> MethodKind {
+        match self {
+            MethodAxis::Lights { .. } => MethodKind::Lights,
+            MethodAxis::Transfer { .. } => MethodKind::Transfer,
+        }
+    }
+
+    /// What a scene's `[env]` asks for (its own point of the axis); `None` for a method the
+    /// sweep does not run.
+    #[allow(unreachable_patterns)] // the `_` arm: `[env] method`s not swept yet (module doc)
+    pub fn of_spec(spec: &EnvSpec) -> Option<MethodAxis> {
+        match spec.method {
+            EnvMethod::Lights => Some(MethodAxis::Lights {
+                sampler: spec.sampler,
+                count: spec.count,
+            }),
+            EnvMethod::Transfer => Some(MethodAxis::Transfer {
+                azimuth: spec.transfer_azimuth,
+                polar: spec.transfer_polar,
+                exact_lights: spec.exact_lights,
+            }),
+            _ => None,
+        }
+    }
+
+    /// A short label: `lloyd 128`, `transfer 128x65 k16`.
+    pub fn label(&self) -> String {
+        match *self {
+            MethodAxis::Lights { sampler, count } => format!("{} {count}", sampler_name(sampler)),
+            MethodAxis::Transfer {
+                azimuth,
+                polar,
+                exact_lights,
+            } => format!("transfer {azimuth}x{polar} k{exact_lights}"),
+        }
+    }
+}
+
+/// A configuration in words: `lights lloyd 128, order 8, bilinear, f32`,
+/// `transfer 128x65 exact 16, order 8, bilinear, f32` (order and lookup left out for a
+/// material that is not SH).
+pub fn describe(c: &Config) -> String {
+    let method = match c.method {
+        MethodAxis::Lights { sampler, count } => {
+            format!("lights {} {count}", sampler_name(sampler))
+        }
+        MethodAxis::Transfer {
+            azimuth,
+            polar,
+            exact_lights,
+        } => format!("transfer {azimuth}x{polar} exact {exact_lights}"),
+    };
+    let sh = match c.lookup {
+        Some(l) => format!(", order {}, {}", c.order, lookup_name(Some(l))),
+        None => String::new(),
+    };
+    format!("{method}{sh}, {}", precision_name(c.precision))
 }
 
 /// The sampler's command-line name (`median-cut`, ...).
@@ -72,9 +213,16 @@ pub fn precision_name(p: Precision) -> &'static str {
 /// The axes of a sweep.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
+    /// The methods, outermost axis, in this order.
+    pub methods: Vec<MethodKind>,
+    /// `lights`: samplers.
     pub samplers: Vec<SamplerKind>,
-    /// Requested light counts (the sampler's `n`).
+    /// `lights`: requested light counts (the sampler's `n`).
     pub counts: Vec<usize>,
+    /// `transfer`: table grids, `(azimuth, polar)` nodes.
+    pub transfer_grids: Vec<(usize, usize)>,
+    /// `transfer`: brightest texels summed exactly.
+    pub exact_lights: Vec<usize>,
     /// SH orders (bands kept, `l < order`); `[0]` for a material that is not SH.
     pub orders: Vec<usize>,
     /// Coefficient-table lookups; `[None]` for a material that is not SH.
@@ -85,8 +233,11 @@ pub struct Grid {
 impl Default for Grid {
     fn default() -> Self {
         Grid {
+            methods: MethodKind::ALL.to_vec(),
             samplers: default_samplers(),
             counts: default_counts(),
+            transfer_grids: default_transfer_grids(),
+            exact_lights: default_exact_lights(),
             orders: (1..=8).collect(),
             lookups: vec![Some(Lookup::Nearest), Some(Lookup::Bilinear)],
             precisions: vec![Precision::F32],
@@ -99,42 +250,34 @@ impl Default for Grid {
 pub struct Config {
     /// Position in the whole grid (see the module doc).
     pub index: usize,
-    pub sampler: SamplerKind,
-    pub lights: usize,
+    /// The environment method and its parameters.
+    pub method: MethodAxis,
     pub order: usize,
     pub lookup: Option<Lookup>,
     pub precision: Precision,
 }
 
 impl Grid {
-    /// Number of configurations.
-    pub fn len(&self) -> usize {
-        self.samplers.len()
-            * self.counts.len()
-            * self.orders.len()
-            * self.lookups.len()
-            * self.precisions.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Every configuration, in index order.
-    pub fn configs(&self) -> Vec<Config> {
-        let mut out = Vec::with_capacity(self.len());
-        for &sampler in &self.samplers {
-            for &lights in &self.counts {
-                for &order in &self.orders {
-                    for &lookup in &self.lookups {
-                        for &precision in &self.precisions {
-                            out.push(Config {
-                                index: out.len(),
-                                sampler,
-                                lights,
-                                order,
-                                lookup,
-                                precision,
+    /// The values of the method axis, in order: each method of [`Grid::methods`] with the
+    /// product of its parameter lists (first list outermost).
+    pub fn method_points(&self) -> Vec<MethodAxis> {
+        let mut out = Vec::new();
+        for &m in &self.methods {
+            match m {
+                MethodKind::Lights => {
+                    for &sampler in &self.samplers {
+                        for &count in &self.counts {
+                            out.push(MethodAxis::Lights { sampler, count });
+                        }
+                    }
+                }
+                MethodKind::Transfer => {
+                    for &(azimuth, polar) in &self.transfer_grids {
+                        for &exact_lights in &self.exact_lights {
+                            out.push(MethodAxis::Transfer {
+                                azimuth,
+                                polar,
+                                exact_lights,
                             });
                         }
                     }
@@ -144,9 +287,46 @@ impl Grid {
         out
     }
 
-    /// Fits the SH axes to the scene's material: orders above `bands` are dropped (an error
-    /// if none remain); a material that is not SH (`bands == None`) gets `[0]` and `[None]`.
-    pub fn fit_material(&mut self, bands: Option<usize>) -> Result<()> {
+    /// Number of configurations.
+    pub fn len(&self) -> usize {
+        self.method_points().len() * self.orders.len() * self.lookups.len() * self.precisions.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Every configuration, in index order.
+    pub fn configs(&self) -> Vec<Config> {
+        let mut out = Vec::with_capacity(self.len());
+        for method in self.method_points() {
+            for &order in &self.orders {
+                for &lookup in &self.lookups {
+                    for &precision in &self.precisions {
+                        out.push(Config {
+                            index: out.len(),
+                            method,
+                            order,
+                            lookup,
+                            precision,
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Fits the grid to the scene's material. SH axes: orders above `bands` are dropped (an
+    /// error if none remain); a material that is not SH (`bands == None`) gets `[0]` and
+    /// `[None]`. Methods: `transfer` is dropped when `transfer_shades` is false (it shades
+    /// SH data sets and Lambert only); an error when no method remains. Returns a note per
+    /// method dropped, for the command line to print.
+    pub fn fit_material(
+        &mut self,
+        bands: Option<usize>,
+        transfer_shades: bool,
+    ) -> Result<Vec<String>> {
         match bands {
             None => {
                 self.orders = vec![0];
@@ -165,15 +345,28 @@ impl Grid {
                 }
             }
         }
-        Ok(())
+        let mut notes = Vec::new();
+        if !transfer_shades && self.methods.contains(&MethodKind::Transfer) {
+            self.methods.retain(|&m| m != MethodKind::Transfer);
+            notes.push(
+                "method transfer left out: it shades SH data sets and Lambert only".to_string(),
+            );
+            if self.methods.is_empty() {
+                return Err(Error::field(
+                    "--methods",
+                    "no method left: transfer shades SH data sets and Lambert only",
+                ));
+            }
+        }
+        Ok(notes)
     }
 }
 
 /// The scene's own configuration, to mark the default row.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DefaultConfig {
-    pub sampler: SamplerKind,
-    pub lights: usize,
+    /// `None` when the scene's `[env] method` is not swept.
+    pub method: Option<MethodAxis>,
     pub order: usize,
     pub lookup: Option<Lookup>,
     pub precision: Precision,
@@ -182,8 +375,7 @@ pub struct DefaultConfig {
 impl DefaultConfig {
     /// Whether `c` is this configuration.
     pub fn matches(&self, c: &Config) -> bool {
-        c.sampler == self.sampler
-            && c.lights == self.lights
+        self.method == Some(c.method)
             && c.order == self.order
             && c.lookup == self.lookup
             && c.precision == self.precision
@@ -191,35 +383,4 @@ impl DefaultConfig {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn grid_order_and_size() {
-        let g = Grid::default();
-        assert_eq!(g.len(), 880);
-        let c = g.configs();
-        assert_eq!(c.len(), 880);
-        assert!(c.iter().enumerate().all(|(i, c)| c.index == i));
-        // precision innermost, then lookup, order, count; sampler outermost
-        assert_eq!(c[1].lookup, Some(Lookup::Bilinear));
-        assert_eq!(c[2].order, 2);
-        assert_eq!(c[16].lights, 2);
-        assert_eq!(c[176].sampler, SamplerKind::Importance);
-    }
-
-    #[test]
-    fn fit_material_drops_orders() {
-        let mut g = Grid::default();
-        g.fit_material(Some(5)).unwrap();
-        assert_eq!(g.orders, vec![1, 2, 3, 4, 5]);
-        let mut g = Grid::default();
-        g.fit_material(None).unwrap();
-        assert_eq!((g.orders.clone(), g.lookups.clone()), (vec![0], vec![None]));
-        let mut g = Grid {
-            orders: vec![9],
-            ..Grid::default()
-        };
-        assert!(g.fit_material(Some(8)).is_err());
-    }
-}
+mod tests;

@@ -2,21 +2,35 @@
 //! and measure, for each, the error against the converged reference and the time it took.
 //!
 //! # The grid
-//! sampler x light count x SH order x lookup x precision, enumerated in that nesting order
-//! (sampler outermost, precision innermost); a row's `index` is its position in the *whole*
-//! grid, so shards ([`crate::shard`]) and merged CSVs agree on it. Defaults
-//! ([`Grid::default`]): the five samplers of
-//! [`SamplerKind`](crate::env::prepare::SamplerKind) except `full`; counts
-//! 1, 2, 4, ..., 1024; orders (SH bands) 1..=8; lookups nearest and bilinear; precision f32
-//! only: 5 x 11 x 8 x 2 = 880 rows. SH orders above the data set's stored bands are
-//! dropped; an order below them shades
-//! [`ShDataset::truncated`](crate::sh::dataset::ShDataset::truncated). A scene whose material is
-//! not an SH data set has one order (written 0) and one lookup (written `-`).
+//! The environment method with its parameters ([`MethodAxis`]) x SH order x lookup x
+//! precision, enumerated in that nesting order (method outermost, precision innermost); a
+//! row's `index` is its position in the *whole* grid, so shards ([`crate::shard`]) and
+//! merged CSVs agree on it. Methods ([`MethodKind`], `[env] method`): `lights`, sampler x
+//! light count, first (so a lights-only grid keeps the indices of the CSVs from before the
+//! method axis); then `transfer`, table grid (azimuth x polar nodes) x exact lights
+//! ([`crate::env::transfer`]), for SH data sets and Lambert only (left out with a note for
+//! other materials). Defaults ([`Grid::default`]): the five samplers of
+//! [`SamplerKind`](crate::env::prepare::SamplerKind) except `full`; counts 1, 2, 4, ...,
+//! 1024; tables 32x17, 64x33, 128x65 x exact lights 0, 16, 64; orders (SH bands) 1..=8;
+//! lookups nearest and bilinear; precision f32 only: (55 + 9) x 8 x 2 = 1024 rows. SH
+//! orders above the data set's stored bands are dropped; an order below them shades
+//! [`ShDataset::truncated`](crate::sh::dataset::ShDataset::truncated) (and a transfer
+//! table of that many bands). A scene whose material is not an SH data set has one order
+//! (written 0) and one lookup (written `-`). The `lightcuts` method has a slot: [`grid`]'s
+//! module doc says what adding it takes.
+//!
+//! # Material classes
+//! `--class` ([`MaterialClass`]) sweeps a built-in scene of one of issue 14's material
+//! classes (diffuse, SH glossy, analytic glossy) on a narrower grid
+//! ([`MaterialClass::grid`]); the sweep prints the fastest row within 1% relative RMSE
+//! ([`fastest_within`], always on the Pareto front), where a class's default method is
+//! picked.
 //!
 //! # The reference
 //! The scene with every texel of its probe as a light (sampler `full`), f64 shading, no
 //! culling and no skips ([`crate::render::RenderOptions::converged_reference`]), the same
-//! reference as `brdfkit render --reference`. It renders the material as the scene stores it (every
+//! reference as `brdfkit render --reference`, whatever the scene's `[env] method`
+//! ([`crate::env::prepare::EnvSpec::use_full_probe`]). It renders the material as the scene stores it (every
 //! band, its own lookup), so a row with fewer orders or the other lookup measures that
 //! difference too: for SH materials the truncation, not the light count, dominates the error
 //! at low orders. It takes minutes for the default scene, so it is cached (`--cache DIR`,
@@ -39,8 +53,10 @@
 //! - `default`: whether the row is the scene's own configuration ([`DefaultConfig`]).
 //!
 //! Measured (wall-clock, [`std::time::Instant`]; they vary run to run and machine to
-//! machine): `prep_ms`, the sampler's time to collapse the decoded probe into the light set
-//! (once per sampler and count, shared by that group's rows; no disk cache involved);
+//! machine): `prep_ms`, the method's preparation from the decoded probe: the sampler's
+//! light set (once per sampler and count, shared by that group's rows), or the transfer
+//! table and its exact lights (once per table, exact-light count and order); no disk cache
+//! involved;
 //! `frame_ms`, the median of `frames` full renders (raster + shading) of the row; and
 //! `pareto`, whether no other row is at least as fast and at least as accurate
 //! ([`pareto_front`] over (`frame_ms`, `rel_rmse`)).
@@ -50,19 +66,25 @@
 //! shortest round-trip form (times with 3 decimals), so reading and writing a CSV gives the
 //! same text. Reading matches columns by header name ([`read_csv`]): reordered columns read
 //! the same; a missing or unknown column, or a bad value, is an error naming the file, the
-//! line and the column. [`merge()`] reads shard CSVs and writes what one run writes, the `pareto`
+//! line and the column. A method's parameter columns hold `-` on other methods' rows.
+//! A CSV from before the method axis (no `method` column) is refused with a message
+//! saying so, not read as lights rows: its `index` numbered a grid without methods,
+//! which merging or checking against this build's grid would silently misnumber whenever
+//! that grid differs; regenerating it costs one sweep. [`merge()`] reads shard CSVs and writes what one run writes, the `pareto`
 //! column recomputed over the union.
 //!
 //! # Layout
 //! One concept per file, every public name re-exported here (`sweep::Row`, `sweep::merge`,
 //! ...), as the data flows:
-//! - [`grid`]: the axes ([`Grid`]), one configuration ([`Config`]), the scene's own
+//! - [`grid`]: the axes ([`Grid`]), the method axis ([`MethodKind`], [`MethodAxis`]), one configuration ([`Config`]), the scene's own
 //!   ([`DefaultConfig`]) and the names of axis values ([`sampler_name`], ...);
-//! - [`default_scene`]: the scene rendered without `--scene` ([`default_scene_file`]);
+//! - [`default_scene`]: the scenes rendered without `--scene` ([`default_scene_file`],
+//!   [`MaterialClass::scene_file`]);
 //! - [`cache`]: the reference cache ([`reference_key`], [`read_cached_reference`]);
 //! - [`run`]: the timed runner ([`Sweep`]: prepare once, then render and time each row);
 //! - [`metrics`]: a row's errors against the reference ([`crate::metrics::relative_rmse`]);
-//! - [`pareto`]: the Pareto front ([`pareto_front`], [`finish_rows`]);
+//! - [`pareto`]: the Pareto front ([`pareto_front`], [`finish_rows`]) and the fastest row
+//!   within a bound ([`fastest_within`]);
 //! - [`csv`]: the row ([`Row`]) and its CSV, header-keyed on read ([`read_csv`],
 //!   [`write_csv`]);
 //! - [`merge`](mod@merge): shard CSVs merged into what one run writes ([`merge()`]);
@@ -86,11 +108,12 @@ pub use cache::{
     image_checksum, read_cached_reference, reference_key, REFERENCE_ALGORITHM_VERSION,
 };
 pub use check::{deterministic_mismatches, Mismatch};
-pub use default_scene::default_scene_file;
+pub use default_scene::{default_scene_file, MaterialClass};
 pub use grid::{
-    default_counts, default_samplers, lookup_name, parse_lookup, parse_sampler, precision_name,
-    sampler_name, Config, DefaultConfig, Grid,
+    default_counts, default_exact_lights, default_samplers, default_transfer_grids, describe,
+    lookup_name, parse_lookup, parse_sampler, precision_name, sampler_name, Config, DefaultConfig,
+    Grid, MethodAxis, MethodKind,
 };
 pub use merge::merge;
-pub use pareto::{finish_rows, pareto_front};
-pub use run::Sweep;
+pub use pareto::{fastest_within, finish_rows, pareto_front, ERROR_BOUND};
+pub use run::{Environment, Sweep};

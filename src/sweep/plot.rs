@@ -1,12 +1,14 @@
-//! The sweep's plot: frame time against relative RMSE, both log axes, one colour per
-//! sampler (filled dots f32, open circles f64), the Pareto front as a black staircase (the
-//! boundary of the region its points dominate), and the default configuration ringed and
-//! labelled. Drawn with `plotters` into a pixel buffer and written as PNG through
+//! The sweep's plot: frame time against relative RMSE, both log axes, one series per
+//! method (and, for `lights`, per sampler) in its own colour and marker (circles: lights,
+//! squares: transfer; filled f32, open f64), the Pareto front as a black staircase (the
+//! boundary of the region its points dominate), the 1% relative RMSE line
+//! ([`super::ERROR_BOUND`]) dashed, the fastest row within it ([`super::fastest_within`])
+//! ringed in green and the default configuration ringed in black, both labelled. Drawn with `plotters` into a pixel buffer and written as PNG through
 //! [`crate::image_io::write_png_bytes`] (temporary file, then rename). Text uses the
 //! embedded `assets/fonts/DejaVuSans-ASCII.ttf` (DejaVu Sans subset to ASCII; licence beside
 //! it), so no system font is needed.
 
-use super::{precision_name, sampler_name, Row};
+use super::{describe, sampler_name, MethodAxis, MethodKind, Row};
 use crate::env::prepare::SamplerKind;
 use crate::error::{Error, Result};
 use crate::scene::Precision;
@@ -36,6 +38,36 @@ fn sampler_color(s: SamplerKind) -> RGBColor {
         SamplerKind::MedianCut => RGBColor(213, 94, 0),
         SamplerKind::Lloyd => RGBColor(0, 90, 200),
         SamplerKind::Full => RGBColor(120, 120, 120),
+    }
+}
+
+/// The plot's series: a method, and for `lights` its sampler.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Series {
+    Lights(SamplerKind),
+    Transfer,
+}
+
+impl Series {
+    fn of(r: &Row) -> Series {
+        match r.config.method {
+            MethodAxis::Lights { sampler, .. } => Series::Lights(sampler),
+            MethodAxis::Transfer { .. } => Series::Transfer,
+        }
+    }
+
+    fn color(self) -> RGBColor {
+        match self {
+            Series::Lights(s) => sampler_color(s),
+            Series::Transfer => RGBColor(200, 0, 40),
+        }
+    }
+
+    fn label(self) -> String {
+        match self {
+            Series::Lights(s) => format!("lights, {}", sampler_name(s)),
+            Series::Transfer => format!("{} (squares)", MethodKind::Transfer.name()),
+        }
     }
 }
 
@@ -100,9 +132,16 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
         root.fill(&WHITE).map_err(plot_err(path))?;
         let (x0, x1) = bounds(rows.iter().filter(ok).map(|r| r.frame_ms));
         let (y0, y1) = bounds(rows.iter().filter(ok).map(|r| r.rel_rmse));
+        // The 1% line is always inside the plot.
+        let (y0, y1) = (
+            y0.min(super::ERROR_BOUND / 1.3),
+            y1.max(super::ERROR_BOUND * 1.3),
+        );
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 26))
             .margin(20)
+            // Room below the axis for the two marked rows' labels.
+            .margin_bottom(70)
             .x_label_area_size(55)
             .y_label_area_size(80)
             .build_cartesian_2d(
@@ -123,32 +162,66 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             .draw()
             .map_err(plot_err(path))?;
 
-        // One series per sampler present, in the grid's order.
-        let mut samplers: Vec<SamplerKind> = Vec::new();
+        // One series per method (and sampler) present, in the grid's order.
+        let mut series: Vec<Series> = Vec::new();
         for r in rows {
-            if !samplers.contains(&r.config.sampler) {
-                samplers.push(r.config.sampler);
+            if !series.contains(&Series::of(r)) {
+                series.push(Series::of(r));
             }
         }
-        for s in samplers {
-            let c = sampler_color(s);
-            let pts = rows.iter().filter(ok).filter(|r| r.config.sampler == s);
+        for se in series {
+            let c = se.color();
+            let pts = rows.iter().filter(ok).filter(|r| Series::of(r) == se);
+            let f32s = pts.clone().filter(|r| r.config.precision == Precision::F32);
+            let f64s = pts.filter(|r| r.config.precision == Precision::F64);
+            let at = |r: &Row| (r.frame_ms, r.rel_rmse);
+            // Circles for lights, squares for transfer (filled: f32, open: f64).
+            let annotation = match se {
+                Series::Lights(_) => {
+                    let a = chart
+                        .draw_series(f32s.map(|r| Circle::new(at(r), 3, c.mix(0.75).filled())))
+                        .map_err(plot_err(path))?;
+                    a.label(se.label())
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
+                    chart
+                        .draw_series(f64s.map(|r| Circle::new(at(r), 4, c.stroke_width(1))))
+                        .map_err(plot_err(path))?;
+                    continue;
+                }
+                Series::Transfer => chart
+                    .draw_series(f32s.map(|r| {
+                        EmptyElement::at(at(r))
+                            + Rectangle::new([(-3, -3), (3, 3)], c.mix(0.75).filled())
+                    }))
+                    .map_err(plot_err(path))?,
+            };
+            annotation.label(se.label()).legend(move |(x, y)| {
+                Rectangle::new([(x + 5, y - 5), (x + 15, y + 5)], c.filled())
+            });
             chart
-                .draw_series(
-                    pts.clone()
-                        .filter(|r| r.config.precision == Precision::F32)
-                        .map(|r| Circle::new((r.frame_ms, r.rel_rmse), 3, c.mix(0.75).filled())),
-                )
-                .map_err(plot_err(path))?
-                .label(sampler_name(s))
-                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.filled()));
-            chart
-                .draw_series(
-                    pts.filter(|r| r.config.precision == Precision::F64)
-                        .map(|r| Circle::new((r.frame_ms, r.rel_rmse), 4, c.stroke_width(1))),
-                )
+                .draw_series(f64s.map(|r| {
+                    EmptyElement::at(at(r)) + Rectangle::new([(-4, -4), (4, 4)], c.stroke_width(1))
+                }))
                 .map_err(plot_err(path))?;
         }
+
+        // The error bound, dashed across the plot.
+        let bound = super::ERROR_BOUND;
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(x0, bound), (x1, bound)],
+                8,
+                5,
+                RGBColor(0, 140, 70).stroke_width(2),
+            ))
+            .map_err(plot_err(path))?
+            .label(format!("{}% relative RMSE", bound * 100.0))
+            .legend(|(x, y)| {
+                PathElement::new(
+                    vec![(x, y), (x + 20, y)],
+                    RGBColor(0, 140, 70).stroke_width(2),
+                )
+            });
 
         // The Pareto front as a staircase through its points, fastest first.
         let mut front: Vec<(f64, f64)> = rows
@@ -171,41 +244,57 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             .label("Pareto front (time, rel. RMSE)")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
 
-        // The default configuration, ringed and labelled.
-        for r in rows.iter().filter(ok).filter(|r| r.default) {
-            let p = (r.frame_ms, r.rel_rmse);
-            chart
-                .draw_series(std::iter::once(Circle::new(p, 9, BLACK.stroke_width(3))))
-                .map_err(plot_err(path))?;
-            let c = &r.config;
-            let label = format!(
-                "default: {} {} lights, order {}, {}, {}: {:.1} ms, rel. RMSE {:.4}{}",
-                sampler_name(c.sampler),
-                c.lights,
-                c.order,
-                super::lookup_name(c.lookup),
-                precision_name(c.precision),
+        // The default configuration (black) and the fastest row within the bound (green),
+        // ringed; their labels below the plot, one line each, so they never cover each
+        // other, the front or a point.
+        let fastest = super::fastest_within(rows, bound).map(|r| r.config.index);
+        let green = RGBColor(0, 140, 70);
+        let mut labels: Vec<(String, RGBColor)> = Vec::new();
+        for r in rows.iter().filter(ok) {
+            let is_fastest = fastest == Some(r.config.index);
+            if !(r.default || is_fastest) {
+                continue;
+            }
+            let on = if r.pareto {
+                "on the front"
+            } else {
+                "dominated"
+            };
+            let text = format!(
+                "{}: {:.2} ms, rel. RMSE {:.3}% ({on})",
+                describe(&r.config),
                 r.frame_ms,
-                r.rel_rmse,
-                if r.pareto {
-                    " (on the front)"
-                } else {
-                    " (dominated)"
-                }
+                r.rel_rmse * 100.0
             );
-            // Above the ring, starting just right of it, shifted left as far as needed to
-            // stay inside the plot (about 7 px per character at 17 px).
-            let width = label.len() as i32 * 7;
-            let (px, _) = chart.backend_coord(&p);
-            let area = chart.plotting_area().get_pixel_range().0;
-            let start = (px + 14).min(area.end - width - 4).max(area.start + 4);
-            let dx = start - px;
+            let (label, color) = match (r.default, is_fastest) {
+                (true, true) => (format!("default, fastest within 1%: {text}"), green),
+                (true, false) => (format!("default (black ring): {text}"), BLACK),
+                _ => (format!("fastest within 1% (green ring): {text}"), green),
+            };
             chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at(p)
-                        + Text::new(label, (dx, -34), ("sans-serif", 17).into_font()),
-                ))
+                .draw_series(std::iter::once(Circle::new(
+                    (r.frame_ms, r.rel_rmse),
+                    9,
+                    color.stroke_width(3),
+                )))
                 .map_err(plot_err(path))?;
+            labels.push((label, color));
+        }
+        if fastest.is_none() {
+            labels.push((
+                format!("no configuration within {}% relative RMSE", bound * 100.0),
+                green,
+            ));
+        }
+        // Below the x axis, above the footer line.
+        for (k, (label, color)) in labels.iter().rev().enumerate() {
+            let y = h as i32 - 48 - 22 * k as i32;
+            root.draw(&Text::new(
+                label.clone(),
+                (90, y),
+                ("sans-serif", 17).into_font().color(color),
+            ))
+            .map_err(plot_err(path))?;
         }
 
         chart
@@ -217,7 +306,7 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             .draw()
             .map_err(plot_err(path))?;
         root.draw(&Text::new(
-            "filled: f32, open: f64; each dot one sampler x count x order x lookup",
+            "each mark one configuration (method and its parameters x order x lookup); filled: f32, open: f64",
             (90, (h - 22) as i32),
             ("sans-serif", 14).into_font().color(&RGBColor(90, 90, 90)),
         ))

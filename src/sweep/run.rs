@@ -5,12 +5,20 @@
 //! [`Sweep::prepare`] (scene, probe, reference, coverage mask); [`Sweep::run`] only builds
 //! each configuration's scene, times it and measures it ([`super::metrics`]). Times are
 //! wall-clock ([`Instant`]) and kept at the CSV's precision.
+//!
+//! A row's environment ([`Sweep::environment`]) is made from the decoded probe exactly as
+//! `brdfkit render` makes it for that `[env]` (the same calls, so the same bits): `lights`,
+//! the sampler's light set ([`crate::env::prepare::prepare`]); `transfer`, the table and
+//! the brightest texels as lights ([`crate::env::transfer::prepare_transfer`]), built for
+//! the row's SH order (the truncated data set's bands).
 
 use super::cache::write_cached_reference;
+use super::MethodAxis;
 use super::{metrics, read_cached_reference, reference_key};
 use super::{Config, DefaultConfig, Grid, Row};
 use crate::compare::Loaded;
-use crate::env::prepare::{EnvSpec, SamplerKind};
+use crate::env::prepare::EnvSpec;
+use crate::env::transfer::{self, TransferBasis, TransferTable};
 use crate::env::{LightSet, Probe};
 use crate::error::{Error, Result};
 use crate::image_io::Image;
@@ -20,7 +28,16 @@ use crate::scene::{Precision, Scene, SceneFile};
 use crate::sh::dataset::ShDataset;
 use crate::shard::Shard;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
+
+/// What a row's environment method made from the probe: delta lights (the sampler's, or
+/// the texels summed exactly beside a transfer table) and the transfer table, if any.
+#[derive(Clone)]
+pub struct Environment {
+    pub lights: LightSet,
+    pub transfer: Option<Arc<TransferTable>>,
+}
 
 /// What a prepared sweep holds: the scene template, the probe, the reference.
 pub struct Sweep {
@@ -42,6 +59,8 @@ pub struct Sweep {
     /// Why a cached reference was present but not used (damaged, edited, another size).
     pub reference_rejected: Option<String>,
     pub reference_rendered: bool,
+    /// What [`Grid::fit_material`] left out, one note per method.
+    pub notes: Vec<String>,
     /// Renders per row whose median is `frame_ms` (>= 1).
     pub frames: usize,
     pool: rayon::ThreadPool,
@@ -64,7 +83,7 @@ impl Sweep {
         let Some(env) = file.env.clone() else {
             return Err(Error::field(
                 "--scene",
-                "the scene has no [env]: a sweep varies the environment's sampler and light count",
+                "the scene has no [env]: a sweep varies the environment's method and its parameters",
             ));
         };
         let threads = file.render.threads;
@@ -81,9 +100,15 @@ impl Sweep {
         let env_lights = full.env.as_ref().map_or(0, |e| e.lights);
         let explicit = full.lights[..full.lights.len() - env_lights].to_vec();
         let sh = full.material.as_sh().cloned();
-        grid.fit_material(sh.as_ref().map(ShDataset::bands))?;
+        let notes = grid.fit_material(
+            sh.as_ref().map(ShDataset::bands),
+            TransferBasis::for_material(&full.material).is_some(),
+        )?;
         if grid.is_empty() {
-            return Err(Error::field("--samplers/--counts", "the grid is empty"));
+            return Err(Error::field(
+                "--samplers/--counts/--transfer-grids/--exact-lights",
+                "the grid is empty",
+            ));
         }
         for &n in &grid.counts {
             if n == 0 || n > crate::env::prepare::MAX_LIGHTS {
@@ -91,6 +116,25 @@ impl Sweep {
                     "--counts",
                     format!(
                         "{n} is out of range (1 to {})",
+                        crate::env::prepare::MAX_LIGHTS
+                    ),
+                ));
+            }
+        }
+        for &(nu, nv) in &grid.transfer_grids {
+            if nu < 3 || nv < 2 {
+                return Err(Error::field(
+                    "--transfer-grids",
+                    format!("{nu}x{nv}: at least 3 azimuth and 2 polar nodes"),
+                ));
+            }
+        }
+        for &k in &grid.exact_lights {
+            if k > crate::env::prepare::MAX_LIGHTS {
+                return Err(Error::field(
+                    "--exact-lights",
+                    format!(
+                        "{k} is out of range (0 to {})",
                         crate::env::prepare::MAX_LIGHTS
                     ),
                 ));
@@ -129,9 +173,23 @@ impl Sweep {
         let covered = metrics::covered_pixels(&full);
         let (probe, _) =
             crate::env::prepare::load_probe(&base.join(&env.file), &env.load_options())?;
+        if grid.methods.contains(&super::MethodKind::Transfer) {
+            if let Some(&(nu, _)) = grid
+                .transfer_grids
+                .iter()
+                .find(|(nu, _)| probe.width() % nu != 0)
+            {
+                return Err(Error::field(
+                    "--transfer-grids",
+                    format!(
+                        "{nu} azimuth nodes do not divide the probe's width {}",
+                        probe.width()
+                    ),
+                ));
+            }
+        }
         let default = DefaultConfig {
-            sampler: env.sampler,
-            lights: env.count,
+            method: MethodAxis::of_spec(&env),
             order: sh.as_ref().map_or(0, ShDataset::bands),
             lookup: sh.as_ref().map(|d| d.coeff_lookup),
             precision: Precision::F32,
@@ -151,6 +209,7 @@ impl Sweep {
             reference_file,
             reference_rejected,
             reference_rendered: rendered,
+            notes,
             frames: frames.max(1),
             pool,
         })
@@ -165,30 +224,77 @@ impl Sweep {
             .collect()
     }
 
-    /// The light set of a sampler and count, and its preparation time in milliseconds.
-    pub fn light_set(&self, sampler: SamplerKind, n: usize) -> (LightSet, f64) {
-        let config = sampler.config(n, self.env.seed);
-        let start = Instant::now();
-        let mut ls = config.run(&self.probe);
-        // The scene's `[env] intensity`, exactly as `env::prepare::prepare` applies it.
-        self.env.scale_intensity(&mut ls);
-        (ls, start.elapsed().as_secs_f64() * 1e3)
+    /// The SH data set of order `order` (the material's, truncated when `order` is below
+    /// its bands), or `None` for a material that is not SH.
+    fn dataset(&self, order: usize) -> Result<Option<ShDataset>> {
+        let Some(ds) = &self.sh else {
+            return Ok(None);
+        };
+        Ok(Some(if order < ds.bands() {
+            ds.truncated(order)
+                .map_err(|e| Error::field("--orders", e.to_string()))?
+        } else {
+            ds.clone()
+        }))
     }
 
-    /// The scene of a configuration with a given light set.
-    pub fn scene(&self, c: &Config, lights: &LightSet) -> Result<Scene> {
+    /// The environment of a method at SH order `order` (used by `transfer` only: the
+    /// table's bands), and its preparation time in milliseconds: the light set's sampling,
+    /// or the choice of the exact texels and the table's build. The probe is decoded once,
+    /// in [`Sweep::prepare`], for every row.
+    pub fn environment(&self, method: &MethodAxis, order: usize) -> Result<(Environment, f64)> {
+        let start = Instant::now();
+        let env = match *method {
+            MethodAxis::Lights { sampler, count } => {
+                let mut ls = sampler.config(count, self.env.seed).run(&self.probe);
+                // The scene's `[env] intensity`, exactly as `env::prepare::prepare` applies it.
+                self.env.scale_intensity(&mut ls);
+                Environment {
+                    lights: ls,
+                    transfer: None,
+                }
+            }
+            MethodAxis::Transfer {
+                azimuth,
+                polar,
+                exact_lights,
+            } => {
+                let basis = match self.dataset(order)? {
+                    Some(ds) => TransferBasis::for_material(&crate::material::Material::from(ds)),
+                    None => TransferBasis::for_material(&self.template.material),
+                }
+                .ok_or_else(|| {
+                    Error::field("--methods", "transfer shades SH data sets and Lambert only")
+                })?;
+                // As `env::transfer::prepare_transfer` does for the scene's `[env]`.
+                let exact = transfer::brightest_texels(&self.probe, exact_lights);
+                let table = transfer::build_table(
+                    &self.probe,
+                    basis,
+                    (azimuth, polar),
+                    &exact,
+                    self.env.intensity,
+                    &Progress::hidden(),
+                    transfer::BuildFault::None,
+                )?;
+                Environment {
+                    lights: transfer::build::texel_lights(&self.probe, &exact, self.env.intensity),
+                    transfer: Some(Arc::new(table)),
+                }
+            }
+        };
+        Ok((env, start.elapsed().as_secs_f64() * 1e3))
+    }
+
+    /// The scene of a configuration with its environment.
+    pub fn scene(&self, c: &Config, env: &Environment) -> Result<Scene> {
         let mut s = self.template.clone();
         s.lights = self.explicit.clone();
         s.lights
-            .extend(crate::env::prepare::to_scene_lights(lights));
+            .extend(crate::env::prepare::to_scene_lights(&env.lights));
+        s.transfer = env.transfer.clone();
         s.render.precision = c.precision;
-        if let Some(ds) = &self.sh {
-            let mut d = if c.order < ds.bands() {
-                ds.truncated(c.order)
-                    .map_err(|e| Error::field("--orders", e.to_string()))?
-            } else {
-                ds.clone()
-            };
+        if let Some(mut d) = self.dataset(c.order)? {
             if let Some(l) = c.lookup {
                 d.coeff_lookup = l;
             }
@@ -198,19 +304,24 @@ impl Sweep {
     }
 
     /// Renders and measures the configurations (in order), calling `progress` after each.
-    /// The light set is prepared once per run of consecutive rows with the same sampler and
-    /// count. Rows come back with `pareto` unset (see [`super::finish_rows`]).
+    /// The environment is prepared once per run of consecutive rows that share it (the
+    /// same method point; for `transfer`, also the same order). Rows come back with
+    /// `pareto` unset (see [`super::finish_rows`]).
     pub fn run(&self, configs: &[Config], mut progress: impl FnMut(&Row)) -> Result<Vec<Row>> {
         let mut rows = Vec::with_capacity(configs.len());
-        let mut cached: Option<((SamplerKind, usize), LightSet, f64)> = None;
+        let mut cached: Option<((MethodAxis, usize), Environment, f64)> = None;
         for c in configs {
-            let key = (c.sampler, c.lights);
+            let order = match c.method {
+                MethodAxis::Lights { .. } => 0,
+                MethodAxis::Transfer { .. } => c.order,
+            };
+            let key = (c.method, order);
             if cached.as_ref().map(|x| x.0) != Some(key) {
-                let (ls, ms) = self.light_set(c.sampler, c.lights);
-                cached = Some((key, ls, ms));
+                let (env, ms) = self.environment(&c.method, c.order)?;
+                cached = Some((key, env, ms));
             }
-            let (_, ls, prep_ms) = cached.as_ref().expect("prepared above");
-            let scene = self.scene(c, ls)?;
+            let (_, env, prep_ms) = cached.as_ref().expect("prepared above");
+            let scene = self.scene(c, env)?;
             let mut times = Vec::with_capacity(self.frames);
             let mut image = None;
             for _ in 0..self.frames {

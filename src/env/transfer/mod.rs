@@ -59,6 +59,21 @@ pub enum TransferBasis {
 }
 
 impl TransferBasis {
+    /// The basis a table needs to shade `material`: its SH data set's bands (the cosine
+    /// when the data set excludes it) or, for Lambert, the irradiance; `None` for other
+    /// materials, which a transfer table cannot shade.
+    pub fn for_material(material: &crate::material::Material) -> Option<TransferBasis> {
+        use crate::material::Material;
+        match material {
+            Material::Sh(ds) => Some(TransferBasis::Sh {
+                bands: ds.bands(),
+                cosine: !ds.cosine_included(),
+            }),
+            Material::Lambert(_) => Some(TransferBasis::Irradiance),
+            _ => None,
+        }
+    }
+
     /// Number of terms per colour.
     pub fn terms(self) -> usize {
         match self {

@@ -1,6 +1,6 @@
 //! Tests of the sweep CSV ([`super`]): exact text, header-keyed reading, and errors that
 //! name the file, the line and the column. Expected text comes from the committed README
-//! sweep (written by the positional writer this module replaced) and from hand-written lines.
+//! sweep and from hand-written lines.
 
 use super::*;
 
@@ -34,13 +34,14 @@ fn assert_mentions(msg: &str, parts: &[&str]) {
     }
 }
 
-#[test]
-fn csv_round_trip() {
-    let row = Row {
+fn lights_row() -> Row {
+    Row {
         config: Config {
             index: 7,
-            sampler: SamplerKind::MedianCut,
-            lights: 64,
+            method: MethodAxis::Lights {
+                sampler: SamplerKind::MedianCut,
+                count: 64,
+            },
             order: 5,
             lookup: Some(Lookup::Bilinear),
             precision: Precision::F64,
@@ -52,20 +53,48 @@ fn csv_round_trip() {
         prep_ms: 1.2345,
         frame_ms: 83.0,
         pareto: true,
-    };
+    }
+}
+
+#[test]
+fn csv_round_trip() {
+    let row = lights_row();
     let text = csv_text(std::slice::from_ref(&row));
     let line = text.lines().nth(1).unwrap();
     assert_eq!(
         line,
-        "7,median-cut,64,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1,1.234,83.000,1"
+        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1,1.234,83.000,1"
     );
     let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
     assert_eq!(back.len(), 1);
+    assert_eq!(back[0].config, row.config);
     assert_eq!(back[0].csv_line(), line);
     assert_eq!(
         back[0].deterministic_part(),
-        "7,median-cut,64,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1"
+        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1"
     );
+    // A transfer row: its parameters, `-` for the sampler's.
+    let transfer = Row {
+        config: Config {
+            index: 900,
+            method: MethodAxis::Transfer {
+                azimuth: 64,
+                polar: 33,
+                exact_lights: 16,
+            },
+            ..row.config
+        },
+        ..row.clone()
+    };
+    let text = csv_text(std::slice::from_ref(&transfer));
+    let line = text.lines().nth(1).unwrap();
+    assert_eq!(
+        line,
+        "900,transfer,-,-,64,33,16,-,-,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1,1.234,83.000,1"
+    );
+    let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
+    assert_eq!(back[0].config, transfer.config);
+    assert_eq!(back[0].csv_line(), line);
     // Small and large errors keep Rust's positional form (no exponent), as `{}` writes.
     let tiny = Row {
         rel_rmse: 1e-9,
@@ -78,10 +107,87 @@ fn csv_round_trip() {
     };
     assert_eq!(
         tiny.csv_line(),
-        "7,median-cut,64,5,-,f64,0.000000001,1000000000000000000000,0.0291,1,1.234,83.000,1"
+        "7,lights,median-cut,64,-,-,-,-,-,5,-,f64,0.000000001,1000000000000000000000,0.0291,1,1.234,83.000,1"
     );
     // No rows: the header alone.
     assert_eq!(csv_text(&[]), format!("{CSV_HEADER}\n"));
+}
+
+/// A method's parameters must be given on its rows and `-` on every other method's; the
+/// columns of `lightcuts` (not swept by this build) are `-` on every row.
+#[test]
+fn method_parameters_belong_to_their_method() {
+    let line = |fields: &str| format!("{CSV_HEADER}\n{fields},0.5,0.1,0.01,0,1.000,2.000,0\n");
+    // Good rows, for reference.
+    for ok in [
+        "0,lights,lloyd,128,-,-,-,-,-,8,bilinear,f32",
+        "1,transfer,-,-,128,65,16,-,-,8,bilinear,f32",
+        "2,transfer,-,-,32,17,0,-,-,0,-,f32",
+    ] {
+        parse_csv(Path::new("ok.csv"), line(ok).as_bytes()).unwrap();
+    }
+    for (fields, says) in [
+        (
+            "0,lights,-,128,-,-,-,-,-,8,bilinear,f32",
+            "column sampler: a lights row needs a sampler",
+        ),
+        (
+            "0,lights,lloyd,-,-,-,-,-,-,8,bilinear,f32",
+            "column lights: a lights row needs a lights",
+        ),
+        (
+            "0,lights,lloyd,128,64,-,-,-,-,8,bilinear,f32",
+            "column transfer_azimuth: a lights row has no transfer_azimuth",
+        ),
+        (
+            "1,transfer,lloyd,-,128,65,16,-,-,8,bilinear,f32",
+            "column sampler: a transfer row has no sampler",
+        ),
+        (
+            "1,transfer,-,-,128,-,16,-,-,8,bilinear,f32",
+            "column transfer_polar: a transfer row needs a transfer_polar",
+        ),
+        (
+            "1,transfer,-,-,128,65,16,0.01,-,8,bilinear,f32",
+            "column cut_error: a transfer row has no cut_error",
+        ),
+        (
+            "0,lights,lloyd,128,-,-,-,-,64,8,bilinear,f32",
+            "column cut_max: a lights row has no cut_max",
+        ),
+        (
+            "0,lightcuts,-,-,-,-,-,0.01,64,8,bilinear,f32",
+            "column method: \"lightcuts\" is not a method this build sweeps (lights, transfer)",
+        ),
+        (
+            "1,transfer,-,-,12x,65,16,-,-,8,bilinear,f32",
+            "is not a number or -",
+        ),
+    ] {
+        assert_mentions(
+            &parse_error(&line(fields)),
+            &["shard-7.csv", "line 2:", says],
+        );
+    }
+}
+
+/// A CSV written before the method axis (its header, one of its rows) is refused with a
+/// message saying what it is and what to do, not read as lights rows (the module doc of
+/// [`crate::sweep`] says why).
+#[test]
+fn a_csv_from_before_the_method_axis_is_refused_saying_so() {
+    let old = "index,sampler,lights,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto\n\
+               831,lloyd,128,8,bilinear,f32,0.012713361556001786,0.0358,0.006,1,265.000,3.900,1\n";
+    assert_mentions(
+        &parse_error(old),
+        &[
+            "shard-7.csv",
+            "line 1",
+            "from before the method axis",
+            "no method column",
+            "regenerate it",
+        ],
+    );
 }
 
 #[test]
@@ -101,13 +207,18 @@ fn the_header_is_the_record_schema() {
     );
 }
 
-/// The committed README sweep (880 rows written by the positional writer this module
-/// replaced) reads and writes back to the same bytes.
+/// The committed README sweep (1024 rows: 880 lights, 144 transfer) reads and writes back
+/// to the same bytes.
 #[test]
 fn readme_sweep_reads_and_writes_back_byte_identical() {
     let text = readme_csv();
     let rows = parse_csv(Path::new("sweep.csv"), text.as_bytes()).unwrap();
-    assert_eq!(rows.len(), 880);
+    assert_eq!(rows.len(), 1024);
+    let transfer = rows
+        .iter()
+        .filter(|r| r.config.method.kind() == MethodKind::Transfer)
+        .count();
+    assert_eq!(transfer, 144);
     assert_eq!(csv_text(&rows), text);
 }
 
@@ -116,11 +227,11 @@ fn reordered_columns_read_the_same() {
     let text = readme_csv();
     let rows = parse_csv(
         Path::new("a.csv"),
-        reorder(&text, 40, &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]).as_bytes(),
+        reorder(&text, 40, &(0..19).collect::<Vec<_>>()).as_bytes(),
     )
     .unwrap();
     assert_eq!(rows.len(), 39);
-    let reversed: Vec<usize> = (0..13).rev().collect();
+    let reversed: Vec<usize> = (0..19).rev().collect();
     let moved = reorder(&text, 40, &reversed);
     assert!(moved.starts_with("pareto,frame_ms,"));
     let back = parse_csv(Path::new("b.csv"), moved.as_bytes()).unwrap();
@@ -128,18 +239,18 @@ fn reordered_columns_read_the_same() {
     // Written back in the fixed column order.
     assert_eq!(
         csv_text(&back),
-        reorder(&text, 40, &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12])
+        reorder(&text, 40, &(0..19).collect::<Vec<_>>())
     );
 }
 
 #[test]
 fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
     let text = readme_csv();
-    let all: Vec<usize> = (0..13).collect();
+    let all: Vec<usize> = (0..19).collect();
     let without = |k: usize| -> Vec<usize> { all.iter().copied().filter(|&i| i != k).collect() };
     // A missing column (pareto dropped from every line).
     assert_mentions(
-        &parse_error(&reorder(&text, 3, &without(12))),
+        &parse_error(&reorder(&text, 3, &without(18))),
         &[
             "shard-7.csv",
             "line 1",
@@ -154,14 +265,14 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
         &["shard-7.csv", "line 1", "unknown column \"max_error\""],
     );
     let mut twice = all.clone();
-    twice.push(7);
+    twice.push(13);
     assert_mentions(
         &parse_error(&reorder(&text, 3, &twice)),
         &["shard-7.csv", "line 1", "\"max_err\" appears twice"],
     );
     assert_mentions(&parse_error(""), &["shard-7.csv", "line 1", "empty file"]);
     // Bad values, in a CSV with its columns reversed: the column is named by header.
-    let reversed: Vec<usize> = (0..13).rev().collect();
+    let reversed: Vec<usize> = (0..19).rev().collect();
     let moved = reorder(&text, 4, &reversed);
     let mut lines: Vec<String> = moved.lines().map(str::to_string).collect();
     let set = |lines: &[String], line: usize, column: &str, value: &str| -> String {
@@ -175,7 +286,8 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
     for (line, column, value, says) in [
         (3, "rel_rmse", "zero", "is not a number"),
         (2, "index", "-1", "is not a whole number"),
-        (4, "lights", "1.5", "is not a whole number"),
+        (4, "lights", "1.5", "is not a number or -"),
+        (3, "method", "delta", "is not a method this build sweeps"),
         (2, "pareto", "2", "is not 0 or 1"),
         (3, "default", "yes", "is not 0 or 1"),
         (2, "sampler", "octahedral", "unknown sampler"),
@@ -198,6 +310,6 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
     lines[2] = lines[2].rsplit_once(',').unwrap().0.to_string();
     assert_mentions(
         &parse_error(&(lines.join("\n") + "\n")),
-        &["shard-7.csv", "line 3:", "12 fields, expected 13"],
+        &["shard-7.csv", "line 3:", "18 fields, expected 19"],
     );
 }
