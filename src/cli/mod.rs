@@ -88,13 +88,15 @@ colour per method and sampler, the Pareto front drawn, the 1% line, the default 
 the fastest configuration within 1% marked). Prints the fastest configuration on the Pareto front \
 at <= 1% relative RMSE.\n\n\
 Methods ([env] method): lights (sampler x light count), transfer (table grid azimuth x polar x \
-exact lights; SH data sets and Lambert only, left out for other materials).\n\n\
+exact lights; SH data sets and Lambert only, left out for other materials), lightcuts (cut error x \
+largest cut; left out for SH data sets and MERL tables).\n\n\
 Default scene: the teapot in blue-silk (library SH material, 8 bands) under assets/probes/city.exr, \
 160x120. --class diffuse|sh-glossy|glossy: a sphere in Lambert, teal-paint (SH, 8 bands) or \
 Blinn-Phong exponent 200 under the same probe, 128x96, with SH orders 2, 4, 6, 8 and the bilinear \
-lookup only (the flags below replace that). Default grid: methods lights, transfer; \
+lookup only (the flags below replace that). Default grid: methods lights, transfer, lightcuts; \
 samplers uniform, importance, stratified, median-cut, lloyd x counts 1, 2, 4, ..., 1024; transfer \
-grids 32x17, 64x33, 128x65 x exact lights 0, 16, 64; x orders 1..8 x lookups nearest, bilinear x \
+grids 32x17, 64x33, 128x65 x exact lights 0, 16, 64; cut errors 0.005, 0.01, 0.02, 0.05 x largest \
+cut 1000; x orders 1..8 x lookups nearest, bilinear x \
 precision f32: 1024 rows for an 8-band SH material.\n\n\
 CSV columns: index, method, sampler, lights, transfer_azimuth, transfer_polar, exact_lights, \
 cut_error, cut_max (the method's parameters, - where not the row's method's), order, lookup, \
@@ -127,9 +129,15 @@ pub struct SweepArgs {
     /// A material class's built-in scene instead: a sphere under the city probe, 128x96, in Lambert (diffuse), teal-paint (sh-glossy, SH 8 bands) or Blinn-Phong exponent 200 (glossy).
     #[arg(long, value_enum)]
     pub class: Option<crate::sweep::MaterialClass>,
-    /// Environment methods, comma-separated: lights, transfer. Default both (transfer only for SH data sets and Lambert).
+    /// Environment methods, comma-separated: lights, transfer, lightcuts. Default all three (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets and MERL tables).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub methods: Vec<crate::sweep::MethodKind>,
+    /// Lightcuts: cut error bounds (relative to the pixel), comma-separated. Default 0.005,0.01,0.02,0.05.
+    #[arg(long, value_delimiter = ',')]
+    pub cut_errors: Vec<f32>,
+    /// Lightcuts: largest cuts (clusters per pixel), comma-separated. Default 1000.
+    #[arg(long, value_delimiter = ',')]
+    pub cut_maxes: Vec<usize>,
     /// Transfer-table grids AZIMUTHxPOLAR (azimuth nodes dividing the probe's width), comma-separated. Default 32x17,64x33,128x65.
     #[arg(long, value_delimiter = ',', value_name = "AxP")]
     pub transfer_grids: Vec<String>,

@@ -137,6 +137,12 @@ pub fn run(a: SweepArgs) -> Result<bool> {
     if !a.transfer_grids.is_empty() {
         grid.transfer_grids = parse_transfer_grids(&a.transfer_grids)?;
     }
+    if !a.cut_errors.is_empty() {
+        grid.cut_errors = a.cut_errors.clone();
+    }
+    if !a.cut_maxes.is_empty() {
+        grid.cut_maxes = a.cut_maxes.clone();
+    }
     if !a.exact_lights.is_empty() {
         grid.exact_lights = a.exact_lights.clone();
     }

@@ -24,8 +24,7 @@ use std::path::Path;
 /// The CSV header: deterministic columns first (the configuration: `method` and its
 /// parameters, `-` where a parameter is not the row's method's; then the errors and the
 /// default flag), then measured ones. `cut_error` and `cut_max` are the parameters of
-/// `lightcuts`, a method this build does not sweep yet (always `-`; the grid module's doc,
-/// "Adding a method").
+/// `lightcuts`.
 pub const CSV_HEADER: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
 
 /// The header of sweep CSVs written before the method axis (no `method` column), recognised
@@ -185,6 +184,10 @@ impl From<&Row> for Record {
                 rec.transfer_polar = Some(polar);
                 rec.exact_lights = Some(exact_lights);
             }
+            MethodAxis::Lightcuts { cut_error, cut_max } => {
+                rec.cut_error = Some(cut_error);
+                rec.cut_max = Some(cut_max);
+            }
         }
         rec
     }
@@ -214,13 +217,8 @@ impl Record {
                 self.exact_lights.is_some(),
                 MethodKind::Transfer,
             ),
-            // lightcuts' parameters: no method of this build has them (module doc).
-            (
-                "cut_error",
-                self.cut_error.is_some(),
-                method_without(method),
-            ),
-            ("cut_max", self.cut_max.is_some(), method_without(method)),
+            ("cut_error", self.cut_error.is_some(), MethodKind::Lightcuts),
+            ("cut_max", self.cut_max.is_some(), MethodKind::Lightcuts),
         ];
         for (column, given, of) in params {
             if given && of != method {
@@ -244,6 +242,10 @@ impl Record {
                 polar: self.transfer_polar.expect("checked above"),
                 exact_lights: self.exact_lights.expect("checked above"),
             },
+            MethodKind::Lightcuts => MethodAxis::Lightcuts {
+                cut_error: self.cut_error.expect("checked above"),
+                cut_max: self.cut_max.expect("checked above"),
+            },
         };
         Ok(Row {
             config: Config {
@@ -261,15 +263,6 @@ impl Record {
             frame_ms: self.frame_ms,
             pareto: self.pareto,
         })
-    }
-}
-
-/// A method other than `m`: the owner of a parameter no swept method has (`cut_error`,
-/// `cut_max` until `lightcuts` is swept), so the parameter is refused on every row.
-fn method_without(m: MethodKind) -> MethodKind {
-    match m {
-        MethodKind::Lights => MethodKind::Transfer,
-        MethodKind::Transfer => MethodKind::Lights,
     }
 }
 

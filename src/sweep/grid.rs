@@ -13,15 +13,13 @@
 //! [`MethodAxis`] one value of the axis: a method with its parameters. `lights` comes
 //! first (sampler x light count, as before methods were swept, so a lights-only grid has
 //! the same row indices as then), then `transfer` (table grid `azimuth x polar` pairs x
-//! `exact_lights`).
+//! `exact_lights`), then `lightcuts` (`cut_error` x `cut_max`).
 //!
-//! Adding a method (the slot for `lightcuts`, `[env] method = "lightcuts"` with `cut_error`
-//! and `cut_max`): a variant in [`MethodKind`] and in [`MethodAxis`] with its parameters,
-//! its parameter lists in [`Grid`] (`cut_errors`, `cut_maxes`), and then the arms the
-//! compiler asks for (every `match` here and in `csv.rs`, `run.rs` and `plot.rs` is
-//! exhaustive): the enumeration in [`Grid::method_points`], [`MethodAxis::of_spec`],
-//! the CSV's `cut_error`/`cut_max` columns (already in the header, `-` until then) and the
-//! runner's preparation of the method's scene.
+//! Adding a method: a variant in [`MethodKind`] and in [`MethodAxis`] with its parameters,
+//! its parameter lists in [`Grid`], and then the arms the compiler asks for (every `match`
+//! here and in `csv.rs`, `run.rs` and `plot.rs` is exhaustive): the enumeration in
+//! [`Grid::method_points`], [`MethodAxis::of_spec`], the CSV's parameter columns (a new
+//! column changes the CSV format) and the runner's preparation of the method's scene.
 
 use crate::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use crate::error::{Error, Result};
@@ -56,6 +54,17 @@ pub fn default_exact_lights() -> Vec<usize> {
     vec![0, 16, 64]
 }
 
+/// Default light-cut error bounds (`[env] cut_error`): 0.005, 0.01 (the `[env]` default),
+/// 0.02 and 0.05.
+pub fn default_cut_errors() -> Vec<f32> {
+    vec![0.005, 0.01, 0.02, 0.05]
+}
+
+/// Default largest cuts (`[env] cut_max`): the `[env]` default only.
+pub fn default_cut_maxes() -> Vec<usize> {
+    vec![crate::env::prepare::DEFAULT_CUT_MAX]
+}
+
 /// The environment methods a sweep runs (the outer axis), a subset of `[env] method`
 /// ([`EnvMethod`]) under the same names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -65,17 +74,25 @@ pub enum MethodKind {
     /// Transfer table plus the brightest texels (`[env] method = "transfer"`): table grid
     /// x exact lights. SH data sets and Lambert only.
     Transfer,
+    /// Adaptive light cuts through a tree of every texel (`[env] method = "lightcuts"`):
+    /// cut error x largest cut. Every material with a cone bound (not SH, not MERL).
+    Lightcuts,
 }
 
 impl MethodKind {
     /// Every method, in the grid's order.
-    pub const ALL: [MethodKind; 2] = [MethodKind::Lights, MethodKind::Transfer];
+    pub const ALL: [MethodKind; 3] = [
+        MethodKind::Lights,
+        MethodKind::Transfer,
+        MethodKind::Lightcuts,
+    ];
 
     /// The `[env] method` this is.
     pub fn env_method(self) -> EnvMethod {
         match self {
             MethodKind::Lights => EnvMethod::Lights,
             MethodKind::Transfer => EnvMethod::Transfer,
+            MethodKind::Lightcuts => EnvMethod::Lightcuts,
         }
     }
 
@@ -106,6 +123,9 @@ pub enum MethodAxis {
         polar: usize,
         exact_lights: usize,
     },
+    /// Light cuts refined to `cut_error` of the pixel, at most `cut_max` clusters
+    /// (`[env] cut_error`, `cut_max`).
+    Lightcuts { cut_error: f32, cut_max: usize },
 }
 
 impl MethodAxis {
@@ -114,12 +134,13 @@ impl MethodAxis {
         match self {
             MethodAxis::Lights { .. } => MethodKind::Lights,
             MethodAxis::Transfer { .. } => MethodKind::Transfer,
+            MethodAxis::Lightcuts { .. } => MethodKind::Lightcuts,
         }
     }
 
     /// What a scene's `[env]` asks for (its own point of the axis); `None` for a method the
     /// sweep does not run.
-    #[allow(unreachable_patterns)] // the `_` arm: `[env] method`s not swept yet (module doc)
+    #[allow(unreachable_patterns)] // the `_` arm: an `[env] method` not swept (module doc)
     pub fn of_spec(spec: &EnvSpec) -> Option<MethodAxis> {
         match spec.method {
             EnvMethod::Lights => Some(MethodAxis::Lights {
@@ -130,6 +151,10 @@ impl MethodAxis {
                 azimuth: spec.transfer_azimuth,
                 polar: spec.transfer_polar,
                 exact_lights: spec.exact_lights,
+            }),
+            EnvMethod::Lightcuts => Some(MethodAxis::Lightcuts {
+                cut_error: spec.cut_error,
+                cut_max: spec.cut_max,
             }),
             _ => None,
         }
@@ -144,6 +169,9 @@ impl MethodAxis {
                 polar,
                 exact_lights,
             } => format!("transfer {azimuth}x{polar} k{exact_lights}"),
+            MethodAxis::Lightcuts { cut_error, cut_max } => {
+                format!("lightcuts e{cut_error} m{cut_max}")
+            }
         }
     }
 }
@@ -161,6 +189,9 @@ pub fn describe(c: &Config) -> String {
             polar,
             exact_lights,
         } => format!("transfer {azimuth}x{polar} exact {exact_lights}"),
+        MethodAxis::Lightcuts { cut_error, cut_max } => {
+            format!("lightcuts error {cut_error} max {cut_max}")
+        }
     };
     let sh = match c.lookup {
         Some(l) => format!(", order {}, {}", c.order, lookup_name(Some(l))),
@@ -223,6 +254,10 @@ pub struct Grid {
     pub transfer_grids: Vec<(usize, usize)>,
     /// `transfer`: brightest texels summed exactly.
     pub exact_lights: Vec<usize>,
+    /// `lightcuts`: cut error bounds (relative to the pixel).
+    pub cut_errors: Vec<f32>,
+    /// `lightcuts`: largest cuts.
+    pub cut_maxes: Vec<usize>,
     /// SH orders (bands kept, `l < order`); `[0]` for a material that is not SH.
     pub orders: Vec<usize>,
     /// Coefficient-table lookups; `[None]` for a material that is not SH.
@@ -238,6 +273,8 @@ impl Default for Grid {
             counts: default_counts(),
             transfer_grids: default_transfer_grids(),
             exact_lights: default_exact_lights(),
+            cut_errors: default_cut_errors(),
+            cut_maxes: default_cut_maxes(),
             orders: (1..=8).collect(),
             lookups: vec![Some(Lookup::Nearest), Some(Lookup::Bilinear)],
             precisions: vec![Precision::F32],
@@ -282,6 +319,13 @@ impl Grid {
                         }
                     }
                 }
+                MethodKind::Lightcuts => {
+                    for &cut_error in &self.cut_errors {
+                        for &cut_max in &self.cut_maxes {
+                            out.push(MethodAxis::Lightcuts { cut_error, cut_max });
+                        }
+                    }
+                }
             }
         }
         out
@@ -319,13 +363,14 @@ impl Grid {
 
     /// Fits the grid to the scene's material. SH axes: orders above `bands` are dropped (an
     /// error if none remain); a material that is not SH (`bands == None`) gets `[0]` and
-    /// `[None]`. Methods: `transfer` is dropped when `transfer_shades` is false (it shades
-    /// SH data sets and Lambert only); an error when no method remains. Returns a note per
-    /// method dropped, for the command line to print.
+    /// `[None]`. Methods: each method `shades` refuses for the material (`Some(why)`:
+    /// `transfer` shades SH data sets and Lambert only, `lightcuts` every material with a
+    /// cone bound) is dropped with a note saying why; an error when no method remains.
+    /// Returns a note per method dropped, for the command line to print.
     pub fn fit_material(
         &mut self,
         bands: Option<usize>,
-        transfer_shades: bool,
+        shades: impl Fn(MethodKind) -> Option<String>,
     ) -> Result<Vec<String>> {
         match bands {
             None => {
@@ -346,17 +391,20 @@ impl Grid {
             }
         }
         let mut notes = Vec::new();
-        if !transfer_shades && self.methods.contains(&MethodKind::Transfer) {
-            self.methods.retain(|&m| m != MethodKind::Transfer);
-            notes.push(
-                "method transfer left out: it shades SH data sets and Lambert only".to_string(),
-            );
-            if self.methods.is_empty() {
-                return Err(Error::field(
-                    "--methods",
-                    "no method left: transfer shades SH data sets and Lambert only",
-                ));
+        let mut why_none = Vec::new();
+        self.methods.retain(|&m| match shades(m) {
+            None => true,
+            Some(why) => {
+                notes.push(format!("method {} left out: {why}", m.name()));
+                why_none.push(format!("{} {why}", m.name()));
+                false
             }
+        });
+        if self.methods.is_empty() {
+            return Err(Error::field(
+                "--methods",
+                format!("no method left: {}", why_none.join("; ")),
+            ));
         }
         Ok(notes)
     }

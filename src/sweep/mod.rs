@@ -9,15 +9,19 @@
 //! light count, first (so a lights-only grid keeps the indices of the CSVs from before the
 //! method axis); then `transfer`, table grid (azimuth x polar nodes) x exact lights
 //! ([`crate::env::transfer`]), for SH data sets and Lambert only (left out with a note for
-//! other materials). Defaults ([`Grid::default`]): the five samplers of
+//! other materials); then `lightcuts`, cut error x largest cut ([`crate::env::lightcuts`]),
+//! for every material with a cone bound (left out with a note for SH data sets and MERL
+//! tables). Defaults ([`Grid::default`]): the five samplers of
 //! [`SamplerKind`](crate::env::prepare::SamplerKind) except `full`; counts 1, 2, 4, ...,
-//! 1024; tables 32x17, 64x33, 128x65 x exact lights 0, 16, 64; orders (SH bands) 1..=8;
-//! lookups nearest and bilinear; precision f32 only: (55 + 9) x 8 x 2 = 1024 rows. SH
+//! 1024; tables 32x17, 64x33, 128x65 x exact lights 0, 16, 64; cut errors 0.005, 0.01,
+//! 0.02, 0.05 x largest cut 1000; orders (SH bands) 1..=8; lookups nearest and bilinear;
+//! precision f32 only: (55 + 9) x 8 x 2 = 1024 rows for an 8-band SH data set (lightcuts
+//! left out), 55 + 9 + 4 = 68 for Lambert, 55 + 4 = 59 for an analytic lobe. SH
 //! orders above the data set's stored bands are dropped; an order below them shades
 //! [`ShDataset::truncated`](crate::sh::dataset::ShDataset::truncated) (and a transfer
 //! table of that many bands). A scene whose material is not an SH data set has one order
-//! (written 0) and one lookup (written `-`). The `lightcuts` method has a slot: [`grid`]'s
-//! module doc says what adding it takes.
+//! (written 0) and one lookup (written `-`). [`grid`]'s module doc says what adding a
+//! method takes.
 //!
 //! # Material classes
 //! `--class` ([`MaterialClass`]) sweeps a built-in scene of one of issue 14's material

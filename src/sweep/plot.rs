@@ -1,6 +1,6 @@
 //! The sweep's plot: frame time against relative RMSE, both log axes, one series per
 //! method (and, for `lights`, per sampler) in its own colour and marker (circles: lights,
-//! squares: transfer; filled f32, open f64), the Pareto front as a black staircase (the
+//! squares: transfer, triangles: lightcuts; filled f32, open f64), the Pareto front as a black staircase (the
 //! boundary of the region its points dominate), the 1% relative RMSE line
 //! ([`super::ERROR_BOUND`]) dashed, the fastest row within it ([`super::fastest_within`])
 //! ringed in green and the default configuration ringed in black, both labelled. Drawn with `plotters` into a pixel buffer and written as PNG through
@@ -46,6 +46,7 @@ fn sampler_color(s: SamplerKind) -> RGBColor {
 enum Series {
     Lights(SamplerKind),
     Transfer,
+    Lightcuts,
 }
 
 impl Series {
@@ -53,6 +54,7 @@ impl Series {
         match r.config.method {
             MethodAxis::Lights { sampler, .. } => Series::Lights(sampler),
             MethodAxis::Transfer { .. } => Series::Transfer,
+            MethodAxis::Lightcuts { .. } => Series::Lightcuts,
         }
     }
 
@@ -60,6 +62,7 @@ impl Series {
         match self {
             Series::Lights(s) => sampler_color(s),
             Series::Transfer => RGBColor(200, 0, 40),
+            Series::Lightcuts => RGBColor(110, 40, 170),
         }
     }
 
@@ -67,6 +70,7 @@ impl Series {
         match self {
             Series::Lights(s) => format!("lights, {}", sampler_name(s)),
             Series::Transfer => format!("{} (squares)", MethodKind::Transfer.name()),
+            Series::Lightcuts => format!("{} (triangles)", MethodKind::Lightcuts.name()),
         }
     }
 }
@@ -175,8 +179,22 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             let f32s = pts.clone().filter(|r| r.config.precision == Precision::F32);
             let f64s = pts.filter(|r| r.config.precision == Precision::F64);
             let at = |r: &Row| (r.frame_ms, r.rel_rmse);
-            // Circles for lights, squares for transfer (filled: f32, open: f64).
+            // Circles for lights, squares for transfer, triangles for lightcuts (filled: f32,
+            // open: f64).
             let annotation = match se {
+                Series::Lightcuts => {
+                    let a = chart
+                        .draw_series(
+                            f32s.map(|r| TriangleMarker::new(at(r), 5, c.mix(0.75).filled())),
+                        )
+                        .map_err(plot_err(path))?;
+                    a.label(se.label())
+                        .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 6, c.filled()));
+                    chart
+                        .draw_series(f64s.map(|r| TriangleMarker::new(at(r), 6, c.stroke_width(1))))
+                        .map_err(plot_err(path))?;
+                    continue;
+                }
                 Series::Lights(_) => {
                     let a = chart
                         .draw_series(f32s.map(|r| Circle::new(at(r), 3, c.mix(0.75).filled())))

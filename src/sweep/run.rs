@@ -10,13 +10,15 @@
 //! `brdfkit render` makes it for that `[env]` (the same calls, so the same bits): `lights`,
 //! the sampler's light set ([`crate::env::prepare::prepare`]); `transfer`, the table and
 //! the brightest texels as lights ([`crate::env::transfer::prepare_transfer`]), built for
-//! the row's SH order (the truncated data set's bands).
+//! the row's SH order (the truncated data set's bands); `lightcuts`, the light tree of every
+//! texel with the row's cut parameters ([`crate::env::lightcuts::prepare_lightcuts`]).
 
 use super::cache::write_cached_reference;
 use super::MethodAxis;
 use super::{metrics, read_cached_reference, reference_key};
 use super::{Config, DefaultConfig, Grid, Row};
 use crate::compare::Loaded;
+use crate::env::lightcuts::{LightCuts, LightTree};
 use crate::env::prepare::EnvSpec;
 use crate::env::transfer::{self, TransferBasis, TransferTable};
 use crate::env::{LightSet, Probe};
@@ -32,11 +34,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 /// What a row's environment method made from the probe: delta lights (the sampler's, or
-/// the texels summed exactly beside a transfer table) and the transfer table, if any.
+/// the texels summed exactly beside a transfer table), the transfer table and the light
+/// cuts, if any.
 #[derive(Clone)]
 pub struct Environment {
     pub lights: LightSet,
     pub transfer: Option<Arc<TransferTable>>,
+    pub lightcuts: Option<Arc<LightCuts>>,
 }
 
 /// What a prepared sweep holds: the scene template, the probe, the reference.
@@ -100,10 +104,15 @@ impl Sweep {
         let env_lights = full.env.as_ref().map_or(0, |e| e.lights);
         let explicit = full.lights[..full.lights.len() - env_lights].to_vec();
         let sh = full.material.as_sh().cloned();
-        let notes = grid.fit_material(
-            sh.as_ref().map(ShDataset::bands),
-            TransferBasis::for_material(&full.material).is_some(),
-        )?;
+        let notes = grid.fit_material(sh.as_ref().map(ShDataset::bands), |m| match m {
+            super::MethodKind::Lights => None,
+            super::MethodKind::Transfer => TransferBasis::for_material(&full.material)
+                .is_none()
+                .then(|| "it shades SH data sets and Lambert only".to_string()),
+            super::MethodKind::Lightcuts => {
+                crate::material::cone_bound::ConeBound::new(&full.material).err()
+            }
+        })?;
         if grid.is_empty() {
             return Err(Error::field(
                 "--samplers/--counts/--transfer-grids/--exact-lights",
@@ -252,6 +261,7 @@ impl Sweep {
                 Environment {
                     lights: ls,
                     transfer: None,
+                    lightcuts: None,
                 }
             }
             MethodAxis::Transfer {
@@ -280,6 +290,24 @@ impl Sweep {
                 Environment {
                     lights: transfer::build::texel_lights(&self.probe, &exact, self.env.intensity),
                     transfer: Some(Arc::new(table)),
+                    lightcuts: None,
+                }
+            }
+            MethodAxis::Lightcuts { cut_error, cut_max } => {
+                // As `env::lightcuts::prepare_lightcuts` does for the scene's `[env]`.
+                let mut spec = self.env.clone();
+                spec.cut_error = cut_error;
+                spec.cut_max = cut_max;
+                spec.check()?;
+                Environment {
+                    lights: LightSet::default(),
+                    transfer: None,
+                    lightcuts: Some(Arc::new(LightCuts {
+                        tree: LightTree::build(&self.probe, self.env.intensity),
+                        cut_error,
+                        cut_max,
+                        fault: crate::material::cone_bound::BoundFault::None,
+                    })),
                 }
             }
         };
@@ -293,6 +321,7 @@ impl Sweep {
         s.lights
             .extend(crate::env::prepare::to_scene_lights(&env.lights));
         s.transfer = env.transfer.clone();
+        s.lightcuts = env.lightcuts.clone();
         s.render.precision = c.precision;
         if let Some(mut d) = self.dataset(c.order)? {
             if let Some(l) = c.lookup {
@@ -312,7 +341,7 @@ impl Sweep {
         let mut cached: Option<((MethodAxis, usize), Environment, f64)> = None;
         for c in configs {
             let order = match c.method {
-                MethodAxis::Lights { .. } => 0,
+                MethodAxis::Lights { .. } | MethodAxis::Lightcuts { .. } => 0,
                 MethodAxis::Transfer { .. } => c.order,
             };
             let key = (c.method, order);

@@ -113,8 +113,7 @@ fn csv_round_trip() {
     assert_eq!(csv_text(&[]), format!("{CSV_HEADER}\n"));
 }
 
-/// A method's parameters must be given on its rows and `-` on every other method's; the
-/// columns of `lightcuts` (not swept by this build) are `-` on every row.
+/// A method's parameters must be given on its rows and `-` on every other method's.
 #[test]
 fn method_parameters_belong_to_their_method() {
     let line = |fields: &str| format!("{CSV_HEADER}\n{fields},0.5,0.1,0.01,0,1.000,2.000,0\n");
@@ -123,6 +122,7 @@ fn method_parameters_belong_to_their_method() {
         "0,lights,lloyd,128,-,-,-,-,-,8,bilinear,f32",
         "1,transfer,-,-,128,65,16,-,-,8,bilinear,f32",
         "2,transfer,-,-,32,17,0,-,-,0,-,f32",
+        "3,lightcuts,-,-,-,-,-,0.01,1000,0,-,f32",
     ] {
         parse_csv(Path::new("ok.csv"), line(ok).as_bytes()).unwrap();
     }
@@ -156,8 +156,12 @@ fn method_parameters_belong_to_their_method() {
             "column cut_max: a lights row has no cut_max",
         ),
         (
-            "0,lightcuts,-,-,-,-,-,0.01,64,8,bilinear,f32",
-            "column method: \"lightcuts\" is not a method this build sweeps (lights, transfer)",
+            "0,lightcuts,-,-,-,-,-,-,64,0,-,f32",
+            "column cut_error: a lightcuts row needs a cut_error",
+        ),
+        (
+            "0,lightcuts,lloyd,-,-,-,-,0.01,64,0,-,f32",
+            "column sampler: a lightcuts row has no sampler",
         ),
         (
             "1,transfer,-,-,12x,65,16,-,-,8,bilinear,f32",

@@ -4,8 +4,9 @@ use super::*;
 #[test]
 fn grid_order_and_size() {
     let g = Grid::default();
-    // lights: 5 samplers x 11 counts; transfer: 3 grids x 3 exact counts; x 8 x 2.
-    assert_eq!(g.len(), (55 + 9) * 16);
+    // lights: 5 samplers x 11 counts; transfer: 3 grids x 3 exact counts; lightcuts: 4 cut
+    // errors x 1 largest cut; x 8 x 2 (before the grid is fitted to a material).
+    assert_eq!(g.len(), (55 + 9 + 4) * 16);
     let c = g.configs();
     assert_eq!(c.len(), g.len());
     assert!(c.iter().enumerate().all(|(i, c)| c.index == i));
@@ -29,7 +30,13 @@ fn grid_order_and_size() {
     assert_eq!(c[880].method, transfer(32, 17, 0));
     assert_eq!(c[880 + 16].method, transfer(32, 17, 16));
     assert_eq!(c[880 + 48].method, transfer(64, 33, 0));
-    assert_eq!(c.last().unwrap().method, transfer(128, 65, 64));
+    assert_eq!(c[1023].method, transfer(128, 65, 64));
+    let cuts = |e, m| MethodAxis::Lightcuts {
+        cut_error: e,
+        cut_max: m,
+    };
+    assert_eq!(c[1024].method, cuts(0.005, 1000));
+    assert_eq!(c.last().unwrap().method, cuts(0.05, 1000));
     let only = Grid {
         methods: vec![MethodKind::Transfer],
         ..Grid::default()
@@ -40,29 +47,33 @@ fn grid_order_and_size() {
 
 #[test]
 fn fit_material_drops_orders_and_methods() {
+    let all = |_: MethodKind| None;
+    let no_transfer = |m: MethodKind| {
+        (m == MethodKind::Transfer).then(|| "shades SH data sets and Lambert only".to_string())
+    };
     let mut g = Grid::default();
-    assert!(g.fit_material(Some(5), true).unwrap().is_empty());
+    assert!(g.fit_material(Some(5), all).unwrap().is_empty());
     assert_eq!(g.orders, vec![1, 2, 3, 4, 5]);
     let mut g = Grid::default();
-    g.fit_material(None, true).unwrap();
+    g.fit_material(None, all).unwrap();
     assert_eq!((g.orders.clone(), g.lookups.clone()), (vec![0], vec![None]));
     assert_eq!(g.methods, MethodKind::ALL.to_vec());
     let mut g = Grid {
         orders: vec![9],
         ..Grid::default()
     };
-    assert!(g.fit_material(Some(8), true).is_err());
+    assert!(g.fit_material(Some(8), all).is_err());
     // A material transfer cannot shade: transfer dropped with a note, or an error when
     // it was the only method.
     let mut g = Grid::default();
-    let notes = g.fit_material(None, false).unwrap();
-    assert_eq!(g.methods, vec![MethodKind::Lights]);
+    let notes = g.fit_material(None, no_transfer).unwrap();
+    assert_eq!(g.methods, vec![MethodKind::Lights, MethodKind::Lightcuts]);
     assert!(notes[0].contains("transfer"), "{notes:?}");
     let mut g = Grid {
         methods: vec![MethodKind::Transfer],
         ..Grid::default()
     };
-    assert!(g.fit_material(None, false).is_err());
+    assert!(g.fit_material(None, no_transfer).is_err());
 }
 
 #[test]
