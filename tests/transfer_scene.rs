@@ -99,3 +99,94 @@ fn reference_of_a_transfer_scene_is_the_full_probe() {
         "--reference of a transfer scene differs"
     );
 }
+
+/// The largest per-pixel, per-channel difference of `a` from `oracle` relative to the pixel
+/// (or to 1% of the image's peak where SH terms cancel), as tests/kernel.rs measures the
+/// lights' kernels against the scalar oracle.
+fn worst_relative(a: &brdfkit::image_io::Image, oracle: &brdfkit::image_io::Image) -> f32 {
+    let peak = oracle
+        .pixels
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0f32, f32::max);
+    let mut worst = 0.0f32;
+    for (p, q) in a.pixels.iter().zip(&oracle.pixels) {
+        let d = (*p - *q).abs().max_element();
+        let scale = q.abs().max_element().max(1e-2 * peak);
+        // A NaN difference counts as infinitely far.
+        worst = worst.max(if d.is_nan() { f32::INFINITY } else { d / scale });
+    }
+    worst
+}
+
+/// The fast path folds the transfer term into its tile loop (one surface per pixel, SIMD
+/// lookup and dot, polynomial angles, the data set's effective bands); the scalar oracle
+/// adds it in a plain second pass (`std` angles, every band). Held within
+/// `FAST_PATH_TOLERANCE` of each other on an 8-band SH material (city, 4 exact lights) and
+/// on Lambert (studio); both instruction-set paths give the same bits, and so do 1 and 2
+/// threads. The seeded fault (the fast path's lookup one azimuth node over) must exceed
+/// the tolerance.
+#[test]
+fn fast_path_matches_the_scalar_oracle_within_the_tolerance() {
+    use brdfkit::env::transfer::FAST_PATH_TOLERANCE;
+    use brdfkit::kernel::lanes::KernelPath;
+    use brdfkit::shade::{KernelFault, ShadeOptions, ShadingPath};
+    let grid =
+        "method = \"transfer\"\ntransfer_azimuth = 32\ntransfer_polar = 17\nexact_lights = 4";
+    for (probe, material) in [
+        ("city", "kind = \"library\"\nname = \"teal-paint\""),
+        ("studio", LAMBERT),
+    ] {
+        let mut s = scene(probe, material, grid).unwrap();
+        s.render.width = 40;
+        s.render.height = 40;
+        let shade = |opts: ShadeOptions| {
+            let vis = brdfkit::render::rasterize(&s, false);
+            brdfkit::shade::shade(&s, &vis, &opts).image
+        };
+        let oracle = shade(ShadeOptions::default().with_path(ShadingPath::ScalarOracle));
+        let mut fast_images = Vec::new();
+        for kernel in KernelPath::available() {
+            let opts = ShadeOptions {
+                kernel: Some(kernel),
+                ..ShadeOptions::default()
+            };
+            fast_images.push(shade(opts));
+        }
+        let fast = &fast_images[0];
+        for other in &fast_images[1..] {
+            assert!(other.pixels == fast.pixels, "{probe}: paths differ in bits");
+        }
+        let worst = worst_relative(fast, &oracle);
+        eprintln!("{probe}: fast vs oracle worst relative difference {worst:.2e}");
+        assert!(worst <= FAST_PATH_TOLERANCE, "{probe}: {worst:.2e}");
+        // The check sees the term: without it the fast image is far off.
+        let mut bare = s.clone();
+        bare.transfer = None;
+        let vis = brdfkit::render::rasterize(&bare, false);
+        let no_term = brdfkit::shade::shade(&bare, &vis, &ShadeOptions::default()).image;
+        assert!(worst_relative(&no_term, &oracle) > 100.0 * FAST_PATH_TOLERANCE);
+        let faulty = shade(ShadeOptions {
+            fault: Some(KernelFault::TransferAzimuthShift),
+            ..ShadeOptions::default()
+        });
+        let w = worst_relative(&faulty, &oracle);
+        eprintln!("{probe}: seeded azimuth shift {w:.2e}");
+        assert!(
+            w > FAST_PATH_TOLERANCE,
+            "{probe}: the fault passed ({w:.2e})"
+        );
+        // Same bits for 1 and 2 threads (render on dedicated pools).
+        let threads = |n| {
+            let opts = RenderOptions {
+                threads: Some(n),
+                ..RenderOptions::default()
+            };
+            render(&s, &opts).image
+        };
+        assert!(
+            threads(1).pixels == threads(2).pixels,
+            "{probe}: thread counts differ"
+        );
+    }
+}

@@ -184,8 +184,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let resolve_base = base.as_path();
     // Counts the light set's preparation when it is computed (nothing on a cache hit).
     let light_set = match &file.env {
+        // Length 0: drawn only once the build sets it (nothing on a cache hit).
         Some(env) if env.method == crate::env::prepare::EnvMethod::Transfer => Progress::bar(
-            env.transfer_polar as u64,
+            0,
             &format!(
                 "transfer table: {} x {} normals",
                 env.transfer_azimuth, env.transfer_polar

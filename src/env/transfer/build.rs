@@ -125,6 +125,7 @@ pub fn build_table(
         .map(|idx| probe_direction(texel_center_f64(idx % w, w), texel_center_f64(idx / w, h)))
         .collect();
     let stride = w / nu;
+    progress.set_length(nv as u64);
     let rows: Vec<Vec<f64>> = (0..nv)
         .into_par_iter()
         .map(|j| {
@@ -149,14 +150,12 @@ pub fn build_table(
             }
         }
     }
-    Ok(TransferTable {
-        nu,
-        nv,
+    Ok(TransferTable::from_parts(
+        (nu, nv),
         basis,
-        rotation: probe.rotation() as f32,
-        unrotate: (-(probe.rotation() as f32)).sin_cos(),
+        probe.rotation(),
         values,
-    })
+    ))
 }
 
 /// The `nu` nodes of table row `j` (polar `pi j / (nv - 1)`), `nu x 3 x terms` f64 values
