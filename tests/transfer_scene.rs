@@ -190,3 +190,88 @@ fn fast_path_matches_the_scalar_oracle_within_the_tolerance() {
         );
     }
 }
+
+/// `render --env-method transfer` overrides a scene's `[env] method = "lights"`: the table
+/// is built once and written to the run's cache (`transfer-KEY.bin`), read back by the
+/// next run (`(cached)`, the same bits), listed and cleaned by `brdfkit cache`; a damaged
+/// entry is refused, rebuilt and rewritten (the same bits again). `--env-method lights`
+/// renders another image; without an environment the flag is a clear error.
+#[test]
+fn env_method_flag_and_table_cache() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let probe = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr");
+    let text = format!(
+        "[mesh]\nsource = \"sphere\"\n[material]\n{LAMBERT}\n[env]\nfile = {:?}\n\
+         method = \"lights\"\ntransfer_azimuth = 32\ntransfer_polar = 17\n",
+        probe.to_str().unwrap()
+    );
+    std::fs::write(d.join("s.toml"), text).unwrap();
+    let cli = common::brdfkit(d);
+    let render = |method: &str, out: &str| {
+        let r = cli.run(&[
+            "render",
+            "s.toml",
+            "--env-method",
+            method,
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "-o",
+            out,
+        ]);
+        assert!(r.success(), "{method}: {}", r.stderr);
+        (
+            r.stderr,
+            brdfkit::image_io::read_exr(&d.join(out)).unwrap().pixels,
+        )
+    };
+    let entries = || -> Vec<std::path::PathBuf> {
+        std::fs::read_dir(d.join("cache"))
+            .map(|rd| {
+                rd.map(|e| e.unwrap().path())
+                    .filter(|p| p.to_string_lossy().contains("transfer-"))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let (err1, first) = render("transfer", "a.exr");
+    assert!(
+        err1.contains("transfer table") && !err1.contains("(cached)"),
+        "{err1}"
+    );
+    let files = entries();
+    assert_eq!(files.len(), 1, "{files:?}");
+    let entry = std::fs::read(&files[0]).unwrap();
+    let (err2, second) = render("transfer", "b.exr");
+    assert!(err2.contains("(cached)"), "{err2}");
+    assert!(first == second, "a cached table renders other bits");
+    // Damage the last value: refused with a warning, rebuilt, rewritten as before.
+    let mut bad = entry.clone();
+    *bad.last_mut().unwrap() ^= 0x40;
+    std::fs::write(&files[0], &bad).unwrap();
+    let (err3, third) = render("transfer", "c.exr");
+    assert!(
+        err3.contains("checksum") && !err3.contains("(cached)"),
+        "{err3}"
+    );
+    assert!(first == third);
+    assert_eq!(std::fs::read(&files[0]).unwrap(), entry);
+    // The flag does take effect: the scene's own method renders another image.
+    let (_, lights) = render("lights", "d.exr");
+    assert!(lights != first);
+    let show = cli.run(&["cache"]);
+    assert!(show.stdout.contains("transfer tables"), "{}", show.stdout);
+    let clean = cli.run(&["cache", "clean"]);
+    assert!(clean.success(), "{}", clean.stderr);
+    assert!(entries().is_empty());
+    // No environment: a clear error naming the flag.
+    let r = cli.run(&["render", "--env-method", "transfer", "-o", "x.png"]);
+    assert!(!r.success());
+    assert!(
+        r.stderr.contains("--env-method") && r.stderr.contains("[env]"),
+        "{}",
+        r.stderr
+    );
+}

@@ -263,6 +263,9 @@ pub struct RenderArgs {
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
+    /// How the environment is shaded (with --env or a scene's [env]); overrides the scene's `[env] method`. `transfer`: SH data sets and Lambert only. --reference always shades the full probe.
+    #[arg(long, value_enum, value_name = "METHOD")]
+    pub env_method: Option<crate::env::prepare::EnvMethod>,
     /// Render the converged reference: every texel of the probe a light (with an environment; --lights is ignored), every SH band, no skips, no culling, f64 shading. Minutes where the fast path takes milliseconds; shows a bar with an ETA on a terminal. The reference the fast path is measured against (golden bounds, sweep).
     #[arg(long)]
     pub reference: bool,

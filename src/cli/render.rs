@@ -135,6 +135,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
             );
         }
     }
+    if let Some(m) = a.env_method {
+        let Some(env) = file.env.as_mut() else {
+            return Err(Error::field(
+                "--env-method",
+                "needs an environment: the scene has no [env] table; give --env PROBE or add one",
+            ));
+        };
+        env.method = m;
+    }
     if a.reference {
         if let Some(env) = file.env.as_mut() {
             env.use_full_probe();
@@ -232,12 +241,23 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 e.file.display()
             );
         }
+        let (cached, what) = match &scene.transfer {
+            Some(t) => (
+                "transfer-table",
+                format!(
+                    "a {} x {} transfer table and {} exact lights",
+                    t.grid().0,
+                    t.grid().1,
+                    e.lights
+                ),
+            ),
+            None => ("light-set", format!("{} lights", e.lights)),
+        };
         if let Some(why) = &e.cache_rejected {
-            eprintln!("warning: light-set cache entry ignored and rewritten: {why}");
+            eprintln!("warning: {cached} cache entry ignored and rewritten: {why}");
         }
         eprintln!(
-            "environment: {} lights from {}{}",
-            e.lights,
+            "environment: {what} from {}{}",
             e.file.display(),
             if e.cache_hit { " (cached)" } else { "" }
         );
