@@ -260,7 +260,7 @@ mod tests {
         ];
         let o2 = LoadOptions {
             zero_non_finite: !o.zero_non_finite,
-            ..o.clone()
+            ..o
         };
         changed.push(table_cache_key(b"probe", &o2, &p));
         for q in [
@@ -299,10 +299,7 @@ mod tests {
             assert_ne!(*c, k, "change {i} kept the key");
         }
         // The rotation is not in the key (module doc).
-        let o3 = LoadOptions {
-            rotation: 1.0,
-            ..o.clone()
-        };
+        let o3 = LoadOptions { rotation: 1.0, ..o };
         assert_eq!(table_cache_key(b"probe", &o3, &p), k);
     }
 
