@@ -15,11 +15,14 @@
 //! - p99: the 99th percentile over covered pixels of the per-pixel relative error
 //!   `|x - r| / |r|` (RGB norms), pixels with `|r|` below 1% of the mean `|r|` left out;
 //! - neg px: covered pixels whose reference has a negative channel, and p99 (>= 0): the p99
-//!   over the other pixels. Where the p99 comes from: an SH fit of a glossy BRDF rings below
-//!   zero away from its lobe, and under a few dominant lights (studio) the reference itself
-//!   sums those negative lobes into pixels near or below zero, where any absolute error of
-//!   the table is a large relative one. The rel RMSE is not affected (it is relative to the
-//!   image's energy, not to each pixel);
+//!   over the other pixels. The two columns test one explanation of the p99: an SH fit of a
+//!   glossy BRDF rings below zero away from its lobe, and under a few dominant lights
+//!   (studio) the reference sums those negative lobes into pixels near or below zero,
+//!   where any absolute error is a large relative one. Where p99 (>= 0) stays close to p99,
+//!   the tail comes from elsewhere: bright texels not split off as exact lights whose
+//!   horizon crossings fall between grid nodes, which bilinear interpolation smooths over
+//!   ([`brdfkit::env::transfer`], "the K brightest texels"). The rel RMSE is relative to
+//!   the image's energy, not to each pixel, so neither moves it much;
 //! - pole +y / pole -y: relative RMSE of a 24 x 24 render of the sphere's top (bottom) seen
 //!   along -y (+y) with a 4.9 degree field of view: every covered pixel's normal is within
 //!   5 degrees of the pole (sphere of radius 1 seen from distance 3: a half-angle of 2.45
