@@ -47,7 +47,7 @@ fn transfer(c: &mut Criterion) {
     };
     let spec = file.env.as_ref().unwrap();
     let t1 = Instant::now();
-    let p = prepare_transfer(spec, base, basis, &Progress::hidden()).unwrap();
+    let p = prepare_transfer(spec, base, basis, None, &Progress::hidden()).unwrap();
     eprintln!(
         "table build alone ({} x {} nodes, {} terms, probe load included): {:.2} s",
         p.table.grid().0,
@@ -68,6 +68,24 @@ fn transfer(c: &mut Criterion) {
     lights_only.transfer = None;
     g.bench_function("shade-16-exact-lights-only", |b| {
         b.iter(|| shade::shade(&lights_only, &vis, &fast))
+    });
+    // The surface rebuild alone (gbuffer.rs): every visible pixel's surface, as the tile
+    // loop reconstructs it once per pixel, summed so the work is kept.
+    g.bench_function("surfaces-only", |b| {
+        b.iter(|| {
+            let per_tile = (vis.tile_size * vis.tile_size) as usize;
+            let mut sum = 0.0f32;
+            for t in 0..vis.tile_occupied.len() {
+                for (i, x, y) in shade::tile_pixels(&vis, t) {
+                    if let Some(s) =
+                        shade::surface_at_index(&scene.mesh, &vis, t * per_tile + i, x, y)
+                    {
+                        sum += s.normal.x;
+                    }
+                }
+            }
+            sum
+        })
     });
     let frame = RenderOptions::default();
     g.bench_function("frame", |b| b.iter(|| render::render(&scene, &frame)));

@@ -2,7 +2,8 @@
 //! empty them.
 //!
 //! Design rule: `clean` deletes only files whose names the caches write themselves
-//! (`lights-<16 hex>.json` in the light-set cache, `reference-<16 hex>.exr` and its
+//! (`lights-<16 hex>.json` and `transfer-<16 hex>.bin`, the transfer tables of
+//! [`crate::env::transfer::cache`], in the light-set cache, `reference-<16 hex>.exr` and its
 //! `.exr.xxh3` checksum in the sweep's reference cache; also the `.exr.fnv1a` checksums
 //! that builds before the XXH3 hash wrote), never a directory or any other
 //! file, so pointing `BRDFKIT_CACHE_DIR` at a directory that holds other things is safe.
@@ -35,6 +36,12 @@ pub fn is_cache_file(name: &str) -> bool {
     if let Some(k) = name
         .strip_prefix("lights-")
         .and_then(|r| r.strip_suffix(".json"))
+    {
+        return hex16(k);
+    }
+    if let Some(k) = name
+        .strip_prefix("transfer-")
+        .and_then(|r| r.strip_suffix(".bin"))
     {
         return hex16(k);
     }
@@ -89,7 +96,7 @@ pub fn run(a: CacheArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from("target").join("brdfkit-cache"));
     let dirs: Vec<(&str, Option<PathBuf>)> = vec![
         (
-            "light sets (brdfkit render)",
+            "light sets and transfer tables (brdfkit render)",
             user.path().map(Path::to_path_buf),
         ),
         ("sweep references (brdfkit sweep)", Some(sweep)),
@@ -131,12 +138,16 @@ mod tests {
     #[test]
     fn only_the_caches_own_file_names_count() {
         assert!(is_cache_file("lights-0123456789abcdef.json"));
+        assert!(is_cache_file("transfer-0123456789abcdef.bin"));
         assert!(is_cache_file("reference-0123456789ABCDEF.exr"));
         assert!(is_cache_file("reference-0123456789abcdef.exr.xxh3"));
         // Written by builds before the XXH3 hash: still cleaned.
         assert!(is_cache_file("reference-0123456789abcdef.exr.fnv1a"));
         for other in [
             "lights-0123.json",
+            "transfer-0123.bin",
+            "transfer-0123456789abcdef.bin.tmp",
+            "transfer-0123456789abcdef.json",
             "lights-0123456789abcdef.json.tmp",
             "reference-0123456789abcdeg.exr",
             "notes.txt",

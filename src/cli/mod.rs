@@ -43,7 +43,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (the built-in default scene when no file is given).
     #[command(
-        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n  brdfkit render --env city.exr --material blue-silk --turntable 60 -o spin.png   # spin_0000.png ... spin.gif\n  brdfkit render --env city.exr --turntable 60 --turntable-env -o env.png         # the probe turns instead\n  brdfkit render --turntable 60 --shard 0/2 -o spin.png; ... --shard 1/2 ...; brdfkit render --turntable 60 --assemble -o spin.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file.\n\nLight-set cache (environment lights only): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else\n~/.cache/brdfkit; one file lights-KEY.json per probe bytes x loader options x sampler settings x\nbrdfkit version x light-set algorithm version, checked (checksum, versions) on every read.\n--no-cache neither reads nor writes it. Only `render` uses this cache."
+        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n  brdfkit render --env city.exr --material blue-silk --turntable 60 -o spin.png   # spin_0000.png ... spin.gif\n  brdfkit render --env city.exr --turntable 60 --turntable-env -o env.png         # the probe turns instead\n  brdfkit render --turntable 60 --shard 0/2 -o spin.png; ... --shard 1/2 ...; brdfkit render --turntable 60 --assemble -o spin.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file.\n\nLight-set cache (environment lights only): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else\n~/.cache/brdfkit; one file lights-KEY.json per probe bytes x loader options x sampler settings x\nbrdfkit version x light-set algorithm version, checked (checksum, versions) on every read.\n[env] method = \"transfer\" keeps its tables there too (transfer-KEY.bin: probe bytes x table\nsettings x versions). --no-cache neither reads nor writes it. Only `render` uses this cache."
     )]
     Render(RenderArgs),
     /// Collapse a light probe into directional lights; write them and draw them over the probe.
@@ -75,7 +75,7 @@ pub enum Command {
     Materials,
     /// Show where the caches are and how much they hold, or empty them (`cache clean`).
     #[command(
-        after_help = "Examples:\n  brdfkit cache          # both caches: directory, files, size\n  brdfkit cache clean    # delete their entries (only lights-*.json and reference-*.exr[.xxh3|.fnv1a])\n\nLight sets (brdfkit render): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else ~/.cache/brdfkit.\nSweep references (brdfkit sweep): target/brdfkit-cache, or the sweep's --cache DIR (here: --sweep-cache DIR).\nTests and golden check|bless use neither."
+        after_help = "Examples:\n  brdfkit cache          # both caches: directory, files, size\n  brdfkit cache clean    # delete their entries (only lights-*.json, transfer-*.bin and reference-*.exr[.xxh3|.fnv1a])\n\nLight sets and transfer tables (brdfkit render): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else ~/.cache/brdfkit.\nSweep references (brdfkit sweep): target/brdfkit-cache, or the sweep's --cache DIR (here: --sweep-cache DIR).\nTests and golden check|bless use neither."
     )]
     Cache(CacheArgs),
     /// Run time against error: render a scene over a grid of configurations, write CSV and a plot.
@@ -271,6 +271,9 @@ pub struct RenderArgs {
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
+    /// How the environment is shaded (with --env or a scene's [env]); overrides the scene's `[env] method`. `transfer`: SH data sets and Lambert only. --reference always shades the full probe.
+    #[arg(long, value_enum, value_name = "METHOD")]
+    pub env_method: Option<crate::env::prepare::EnvMethod>,
     /// Render the converged reference: every texel of the probe a light (with an environment; --lights is ignored), every SH band, no skips, no culling, f64 shading. Minutes where the fast path takes milliseconds; shows a bar with an ETA on a terminal. The reference the fast path is measured against (golden bounds, sweep).
     #[arg(long)]
     pub reference: bool,

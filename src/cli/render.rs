@@ -135,6 +135,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
             );
         }
     }
+    if let Some(m) = a.env_method {
+        let Some(env) = file.env.as_mut() else {
+            return Err(Error::field(
+                "--env-method",
+                "needs an environment: the scene has no [env] table; give --env PROBE or add one",
+            ));
+        };
+        env.method = m;
+    }
     if a.reference {
         if let Some(env) = file.env.as_mut() {
             env.use_full_probe();
@@ -184,8 +193,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let resolve_base = base.as_path();
     // Counts the light set's preparation when it is computed (nothing on a cache hit).
     let light_set = match &file.env {
+        // Length 0: drawn only once the build sets it (nothing on a cache hit).
         Some(env) if env.method == crate::env::prepare::EnvMethod::Transfer => Progress::bar(
-            env.transfer_polar as u64,
+            0,
             &format!(
                 "transfer table: {} x {} normals",
                 env.transfer_azimuth, env.transfer_polar
@@ -231,12 +241,23 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 e.file.display()
             );
         }
+        let (cached, what) = match &scene.transfer {
+            Some(t) => (
+                "transfer-table",
+                format!(
+                    "a {} x {} transfer table and {} exact lights",
+                    t.grid().0,
+                    t.grid().1,
+                    e.lights
+                ),
+            ),
+            None => ("light-set", format!("{} lights", e.lights)),
+        };
         if let Some(why) = &e.cache_rejected {
-            eprintln!("warning: light-set cache entry ignored and rewritten: {why}");
+            eprintln!("warning: {cached} cache entry ignored and rewritten: {why}");
         }
         eprintln!(
-            "environment: {} lights from {}{}",
-            e.lights,
+            "environment: {what} from {}{}",
             e.file.display(),
             if e.cache_hit { " (cached)" } else { "" }
         );

@@ -267,13 +267,13 @@ impl Scene {
                     ))
                 }
             };
-            let p = prepare_transfer(spec, base, basis, progress)?;
+            let p = prepare_transfer(spec, base, basis, cache.path(), progress)?;
             lights.extend(prepare::to_scene_lights(&p.lights));
             env = Some(EnvSummary {
                 file: base.join(&spec.file),
                 lights: p.lights.len(),
-                cache_hit: false,
-                cache_rejected: None,
+                cache_hit: p.cache_hit,
+                cache_rejected: p.cache_rejected.clone(),
                 negative_texels: p.report.negative_texels,
                 probe_report: Some(p.report),
                 probe_size: Some(p.report.size),

@@ -42,9 +42,10 @@ pub struct Shaded {
 /// Shades every visible pixel of `vis` (rasterized from `scene`) on the path `opts` chooses
 /// ([`ShadeOptions::path_for`]): the kernels, the scalar f32 oracle or the f64 path with no
 /// skips. Every tile of the frame is counted once into `opts.progress`. When the scene has
-/// a transfer table (`[env] method = "transfer"`), its term is added to every visible pixel
-/// afterwards, on every path (`transfer.rs`); so is the light-cut term of a scene with light
-/// cuts (`[env] method = "lightcuts"`, `lightcuts.rs`).
+/// a transfer table (`[env] method = "transfer"`), its term is added to every visible
+/// pixel, on every path: in the tile loop beside the lights on the kernels, in a second
+/// plain pass on the others (`transfer.rs`); the light-cut term of a scene with light
+/// cuts (`[env] method = "lightcuts"`, `lightcuts.rs`) is added after the lights on every path.
 ///
 /// # Panics
 /// If the kernel path chosen (by `opts.kernel` or the scene's `render.kernel`) is not
@@ -56,7 +57,11 @@ pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
             fits(table, &scene.material),
             "the scene's transfer table does not fit its material"
         );
-        add_transfer(scene, vis, table, &mut shaded.image);
+        // The fast path added the term in its tile loop (`pixel.rs`); the others add it in
+        // a pass of their own.
+        if shaded.path != ShadingPath::Kernels {
+            add_transfer(scene, vis, table, &mut shaded.image);
+        }
     }
     if let Some(cuts) = &scene.lightcuts {
         shaded.cuts = add_lightcuts(scene, vis, cuts, &mut shaded.image);

@@ -33,6 +33,10 @@ pub enum KernelFault {
     /// ([`ShDataset::reconstruct_tabulated`]) instead of the analytic basis that defines it
     /// (what earlier versions did for point lights).
     TableBasis,
+    /// The transfer term (`[env] method = "transfer"`) read one azimuth node over: the
+    /// normal turned about +y by one node step before the table lookup (an off-by-one
+    /// azimuth index in the fast path's lookup).
+    TransferAzimuthShift,
 }
 
 /// Applies a seeded [`KernelFault`] to one pixel's kernel inputs (its coefficients `c`,
@@ -55,6 +59,7 @@ pub(super) fn seed_fault(
             }
         }
         KernelFault::SkipLastGroup => sc.n = (sc.n.div_ceil(LANES) - 1) * LANES,
+        KernelFault::TransferAzimuthShift => {}
         KernelFault::TableBasis => {
             return Some((0..sc.n).fold(Vec3::ZERO, |sum, i| {
                 let wi = Vec3::new(sc.x[i], sc.y[i], sc.z[i]);
@@ -72,4 +77,11 @@ pub(super) fn drop_last_band(c: &mut [f32], bands: usize) {
     for colour in c.chunks_exact_mut(t) {
         colour[(bands - 1) * (bands - 1)..].fill(0.0);
     }
+}
+
+/// `n` turned about +y by one azimuth node step of `table` ([`KernelFault`]).
+#[cold]
+pub(super) fn shift_one_azimuth_node(table: &crate::env::transfer::TransferTable, n: Vec3) -> Vec3 {
+    let step = std::f32::consts::TAU / table.grid().0 as f32;
+    glam::Quat::from_rotation_y(step) * n
 }

@@ -50,7 +50,8 @@
 //!
 //!   and the per-pixel one that the scalar oracle and the f64 path share.
 //! - `transfer.rs`: the transfer-table term of an environment (`[env] method =
-//!   "transfer"`, [`crate::env::transfer`]), added to every path's image after its lights.
+//!   "transfer"`, [`crate::env::transfer`]): on the fast path added per pixel beside the
+//!   lights (`pixel.rs`), on the scalar oracle and the f64 path in a plain pass of its own.
 //! - `lightcuts.rs`: the light-cut term of an environment (`[env] method = "lightcuts"`,
 //!   [`crate::env::lightcuts`]): per pixel a cut through the light tree, added to every
 //!   path's image after its lights ([`CutStats`]: the cut sizes).

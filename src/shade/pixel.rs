@@ -7,8 +7,8 @@
 //! group, and summed by the SH kernel or the material's lane model. The pixel-packed
 //! alternative for point lights only is `packed.rs`.
 
-use super::fault::seed_fault;
-use super::{local_view, FramePrep, Surface};
+use super::fault::{seed_fault, shift_one_azimuth_node};
+use super::{local_view, FramePrep, KernelFault, Surface};
 use crate::conventions::{hemi_texcoord, ShadingFrame};
 use crate::kernel::{self, lanes::Isa};
 use glam::Vec3;
@@ -20,7 +20,8 @@ impl FramePrep<'_> {
     ///
     /// The lights above the horizon, directional and point alike, go into `scratch` (local
     /// direction, weight `E cos`) and from there through the SH kernel or the material's
-    /// lane model.
+    /// lane model. With a transfer table (`[env] method = "transfer"`), its term is added
+    /// here too, at the same surface with the same coefficients (`transfer.rs`).
     #[inline(always)]
     pub fn shade_surface<S: Isa>(
         &self,
@@ -42,7 +43,7 @@ impl FramePrep<'_> {
                 scratch.push(wi, if includes_cosine { e } else { e * wi.z });
             }
         }
-        self.sum_gathered(s, wo, coeff_buf, scratch)
+        self.sum_gathered(s, wo, Some(surf.normal), coeff_buf, scratch)
     }
 
     /// Radiance of one surface point lit by the dropped lights only
@@ -69,37 +70,57 @@ impl FramePrep<'_> {
             &self.dropped_chunks,
             scratch,
         );
-        self.sum_gathered(s, wo, coeff_buf, scratch)
+        self.sum_gathered(s, wo, None, coeff_buf, scratch)
     }
 
     /// The gathered lights of `scratch` summed by the SH kernel or the material's lane
-    /// model, at local view direction `wo`.
+    /// model, at local view direction `wo`; with `transfer_at` (the world normal) and a
+    /// transfer table (`[env] method = "transfer"`), plus the table's term at that normal
+    /// with the same coefficients `c(wo)` (SH) or `albedo / pi` (Lambert) (`transfer.rs`).
     #[inline(always)]
     fn sum_gathered<S: Isa>(
         &self,
         s: S,
         wo: Vec3,
+        transfer_at: Option<Vec3>,
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::gather::Scratch,
     ) -> Vec3 {
-        match &self.sh {
+        let transfer = transfer_at.and_then(|n| self.transfer.map(|t| (t, n)));
+        let lights = match &self.sh {
             Some((ds, rec)) => {
+                if scratch.n == 0 && transfer.is_none() {
+                    return Vec3::ZERO;
+                }
+                coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
+                let (p, a) = kernel::approx::view_angles(s, wo);
+                let (ts, tt) = hemi_texcoord(p, a);
+                kernel::sh::lookup_coeffs(s, ds, ts, tt, coeff_buf);
+                if let Some(fault) = self.fault {
+                    if let Some(sum) = seed_fault(fault, ds, wo, coeff_buf, scratch) {
+                        return sum;
+                    }
+                }
                 if scratch.n == 0 {
                     Vec3::ZERO
                 } else {
-                    coeff_buf.resize(3 * ds.bands() * ds.bands(), 0.0);
-                    let (p, a) = kernel::approx::view_angles(s, wo);
-                    let (ts, tt) = hemi_texcoord(p, a);
-                    kernel::sh::lookup_coeffs(s, ds, ts, tt, coeff_buf);
-                    if let Some(fault) = self.fault {
-                        if let Some(sum) = seed_fault(fault, ds, wo, coeff_buf, scratch) {
-                            return sum;
-                        }
-                    }
                     kernel::sh::sh_sum(s, rec, coeff_buf, scratch)
                 }
             }
             None => self.model.sum(s, wo, scratch),
+        };
+        match transfer {
+            Some((term, mut n)) => {
+                let c = match &term.lambert {
+                    Some(k) => &k[..],
+                    None => &coeff_buf[..],
+                };
+                if self.fault == Some(KernelFault::TransferAzimuthShift) {
+                    n = shift_one_azimuth_node(term.table, n);
+                }
+                lights + term.table.radiance_lanes(s, n, c)
+            }
+            None => lights,
         }
     }
 }

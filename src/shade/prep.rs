@@ -8,6 +8,7 @@
 //! culling, a seeded [`KernelFault`]) come in through [`ShadeOptions`] and are read-only
 //! afterwards; tests read the other fields to see what was decided.
 
+use super::transfer::TransferTerm;
 use super::{KernelFault, ShadeOptions};
 use crate::brdf::Brdf;
 use crate::kernel::lanes::{Dispatch, LANES};
@@ -58,6 +59,11 @@ pub struct FramePrep<'a> {
     /// the pixel's lights x `bands^2` x 3 FMAs; on the packed path, twice per pixel and once
     /// per batch), never per light or term.
     pub(crate) fault: Option<KernelFault>,
+    /// The scene's transfer table (`[env] method = "transfer"`) and the coefficients its
+    /// term dots with, which the fast path adds per pixel beside the lights
+    /// (`pixel.rs`); `None` otherwise. The scalar oracle and the f64 path add it in a
+    /// pass of their own (`transfer.rs`).
+    pub(crate) transfer: Option<TransferTerm<'a>>,
 }
 
 impl<'a> FramePrep<'a> {
@@ -127,6 +133,7 @@ impl<'a> FramePrep<'a> {
                 })
             },
             fault: opts.fault,
+            transfer: TransferTerm::of(scene),
             sh,
             eye: scene.camera.position,
             cull_lights: opts.cull_lights,

@@ -152,7 +152,7 @@ impl Kernel for ShadeTile<'_, '_, '_> {
         let chunks = prep.dir.chunks_for(cone);
         let mut restored = 0u64;
         match &prep.sh {
-            Some((ds, rec)) if prep.dir.is_empty() => {
+            Some((ds, rec)) if prep.dir.is_empty() && !prep.has_transfer() => {
                 for batch in surfaces.chunks(LANES) {
                     let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
                     for (k, (at, _)) in batch.iter().enumerate() {

@@ -1,15 +1,23 @@
-//! The transfer-table term of an environment ([`crate::env::transfer`]), added to every
-//! visible pixel after the lights are shaded.
+//! The transfer-table term of an environment ([`crate::env::transfer`]):
+//! `L_o += sum_k c_k(wo) T_k(n)` per colour.
 //!
 //! Design rule: per pixel, one table lookup at the normal and one dot product with the
-//! material's coefficients at the view, whatever the number of texels behind the table:
-//! `L_o += sum_k c_k(wo) T_k(n)` per colour. The surface, frame and lifted view are those
-//! of every other path (`gbuffer.rs`, [`ShadingFrame::from_normal`], [`super::local_view`]);
-//! `c(wo)` is the data set's filtered coefficient lookup
-//! ([`crate::sh::dataset::ShDataset::lookup_coeffs`], the same filter the kernels use), or
-//! `albedo / pi` for Lambert. f32 on every path (the table is f32).
+//! material's coefficients at the view, whatever the number of texels behind the table.
+//! Two forms of the same term:
+//! - the fast path adds it in its tile loop, in the same place as the lights' radiance, on
+//!   the surface, frame, view and coefficients `c(wo)` the lights already use
+//!   ([`FramePrep::shade_surface`], [`TransferTerm`], SIMD lookup and dot by
+//!   [`TransferTable::radiance_lanes`]): one surface per pixel;
+//! - the scalar oracle and the f64 path add it in a second, plain pass over the image
+//!   ([`add_transfer`]: `std` angles, [`crate::sh::dataset::ShDataset::lookup_coeffs`],
+//!   [`TransferTable::radiance_with`]), the simple form the fast one is held to within
+//!   [`crate::env::transfer::FAST_PATH_TOLERANCE`] (tests/transfer_scene.rs).
+//!
+//! The surface, frame and lifted view are those of every other path (`gbuffer.rs`,
+//! [`ShadingFrame::from_normal`], [`super::local_view`]); `c(wo)` is the data set's filtered
+//! coefficient lookup, or `albedo / pi` for Lambert. f32 on every path (the table is f32).
 
-use super::{local_view, surface_at_index, tile_pixels};
+use super::{local_view, surface_at_index, tile_pixels, FramePrep};
 use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
 use crate::env::transfer::TransferTable;
 use crate::image_io::Image;
@@ -19,8 +27,9 @@ use crate::scene::Scene;
 use crate::sh::dataset::MAX_BANDS;
 use rayon::prelude::*;
 
-/// Adds the transfer term of `table` to every visible pixel of `image` (rendered from
-/// `scene` and `vis`), parallel over bands of one tile row. Materials other than SH data
+/// The scalar oracle's and the f64 path's form (module doc): adds the transfer term of
+/// `table` to every visible pixel of `image` (rendered from `scene` and `vis`), in a pass
+/// of its own, parallel over bands of one tile row. Materials other than SH data
 /// sets and Lambert add nothing ([`crate::scene::Scene::resolve`] refuses them).
 pub(super) fn add_transfer(
     scene: &Scene,
@@ -77,5 +86,36 @@ pub(super) fn fits(table: &TransferTable, material: &Material) -> bool {
         Material::Sh(ds) => table.terms() == ds.bands() * ds.bands(),
         Material::Lambert(_) => table.terms() == 1,
         _ => false,
+    }
+}
+
+/// The transfer term as the fast path adds it (module doc): the table and, for Lambert,
+/// the one coefficient per colour `albedo / pi` (SH data sets use the coefficients the
+/// lights' kernel looked up at the pixel's view).
+#[derive(Clone, Copy)]
+pub(crate) struct TransferTerm<'a> {
+    pub(super) table: &'a TransferTable,
+    /// `albedo / pi` per colour for Lambert; `None` for SH data sets.
+    pub(super) lambert: Option<[f32; 3]>,
+}
+
+impl<'a> TransferTerm<'a> {
+    /// The scene's transfer term, if it has a table.
+    pub(super) fn of(scene: &'a Scene) -> Option<TransferTerm<'a>> {
+        let table = scene.transfer.as_deref()?;
+        let lambert = match &scene.material {
+            Material::Lambert(m) => Some((m.albedo / std::f32::consts::PI).to_array()),
+            _ => None,
+        };
+        Some(TransferTerm { table, lambert })
+    }
+}
+
+impl FramePrep<'_> {
+    /// Whether the fast path's tile loop adds a transfer term (then every pixel takes the
+    /// per-pixel path, which has the coefficients at hand).
+    #[inline(always)]
+    pub(super) fn has_transfer(&self) -> bool {
+        self.transfer.is_some()
     }
 }

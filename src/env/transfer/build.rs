@@ -9,12 +9,20 @@
 //! `T_k(i, j) = sum_rows sum_cols L(row, col + s_i) Omega_row w_k(j, row, col)` with
 //! `w_k(j, row, col) = Y_k(local) [local.z > 0] [local.z if cosine]` the weights of node
 //! `(0, j)` (columns mod `W`). The weights are evaluated once per table row and probe row
-//! (`W x terms` values, the SH by [`crate::sh::basis::eval_sh_f64`]), so the work is
-//! `nodes x texels above the horizon x 3 x terms` multiply-adds, in f64.
+//! (`W x terms` values, the SH by [`crate::sh::basis::eval_sh_f64`]). Summed directly that is
+//! `nodes x texels above the horizon x 3 x terms` multiply-adds; but for one table row and
+//! one probe row the sum over columns is a circular correlation of the power row with the
+//! weight row, evaluated at the shifts `s_i`, so the build sums its transform instead
+//! ([`table_row_fft`], the correlation theorem, rustfft in f64): per table row and probe row
+//! `terms / 2` FFTs of size `W` and `3 terms (W/2 + 1)` complex multiply-adds, one inverse
+//! per term and channel at the end. It agrees with the direct sum (kept, test only) to
+//! within f64 rounding (tests.rs, `fft_build_matches_the_direct_sum`).
 //!
 //! # Determinism
-//! One rayon task per table row; each node's sum runs over probe rows, then columns, in
-//! index order inside that task, so the table is the same bits for any thread count.
+//! One rayon task per table row; each node's sum runs over probe rows in index order
+//! inside that task, the transforms planned once per build, so the table is the same bits
+//! for any thread count. (rustfft picks its SIMD kernels by CPU: another machine may round
+//! the f64 sums differently in the last bits, far below the table's f32.)
 
 use super::table::TransferTable;
 use super::TransferBasis;
@@ -25,6 +33,8 @@ use crate::progress::Progress;
 use crate::sh::basis::eval_sh_f64;
 use glam::DVec3;
 use rayon::prelude::*;
+use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
 
 /// **Test only**: faults seeded into the build, for the tests that show the accuracy
 /// check fails on them.
@@ -124,11 +134,19 @@ pub fn build_table(
     let dirs: Vec<DVec3> = (0..w * h)
         .map(|idx| probe_direction(texel_center_f64(idx % w, w), texel_center_f64(idx / w, h)))
         .collect();
-    let stride = w / nu;
+    progress.set_length(nv as u64);
+    let spectra = PowerSpectra::new(&power, w, h);
     let rows: Vec<Vec<f64>> = (0..nv)
         .into_par_iter()
         .map(|j| {
-            let row = table_row(j, nu, nv, w, h, stride, basis, &power, &dirs, fault);
+            let geometry = RowGeometry { j, nu, nv, w, h };
+            #[cfg(test)]
+            if DIRECT_SUM.with(|d| d.get()) {
+                let row = table_row_direct(j, nu, nv, w, h, w / nu, basis, &power, &dirs, fault);
+                progress.inc(1);
+                return row;
+            }
+            let row = table_row_fft(&geometry, basis, &spectra, &dirs, fault);
             progress.inc(1);
             row
         })
@@ -149,20 +167,20 @@ pub fn build_table(
             }
         }
     }
-    Ok(TransferTable {
-        nu,
-        nv,
+    Ok(TransferTable::from_parts(
+        (nu, nv),
         basis,
-        rotation: probe.rotation() as f32,
-        unrotate: (-(probe.rotation() as f32)).sin_cos(),
+        probe.rotation(),
         values,
-    })
+    ))
 }
 
-/// The `nu` nodes of table row `j` (polar `pi j / (nv - 1)`), `nu x 3 x terms` f64 values
-/// (module doc, "How the sum is organised").
+/// **Test only**, the direct sum the FFT build ([`table_row_fft`]) is checked against: the
+/// `nu` nodes of table row `j` (polar `pi j / (nv - 1)`), `nu x 3 x terms` f64 values
+/// (module doc, "How the sum is organised"), each shift's correlation summed term by term.
+#[cfg(test)]
 #[allow(clippy::too_many_arguments)]
-fn table_row(
+pub(super) fn table_row_direct(
     j: usize,
     nu: usize,
     nv: usize,
@@ -228,4 +246,185 @@ fn table_row(
         }
     }
     acc
+}
+
+#[cfg(test)]
+thread_local! {
+    /// **Test only**: build with [`table_row_direct`] instead of the FFT (set on the thread
+    /// that calls [`build_table`] inside a one-thread pool, see tests.rs).
+    pub(super) static DIRECT_SUM: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Which table row a task builds, and the grid and probe sizes.
+struct RowGeometry {
+    j: usize,
+    nu: usize,
+    nv: usize,
+    w: usize,
+    h: usize,
+}
+
+/// The node `(0, j)`'s weights `w_k(j, row, col)` for every column of probe row `r`
+/// (module doc): `Y_k(local) [local.z > 0] [local.z if cosine]`, written to
+/// `weights[col * terms + k]` (zero below the horizon). Returns whether any column is
+/// above the horizon.
+fn row_weights(
+    j: usize,
+    nv: usize,
+    (w, r): (usize, usize),
+    basis: TransferBasis,
+    dirs: &[DVec3],
+    fault: BuildFault,
+    weights: &mut [f64],
+) -> bool {
+    let nt = basis.terms();
+    let polar = std::f64::consts::PI * j as f64 / (nv - 1) as f64;
+    let (sp, cp) = polar.sin_cos();
+    // Node (0, j): normal at probe azimuth 0 and its shading frame (parent module doc):
+    // n = (0, cos p, sin p), t = (0, sin p, -cos p), b = n x t = (-1, 0, 0).
+    let n = DVec3::new(0.0, cp, sp);
+    let t = DVec3::new(0.0, sp, -cp);
+    let b = n.cross(t);
+    let mut any = false;
+    for col in 0..w {
+        let d = dirs[r * w + col];
+        let local = DVec3::new(d.dot(t), d.dot(b), d.dot(n));
+        let wk = &mut weights[col * nt..(col + 1) * nt];
+        if !(local.z > 0.0) && fault != BuildFault::NoHemisphereClip {
+            wk.fill(0.0);
+            continue;
+        }
+        any = true;
+        match basis {
+            TransferBasis::Irradiance => wk[0] = local.z.max(0.0),
+            TransferBasis::Sh { cosine, .. } => {
+                eval_sh_f64(local, wk);
+                if cosine {
+                    for v in wk.iter_mut() {
+                        *v *= local.z;
+                    }
+                }
+            }
+        }
+    }
+    any
+}
+
+/// The discrete Fourier transforms (`X[f] = sum_n x[n] e^{-2 pi i f n / W}`, rustfft's
+/// forward transform, f64) of every probe row's texel power, per channel, frequencies
+/// `0..=W/2` (the rest are their conjugates: the power is real); rows of zero power are
+/// marked so the build skips them.
+struct PowerSpectra {
+    /// `spec[(r * 3 + c) * (W/2 + 1) + f]`.
+    spec: Vec<Complex64>,
+    nonzero: Vec<bool>,
+    half: usize,
+    fft: std::sync::Arc<dyn Fft<f64>>,
+}
+
+impl PowerSpectra {
+    fn new(power: &[[f64; 3]], w: usize, h: usize) -> PowerSpectra {
+        let fft = FftPlanner::new().plan_fft_forward(w);
+        let half = w / 2 + 1;
+        let mut spec = vec![Complex64::new(0.0, 0.0); h * 3 * half];
+        let mut nonzero = vec![false; h];
+        let mut buf = vec![Complex64::new(0.0, 0.0); w];
+        for r in 0..h {
+            let row = &power[r * w..(r + 1) * w];
+            nonzero[r] = row.iter().any(|p| *p != [0.0; 3]);
+            if !nonzero[r] {
+                continue;
+            }
+            for c in 0..3 {
+                for (b, p) in buf.iter_mut().zip(row) {
+                    *b = Complex64::new(p[c], 0.0);
+                }
+                fft.process(&mut buf);
+                spec[(r * 3 + c) * half..(r * 3 + c + 1) * half].copy_from_slice(&buf[..half]);
+            }
+        }
+        PowerSpectra {
+            spec,
+            nonzero,
+            half,
+            fft,
+        }
+    }
+}
+
+/// The `nu` nodes of one table row, `nu x 3 x terms` f64 values, by the correlation
+/// theorem (module doc, "How the sum is organised"): node `i` is
+/// `c_k(s_i) = sum_rows sum_cols p(row, col + s_i) w_k(row, col)`, and per probe row the
+/// correlation's transform is `P[f] conj(W_k[f])`. So the spectra of the weights are summed
+/// against the power's over the probe rows, and one inverse transform per term and
+/// channel at the end gives every shift at once: per probe row `terms / 2` complex FFTs of
+/// size `W` (two real weight rows packed in one) and `3 terms (W/2 + 1)` complex
+/// multiply-adds, where the direct sum takes `3 terms nu (columns above the horizon)`.
+/// Only the shifts `s_i = i W / nu` are needed, so the inverse is an `nu`-point transform
+/// of the spectrum folded modulo `nu`.
+fn table_row_fft(
+    g: &RowGeometry,
+    basis: TransferBasis,
+    spectra: &PowerSpectra,
+    dirs: &[DVec3],
+    fault: BuildFault,
+) -> Vec<f64> {
+    let (w, h, nu) = (g.w, g.h, g.nu);
+    let nt = basis.terms();
+    let half = spectra.half;
+    let zero = Complex64::new(0.0, 0.0);
+    // acc[(k * 3 + c) * half + f]: sum over rows of P_c[f] conj(W_k[f]).
+    let mut acc = vec![zero; nt * 3 * half];
+    let mut weights = vec![0.0f64; w * nt];
+    let mut z = vec![zero; w];
+    for r in 0..h {
+        if !spectra.nonzero[r] || !row_weights(g.j, g.nv, (w, r), basis, dirs, fault, &mut weights)
+        {
+            continue;
+        }
+        let p = &spectra.spec[r * 3 * half..(r + 1) * 3 * half];
+        for k0 in (0..nt).step_by(2) {
+            let k1 = k0 + 1;
+            // Two real rows in one complex transform: z = w_k0 + i w_k1.
+            for (col, zc) in z.iter_mut().enumerate() {
+                let wk = &weights[col * nt..(col + 1) * nt];
+                *zc = Complex64::new(wk[k0], if k1 < nt { wk[k1] } else { 0.0 });
+            }
+            spectra.fft.process(&mut z);
+            for f in 0..half {
+                let a = z[f];
+                let b = z[(w - f) % w].conj();
+                // W_k0 = (Z[f] + conj Z[-f]) / 2, W_k1 = (Z[f] - conj Z[-f]) / 2i.
+                let w0 = (a + b) * 0.5;
+                let w1 = (a - b) * Complex64::new(0.0, -0.5);
+                for c in 0..3 {
+                    let pc = p[c * half + f];
+                    acc[(k0 * 3 + c) * half + f] += pc * w0.conj();
+                    if k1 < nt {
+                        acc[(k1 * 3 + c) * half + f] += pc * w1.conj();
+                    }
+                }
+            }
+        }
+    }
+    // Fold each spectrum modulo nu (the shifts are multiples of W / nu) and invert.
+    let inverse = FftPlanner::new().plan_fft_inverse(nu);
+    let mut out = vec![0.0f64; nu * 3 * nt];
+    let mut folded = vec![zero; nu];
+    for k in 0..nt {
+        for c in 0..3 {
+            let a = &acc[(k * 3 + c) * half..(k * 3 + c + 1) * half];
+            folded.fill(zero);
+            for f in 0..w {
+                // Frequencies past W/2 are the conjugates of W - f (a real correlation).
+                let v = if f < half { a[f] } else { a[w - f].conj() };
+                folded[f % nu] += v;
+            }
+            inverse.process(&mut folded);
+            for i in 0..nu {
+                out[(i * 3 + c) * nt + k] = folded[i].re / w as f64;
+            }
+        }
+    }
+    out
 }

@@ -37,15 +37,25 @@
 //! # Layout
 //! - [`table`]: [`TransferTable`] (values, grid, bilinear lookup in normal);
 //! - [`build`]: building a table from a probe ([`build::build_table`]) and choosing the
-//!   brightest texels ([`build::brightest_texels`]).
-//!
-//! No disk cache: a table is rebuilt per scene (the build time is reported by the bench).
+//!   brightest texels ([`build::brightest_texels`]);
+//! - [`cache`]: the disk cache of tables beside the light-set cache (`brdfkit render`
+//!   only; `brdfkit cache` lists and cleans it).
 
 pub mod build;
+pub mod cache;
 pub mod table;
 
 pub use build::{brightest_texels, build_table, BuildFault};
 pub use table::TransferTable;
+
+/// Largest difference allowed between the fast path's transfer term
+/// ([`TransferTable::radiance_lanes`] in the tile loop, polynomial angles, fused eight-lane
+/// sums, the data set truncated to its effective bands) and the scalar oracle's
+/// ([`TransferTable::radiance_with`] in a pass of its own, `std` angles, every band), per
+/// pixel and channel, relative to the pixel (or to 1% of the image's peak where SH terms
+/// cancel), as [`crate::kernel::SH_KERNEL_TOLERANCE`] holds the lights' kernels
+/// (tests/transfer_scene.rs).
+pub const FAST_PATH_TOLERANCE: f32 = 1e-3;
 
 /// What a transfer table projects the environment onto.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,40 +108,80 @@ pub struct PreparedTransfer {
     pub lights: LightSet,
     /// The probe loader's report.
     pub report: LoadReport,
+    /// True when the table came from the disk cache ([`cache`]).
+    pub cache_hit: bool,
+    /// Why an existing cache entry was not used (damaged, another version, ...).
+    pub cache_rejected: Option<String>,
 }
 
 /// Loads the probe of `spec` (relative to `base`) and builds its transfer table for
 /// `basis` on the spec's grid, the brightest `spec.exact_lights` texels split off as
-/// lights; `spec.intensity` scales both. Errors name the file or the field.
+/// lights; `spec.intensity` scales both. With `cache_dir`, the table is read from its
+/// cache entry when one is valid, else built and written there ([`cache`]); the probe is
+/// decoded either way (milliseconds; the brightest texels come from it). `progress` counts
+/// table rows when the table is built (nothing on a cache hit). Errors name the file or
+/// the field.
 pub fn prepare_transfer(
     spec: &EnvSpec,
     base: &Path,
     basis: TransferBasis,
+    cache_dir: Option<&Path>,
     progress: &Progress,
 ) -> Result<PreparedTransfer> {
     spec.check()?;
     let path = base.join(&spec.file);
-    crate::image_io::check_regular_file(
+    let bytes = crate::image_io::read_regular_file(
         &path,
         crate::env::prepare::MAX_PROBE_FILE_BYTES,
         "light probe",
-    )
-    .map_err(|e| crate::error::Error::Message(e.to_string()))?;
-    let (probe, report) = crate::env::prepare::load_probe(&path, &spec.load_options())?;
-    let exact = brightest_texels(&probe, spec.exact_lights);
-    let table = build_table(
-        &probe,
-        basis,
-        (spec.transfer_azimuth, spec.transfer_polar),
-        &exact,
-        spec.intensity,
-        progress,
-        BuildFault::None,
     )?;
+    let opts = spec.load_options();
+    let (probe, report) = crate::env::prepare::load_probe(&path, &opts)?;
+    let exact = brightest_texels(&probe, spec.exact_lights);
+    let params = cache::TableParams {
+        basis,
+        grid: (spec.transfer_azimuth, spec.transfer_polar),
+        exact_lights: spec.exact_lights,
+        intensity: spec.intensity,
+    };
+    let key = cache::table_cache_key(&bytes, &opts, &params);
+    drop(bytes);
+    let file = cache_dir.map(|d| cache::table_file_name(d, key));
+    let (mut cached, mut cache_rejected) = (None, None);
+    if let Some(f) = &file {
+        match cache::read_entry(f, key, basis, params.grid, probe.rotation()) {
+            Ok(t) => cached = t,
+            Err(why) => cache_rejected = Some(why),
+        }
+    }
+    let cache_hit = cached.is_some();
+    let table = match cached {
+        Some(t) => t,
+        None => {
+            let t = build_table(
+                &probe,
+                basis,
+                params.grid,
+                &exact,
+                spec.intensity,
+                progress,
+                BuildFault::None,
+            )?;
+            if let Some(f) = &file {
+                // A cache that cannot be written only costs time: ignore the error.
+                if std::fs::create_dir_all(f.parent().unwrap_or(Path::new("."))).is_ok() {
+                    let _ = crate::env::lightset_io::write_atomic(f, &cache::encode_entry(&t, key));
+                }
+            }
+            t
+        }
+    };
     Ok(PreparedTransfer {
         lights: build::texel_lights(&probe, &exact, spec.intensity),
         table,
         report,
+        cache_hit,
+        cache_rejected,
     })
 }
 
