@@ -17,7 +17,7 @@
 use brdfkit::env::lightcuts::prepare_lightcuts;
 use brdfkit::render::{self, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
-use brdfkit::shade::{self, ShadeOptions};
+use brdfkit::shade::{self, ShadeOptions, ShadingPath};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::Path;
 use std::time::Instant;
@@ -50,16 +50,30 @@ fn lightcuts(c: &mut Criterion) {
             let p = prepare_lightcuts(file.env.as_ref().unwrap(), base).unwrap();
             let build = t0.elapsed().as_secs_f64();
             let vis = render::rasterize(&scene, false);
+            // A: the per-pixel cut (the reference path), one frame timed here, as it takes
+            // seconds; B: the shared cuts (the default path), timed by criterion.
+            let per_pixel = ShadeOptions::default().with_path(ShadingPath::ScalarOracle);
+            let t0 = Instant::now();
+            let a = shade::shade(&scene, &vis, &per_pixel).cuts;
+            let a_secs = t0.elapsed().as_secs_f64();
             let fast = ShadeOptions::default();
-            let cuts = shade::shade(&scene, &vis, &fast).cuts;
+            let t0 = Instant::now();
+            let b = shade::shade(&scene, &vis, &fast).cuts;
+            let b_secs = t0.elapsed().as_secs_f64();
             eprintln!(
                 "{probe} {name}: tree build (probe load included) {build:.2} s, {} nodes; \
-                 {} pixels, mean cut {:.1}, largest {}, capped {}",
+                 {} pixels; per-pixel cuts: {a_secs:.2} s, mean cut {:.1}, largest {}, \
+                 capped {}; shared cuts: {b_secs:.3} s (one frame), {} cuts, mean cut {:.1}, \
+                 largest {}, capped {}",
                 p.cuts.tree.len(),
-                cuts.pixels,
-                cuts.mean(),
-                cuts.largest,
-                cuts.capped
+                a.pixels,
+                a.mean(),
+                a.largest,
+                a.capped,
+                b.tiles,
+                b.mean(),
+                b.largest,
+                b.capped
             );
             g.bench_function(format!("{probe}-{name}-shade"), |b| {
                 b.iter(|| shade::shade(&scene, &vis, &fast))

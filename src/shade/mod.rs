@@ -51,9 +51,10 @@
 //!   and the per-pixel one that the scalar oracle and the f64 path share.
 //! - `transfer.rs`: the transfer-table term of an environment (`[env] method =
 //!   "transfer"`, [`crate::env::transfer`]), added to every path's image after its lights.
-//! - `lightcuts.rs`: the light-cut term of an environment (`[env] method = "lightcuts"`,
-//!   [`crate::env::lightcuts`]): per pixel a cut through the light tree, added to every
-//!   path's image after its lights ([`CutStats`]: the cut sizes).
+//! - `lightcuts/`: the light-cut term of an environment (`[env] method = "lightcuts"`,
+//!   [`crate::env::lightcuts`]): a cut through the light tree per square of pixels on the
+//!   kernels' path (`tile.rs`), per pixel on the scalar oracle (the reference), added to
+//!   the path's image after its lights ([`CutStats`]: the cut sizes).
 //! - `counts.rs`: the work counters ([`ShadeCounts`]).
 //! - `scalar_oracle.rs`: the scalar f32 oracle ([`shade_point`] per pixel;
 //!   [`ShadingPath::ScalarOracle`]).
