@@ -4,6 +4,9 @@
 //! ([`crate::kernel::models::LaneModel`]). The per-pixel cut (`mod.rs`) stays the
 //! reference (the scalar-oracle path).
 //!
+//! (Past 400 lines because a quarter of it is the derivation below, which the bound, the
+//! criterion and the square splitting all rest on: one concept, kept in one file.)
+//!
 //! This is Walter et al. 2005's reuse of one cut over nearby receivers ("Lightcuts",
 //! section 4.3 reconstruction cuts, here made conservative): a cluster is refined until its
 //! bound *over every pixel of the tile* is at most `cut_error` x the tile's smallest pixel
