@@ -5,19 +5,26 @@
 //! build time (probe load included) is measured once per probe and printed beside it, with
 //! each frame's mean cut size.
 //!
-//! Measured (2026-11-30, load average 9-14 on the 2 cores: four helpers building and
-//! testing): frame 14.0 s (city, Blinn-Phong 200, mean cut 251), 42.6 s (city, lindt-paper,
-//! mean cut 379), 12.0 s (studio, Blinn-Phong 200, mean cut 239); tree build 0.2-0.3 s.
-//! The target is far out of reach: a frame is ~162k shaded pixels x (2 x cut - 1) node
-//! evaluations (81M for Blinn-Phong under city), each a cone bound plus a BRDF evaluation;
-//! 30 frames/s would leave under 1 ns per node on two cores. What bounds it is the cut
-//! size the 1% accuracy needs times the bound's cost (trigonometry for the D-BRDF's half
-//! vector box, `powf` for Blinn-Phong); see the report on branch `lightcuts`.
+//! A/B in one run: per probe and material, one frame of per-pixel cuts (the reference,
+//! `ShadingPath::ScalarOracle`, timed once: it takes seconds), then the shared cuts (one cut
+//! per square of <= 8 x 8 pixels, the default path) by criterion.
+//!
+//! Measured (2026-11-30, 2 cores shared with other helpers' builds; `cargo bench --bench
+//! lightcuts -- --warm-up-time 1 --measurement-time 3 --noplot`), shade only:
+//! city Blinn-Phong 200: per-pixel 3.36 s (mean cut 251) vs shared 0.705 s (4884 cuts,
+//! mean cut 372), 1.4 frames/s; city lindt-paper: 12.9 s (379) vs 1.93 s (822, 40% of
+//! pixels at cut_max); studio Blinn-Phong 200: 5.84 s (239) vs 1.21 s (347); studio
+//! lindt-paper: 23.6 s (359) vs 2.66 s (674, 17% capped). Tree build 0.10-0.12 s.
+//! Still 20-80x short of 30 frames/s. What bounds it (perf, city Blinn-Phong): 34% scalar
+//! `powf` in the Blinn-Phong lane model (one per pixel and light: 162k pixels x ~370
+//! lights x refine rounds), 30% the lane kernel, 16% the tile bounds and cluster
+//! estimates. The D-BRDF's tile bound is loose (the `cos(polar_o)` factor and the widened
+//! half-vector box), so its cuts double and often reach `cut_max`.
 
 use brdfkit::env::lightcuts::prepare_lightcuts;
 use brdfkit::render::{self, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
-use brdfkit::shade::{self, ShadeOptions};
+use brdfkit::shade::{self, ShadeOptions, ShadingPath};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::Path;
 use std::time::Instant;
@@ -50,16 +57,30 @@ fn lightcuts(c: &mut Criterion) {
             let p = prepare_lightcuts(file.env.as_ref().unwrap(), base).unwrap();
             let build = t0.elapsed().as_secs_f64();
             let vis = render::rasterize(&scene, false);
+            // A: the per-pixel cut (the reference path), one frame timed here, as it takes
+            // seconds; B: the shared cuts (the default path), timed by criterion.
+            let per_pixel = ShadeOptions::default().with_path(ShadingPath::ScalarOracle);
+            let t0 = Instant::now();
+            let a = shade::shade(&scene, &vis, &per_pixel).cuts;
+            let a_secs = t0.elapsed().as_secs_f64();
             let fast = ShadeOptions::default();
-            let cuts = shade::shade(&scene, &vis, &fast).cuts;
+            let t0 = Instant::now();
+            let b = shade::shade(&scene, &vis, &fast).cuts;
+            let b_secs = t0.elapsed().as_secs_f64();
             eprintln!(
                 "{probe} {name}: tree build (probe load included) {build:.2} s, {} nodes; \
-                 {} pixels, mean cut {:.1}, largest {}, capped {}",
+                 {} pixels; per-pixel cuts: {a_secs:.2} s, mean cut {:.1}, largest {}, \
+                 capped {}; shared cuts: {b_secs:.3} s (one frame), {} cuts, mean cut {:.1}, \
+                 largest {}, capped {}",
                 p.cuts.tree.len(),
-                cuts.pixels,
-                cuts.mean(),
-                cuts.largest,
-                cuts.capped
+                a.pixels,
+                a.mean(),
+                a.largest,
+                a.capped,
+                b.tiles,
+                b.mean(),
+                b.largest,
+                b.capped
             );
             g.bench_function(format!("{probe}-{name}-shade"), |b| {
                 b.iter(|| shade::shade(&scene, &vis, &fast))

@@ -12,6 +12,7 @@ use super::tile::shade_kernels;
 use super::transfer::{add_transfer, fits};
 use super::{FramePrep, ShadeCounts, ShadeOptions, ShadingPath};
 use crate::image_io::Image;
+use crate::kernel::lanes::Dispatch;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
 
@@ -64,7 +65,14 @@ pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
         }
     }
     if let Some(cuts) = &scene.lightcuts {
-        shaded.cuts = add_lightcuts(scene, vis, cuts, &mut shaded.image);
+        // The kernels' path shares one cut per tile; the scalar oracle keeps the per-pixel
+        // cut as the reference (`lightcuts/tile.rs`).
+        let shared = (shaded.path == ShadingPath::Kernels).then(|| {
+            let kernel = opts.kernel.unwrap_or(scene.render.kernel);
+            Dispatch::choose(kernel)
+                .unwrap_or_else(|| panic!("kernel {}: not available on this CPU", kernel.name()))
+        });
+        shaded.cuts = add_lightcuts(scene, vis, cuts, &mut shaded.image, shared);
     }
     shaded
 }

@@ -52,9 +52,10 @@
 //! - `transfer.rs`: the transfer-table term of an environment (`[env] method =
 //!   "transfer"`, [`crate::env::transfer`]): on the fast path added per pixel beside the
 //!   lights (`pixel.rs`), on the scalar oracle and the f64 path in a plain pass of its own.
-//! - `lightcuts.rs`: the light-cut term of an environment (`[env] method = "lightcuts"`,
-//!   [`crate::env::lightcuts`]): per pixel a cut through the light tree, added to every
-//!   path's image after its lights ([`CutStats`]: the cut sizes).
+//! - `lightcuts/`: the light-cut term of an environment (`[env] method = "lightcuts"`,
+//!   [`crate::env::lightcuts`]): a cut through the light tree per square of pixels on the
+//!   kernels' path (`tile.rs`), per pixel on the scalar oracle (the reference), added to
+//!   the path's image after its lights ([`CutStats`]: the cut sizes).
 //! - `counts.rs`: the work counters ([`ShadeCounts`]).
 //! - `scalar_oracle.rs`: the scalar f32 oracle ([`shade_point`] per pixel;
 //!   [`ShadingPath::ScalarOracle`]).

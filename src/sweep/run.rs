@@ -307,6 +307,7 @@ impl Sweep {
                         cut_error,
                         cut_max,
                         fault: crate::material::cone_bound::BoundFault::None,
+                        tile_fault: crate::env::lightcuts::TileFault::None,
                     })),
                 }
             }

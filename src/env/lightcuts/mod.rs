@@ -19,7 +19,8 @@
 //! The material factor of `B_C` is [`crate::material::cone_bound`] (a function of the
 //! closed material enum: derivations there).
 //!
-//! # The cut (per pixel, [`crate::shade`])
+//! # The cut (per pixel, [`crate::shade`]; shared by squares of pixels on the fast path,
+//! with a bound widened over the square, `src/shade/lightcuts/tile.rs`)
 //! Start from the root; keep a max-heap of the cut's clusters keyed by the luminance of
 //! `B_C` ([`crate::env::LUMINANCE_WEIGHTS`]), ties broken by the lower node index; replace
 //! the top by its two children while its bound exceeds `cut_error` x the luminance of the
@@ -72,6 +73,21 @@ pub struct LightCuts {
     /// A seeded fault of the cluster bound (tests only).
     #[doc(hidden)]
     pub fault: BoundFault,
+    /// A seeded fault of the tile bound of the shared cuts (tests only).
+    #[doc(hidden)]
+    pub tile_fault: TileFault,
+}
+
+/// A seeded fault of the tile path's bound (`crate::shade`, tests only): what the tests
+/// must catch.
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TileFault {
+    #[default]
+    None,
+    /// The cluster cone not widened by the tile's frame and view spread: the bound at the
+    /// tile's central frame and view only.
+    NoWidening,
 }
 
 /// What [`prepare_lightcuts`] made.
@@ -101,6 +117,7 @@ pub fn prepare_lightcuts(spec: &EnvSpec, base: &Path) -> Result<PreparedLightCut
             cut_error: spec.cut_error,
             cut_max: spec.cut_max,
             fault: BoundFault::None,
+            tile_fault: TileFault::None,
         },
         report,
     })

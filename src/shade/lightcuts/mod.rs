@@ -1,7 +1,12 @@
 //! The light-cut term of an environment ([`crate::env::lightcuts`]), added to every visible
 //! pixel after the lights are shaded.
 //!
-//! Design rule: per pixel, one cut through the scene's light tree, refined from the root by
+//! Two paths ([`add_lightcuts`]): the kernels' path (the default) shares one cut among the
+//! pixels of a square of at most [`tile::CUT_TILE`]^2 pixels and shades the cut's
+//! representatives through the lane kernels (`tile.rs`, with the derivation of its bound);
+//! the scalar-oracle path keeps the per-pixel cut below as the reference.
+//!
+//! Design rule (per-pixel cut): one cut through the scene's light tree, refined from the root by
 //! a max-heap of cluster error bounds (Walter et al. 2005, section 4.2; the criterion and
 //! the bound are in [`crate::env::lightcuts`] and [`crate::material::cone_bound`]). The
 //! surface, frame and lifted view are those of every other path (`gbuffer.rs`,
@@ -17,6 +22,8 @@ use crate::conventions::ShadingFrame;
 use crate::env::lightcuts::{LightCuts, LightTree};
 use crate::env::LUMINANCE_WEIGHTS;
 use crate::image_io::Image;
+use crate::kernel::lanes::Dispatch;
+use crate::kernel::models::LaneModel;
 use crate::material::cone_bound::{BoundFault, Cone, ConeBound};
 use crate::material::Material;
 use crate::raster::VisBuffer;
@@ -24,6 +31,9 @@ use crate::scene::Scene;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::collections::BinaryHeap;
+use tile::{shade_square, TileCtx, TilePixel, TileScratch, CUT_TILE};
+
+pub mod tile;
 
 /// Cut sizes of one frame: pixels cut, clusters summed over them, the largest cut, and the
 /// pixels whose cut stopped at `cut_max` before meeting `cut_error`.
@@ -33,6 +43,8 @@ pub struct CutStats {
     pub clusters: u64,
     pub largest: u64,
     pub capped: u64,
+    /// Cuts made: one per pixel on the per-pixel path, one per tile on the tile path.
+    pub tiles: u64,
 }
 
 impl CutStats {
@@ -45,12 +57,13 @@ impl CutStats {
         }
     }
 
-    fn add(self, o: CutStats) -> CutStats {
+    pub(super) fn add(self, o: CutStats) -> CutStats {
         CutStats {
             pixels: self.pixels + o.pixels,
             clusters: self.clusters + o.clusters,
             largest: self.largest.max(o.largest),
             capped: self.capped + o.capped,
+            tiles: self.tiles + o.tiles,
         }
     }
 }
@@ -81,7 +94,7 @@ impl Ord for Cluster {
 }
 
 #[inline]
-fn luminance(v: Vec3) -> f32 {
+pub(super) fn luminance(v: Vec3) -> f32 {
     let w = LUMINANCE_WEIGHTS;
     w[0] as f32 * v.x + w[1] as f32 * v.y + w[2] as f32 * v.z
 }
@@ -177,10 +190,107 @@ fn cut_radiance(
 }
 
 /// Adds the light-cut term of `cuts` to every visible pixel of `image` (rendered from
-/// `scene` and `vis`), parallel over bands of one tile row; returns the cut sizes. The
-/// material must have a cone bound ([`ConeBound::new`]; [`crate::scene::Scene::resolve`]
-/// refuses a scene whose material has none).
-pub(super) fn add_lightcuts(
+/// `scene` and `vis`), parallel over bands of one tile row; returns the cut sizes. With
+/// `shared = Some(dispatch)` one cut per [`tile::CUT_TILE`]-square of pixels, shaded through
+/// the lane kernels on `dispatch` (`tile.rs`, the fast path); with `None` one cut per pixel
+/// (the reference, the scalar-oracle path). The material must have a cone bound
+/// ([`ConeBound::new`]; [`crate::scene::Scene::resolve`] refuses a scene whose material has
+/// none).
+pub(in crate::shade) fn add_lightcuts(
+    scene: &Scene,
+    vis: &VisBuffer,
+    cuts: &LightCuts,
+    image: &mut Image,
+    shared: Option<Dispatch>,
+) -> CutStats {
+    match shared {
+        Some(dispatch) => add_shared_cuts(scene, vis, cuts, image, dispatch),
+        None => add_per_pixel_cuts(scene, vis, cuts, image),
+    }
+}
+
+/// The tile path of [`add_lightcuts`].
+fn add_shared_cuts(
+    scene: &Scene,
+    vis: &VisBuffer,
+    cuts: &LightCuts,
+    image: &mut Image,
+    dispatch: Dispatch,
+) -> CutStats {
+    let bound = ConeBound::new(&scene.material).expect("resolve checked the material");
+    let ctx = TileCtx {
+        cuts,
+        bound: &bound,
+        material: &scene.material,
+        model: LaneModel::of(&scene.material),
+        includes_cosine: scene.material.as_brdf().includes_cosine(),
+    };
+    let eye = scene.camera.position;
+    let band_len = (vis.width * vis.tile_size) as usize;
+    let per_tile = (vis.tile_size * vis.tile_size) as usize;
+    let sub = vis.tile_size.div_ceil(CUT_TILE) as usize;
+    let stats: Vec<CutStats> = image
+        .pixels
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .map_init(
+            || {
+                (
+                    TileScratch::default(),
+                    vec![Vec::<TilePixel>::new(); sub * sub],
+                )
+            },
+            |(sc, buckets), (ty, band)| {
+                let mut stats = CutStats::default();
+                let y0 = ty as u32 * vis.tile_size;
+                for tx in 0..vis.tiles_x as usize {
+                    let t = ty * vis.tiles_x as usize + tx;
+                    if !vis.tile_occupied[t] {
+                        continue;
+                    }
+                    buckets.iter_mut().for_each(Vec::clear);
+                    for (i, x, y) in tile_pixels(vis, t) {
+                        let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y)
+                        else {
+                            continue;
+                        };
+                        let frame = ShadingFrame::from_normal(s.normal);
+                        let wo = local_view(&frame, &s, eye);
+                        let (lx, ly) = ((i as u32 % vis.tile_size), (i as u32 / vis.tile_size));
+                        let b = (ly / CUT_TILE) as usize * sub + (lx / CUT_TILE) as usize;
+                        buckets[b].push(TilePixel {
+                            at: ((y - y0) * vis.width + x) as usize,
+                            x,
+                            y,
+                            frame,
+                            wo,
+                        });
+                    }
+                    let (tx0, ty0) = (tx as u32 * vis.tile_size, y0);
+                    for (b, pixels) in buckets.iter_mut().enumerate() {
+                        let (bx, by) = ((b % sub) as u32, (b / sub) as u32);
+                        let mut write = |p: &TilePixel, l: Vec3| band[p.at] += l;
+                        stats = stats.add(shade_square(
+                            dispatch,
+                            &ctx,
+                            pixels,
+                            CUT_TILE,
+                            tx0 + bx * CUT_TILE,
+                            ty0 + by * CUT_TILE,
+                            sc,
+                            &mut write,
+                        ));
+                    }
+                }
+                stats
+            },
+        )
+        .collect();
+    stats.into_iter().fold(CutStats::default(), CutStats::add)
+}
+
+/// The per-pixel path of [`add_lightcuts`] (the reference).
+fn add_per_pixel_cuts(
     scene: &Scene,
     vis: &VisBuffer,
     cuts: &LightCuts,
@@ -218,6 +328,7 @@ pub(super) fn add_lightcuts(
                         clusters: n as u64,
                         largest: n as u64,
                         capped: capped as u64,
+                        tiles: 1,
                     });
                 }
             }
@@ -226,3 +337,6 @@ pub(super) fn add_lightcuts(
         .collect();
     stats.into_iter().fold(CutStats::default(), CutStats::add)
 }
+
+#[cfg(test)]
+mod tile_tests;
