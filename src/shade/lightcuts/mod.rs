@@ -339,4 +339,4 @@ fn add_per_pixel_cuts(
 }
 
 #[cfg(test)]
-mod tile_tests;
+mod tests_tile;
