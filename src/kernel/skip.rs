@@ -6,7 +6,7 @@
 //! [`crate::render`]), probe preprocessing already cached ([`crate::env::prepare`]). The
 //! two skips here trade a bounded error for work:
 //!
-//! # Negligible lights ([`drop_weak_lights`], [`restore_threshold`])
+//! # Negligible lights ([`drop_weak_lights`], [`needs_restore`])
 //! The weakest directional lights (by the largest channel of their irradiance `E_k`, ties
 //! by index) are set aside while, in every colour channel, their irradiance
 //! `E_drop = sum_{dropped} E_k` stays at most `fraction x` the total. A pixel is

@@ -97,7 +97,7 @@ impl Cone {
 const COS_SLACK: f32 = 1e-6;
 
 /// `max_{w in cone} w.d` for a unit `d`: `cos(max(0, angle(axis, d) - alpha))` (module doc),
-/// plus [`COS_SLACK`], at most 1.
+/// plus `COS_SLACK`, at most 1.
 #[inline]
 pub fn max_cos_to(cone: &Cone, d: Vec3) -> f32 {
     let c = cone.axis.dot(d).clamp(-1.0, 1.0);
@@ -109,7 +109,7 @@ pub fn max_cos_to(cone: &Cone, d: Vec3) -> f32 {
 }
 
 /// `min_{w in cone} w.d` for a unit `d`: `cos(min(pi, angle(axis, d) + alpha))`, minus
-/// [`COS_SLACK`], at least -1.
+/// `COS_SLACK`, at least -1.
 #[inline]
 pub fn min_cos_to(cone: &Cone, d: Vec3) -> f32 {
     let c = cone.axis.dot(d).clamp(-1.0, 1.0);
@@ -123,7 +123,7 @@ pub fn min_cos_to(cone: &Cone, d: Vec3) -> f32 {
 /// The local angles a cone of half vectors covers: polar angle `theta` and azimuth `phi` of
 /// its axis, its half angle `beta` (radians), and the azimuth half-width
 /// `asin(sin beta / sin theta)` when the cone holds neither pole (`None`: every azimuth),
-/// each widened by [`ANGLE_SLACK`] for the f32 angles of a lookup.
+/// each widened by `ANGLE_SLACK` for the f32 angles of a lookup.
 #[derive(Clone, Copy, Debug)]
 pub struct ConeAngles {
     pub theta: f32,

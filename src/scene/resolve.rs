@@ -54,7 +54,7 @@ pub struct EnvSummary {
     /// Why an existing cache entry was ignored ([`prepare::Prepared::cache_rejected`]).
     pub cache_rejected: Option<String>,
     pub negative_texels: usize,
-    /// What the probe loader changed (negative power moved, [`LoadReport::negative_warning`]);
+    /// What the probe loader changed (negative power moved, [`crate::env::LoadReport::negative_warning`]);
     /// `None` on a cache hit (the probe was not decoded).
     pub probe_report: Option<crate::env::LoadReport>,
     /// The probe's size in texels when it was decoded (`None` on a cache hit).

@@ -13,7 +13,7 @@
 //! `nodes x texels above the horizon x 3 x terms` multiply-adds; but for one table row and
 //! one probe row the sum over columns is a circular correlation of the power row with the
 //! weight row, evaluated at the shifts `s_i`, so the build sums its transform instead
-//! ([`table_row_fft`], the correlation theorem, rustfft in f64): per table row and probe row
+//! (`table_row_fft`, the correlation theorem, rustfft in f64): per table row and probe row
 //! `terms / 2` FFTs of size `W` and `3 terms (W/2 + 1)` complex multiply-adds, one inverse
 //! per term and channel at the end. It agrees with the direct sum (kept, test only) to
 //! within f64 rounding (tests.rs, `fft_build_matches_the_direct_sum`).
