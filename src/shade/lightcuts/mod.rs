@@ -69,11 +69,12 @@ impl CutStats {
 }
 
 /// A cluster of the cut: the heap key (bound bits above, inverted node index below, so
-/// the larger bound and then the lower index come first) and its estimate.
+/// the larger bound and then the lower index come first) and its estimate. Both cut paths
+/// (per pixel here, per square in `tile.rs`) keep their cut in a heap of these.
 #[derive(Clone, Copy, Debug)]
-struct Cluster {
-    key: u64,
-    estimate: Vec3,
+pub(super) struct Cluster {
+    pub(super) key: u64,
+    pub(super) estimate: Vec3,
 }
 
 impl PartialEq for Cluster {
@@ -90,6 +91,24 @@ impl PartialOrd for Cluster {
 impl Ord for Cluster {
     fn cmp(&self, o: &Self) -> std::cmp::Ordering {
         self.key.cmp(&o.key)
+    }
+}
+
+impl Cluster {
+    /// Node `i` with error bound `err` (>= 0 or NaN: a NaN refines first) and `estimate`.
+    pub(super) fn new(err: f32, i: usize, estimate: Vec3) -> Cluster {
+        Cluster {
+            key: ((err.to_bits() as u64) << 32) | (u32::MAX - i as u32) as u64,
+            estimate,
+        }
+    }
+    /// The node index.
+    pub(super) fn node(&self) -> usize {
+        (u32::MAX - (self.key & 0xffff_ffff) as u32) as usize
+    }
+    /// The error bound.
+    pub(super) fn bound(&self) -> f32 {
+        f32::from_bits((self.key >> 32) as u32)
     }
 }
 
@@ -142,10 +161,7 @@ fn cluster(
             0.0
         }
     };
-    Cluster {
-        key: ((err.to_bits() as u64) << 32) | (u32::MAX - i as u32) as u64,
-        estimate,
-    }
+    Cluster::new(err, i, estimate)
 }
 
 /// The radiance (RGB) of the light tree of `cuts` at a surface with shading frame `frame`,
@@ -170,7 +186,7 @@ fn cut_radiance(
     heap.push(root);
     let mut capped = false;
     while let Some(top) = heap.peek() {
-        let err = f32::from_bits((top.key >> 32) as u32);
+        let err = top.bound();
         if !(err > cuts.cut_error * luminance(total)) {
             break;
         }
@@ -179,7 +195,7 @@ fn cut_radiance(
             break;
         }
         let top = heap.pop().expect("peeked");
-        let i = (u32::MAX - (top.key & 0xffff_ffff) as u32) as usize;
+        let i = top.node();
         let (l, r) = (at(tree.left[i] as usize), at(tree.right[i] as usize));
         total += l.estimate + r.estimate - top.estimate;
         heap.push(l);

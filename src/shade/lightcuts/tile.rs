@@ -67,7 +67,7 @@
 //! [`MAX_ROUNDS`] rounds; `cut_max` caps the cut as per pixel). The cut therefore depends
 //! only on the tile's pixels: same bits on any thread count.
 
-use super::{luminance, CutStats};
+use super::{luminance, Cluster, CutStats};
 use crate::conventions::ShadingFrame;
 use crate::env::lightcuts::{LightCuts, TileFault};
 use crate::kernel::gather::Scratch;
@@ -249,40 +249,6 @@ pub fn tile_f_cos_max(
     single(&wide) * tf.k
 }
 
-/// A cluster of the tile's cut: heap key (bound bits above, inverted node index below) and
-/// the estimate at the central frame and view.
-#[derive(Clone, Copy, Debug)]
-struct Cluster {
-    key: u64,
-    estimate: Vec3,
-}
-
-impl PartialEq for Cluster {
-    fn eq(&self, o: &Self) -> bool {
-        self.key == o.key
-    }
-}
-impl Eq for Cluster {}
-impl PartialOrd for Cluster {
-    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Cluster {
-    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
-        self.key.cmp(&o.key)
-    }
-}
-
-impl Cluster {
-    fn node(&self) -> usize {
-        (u32::MAX - (self.key & 0xffff_ffff) as u32) as usize
-    }
-    fn bound(&self) -> f32 {
-        f32::from_bits((self.key >> 32) as u32)
-    }
-}
-
 /// What a tile's shading needs, borrowed from the frame.
 pub struct TileCtx<'a> {
     pub cuts: &'a LightCuts,
@@ -328,10 +294,7 @@ impl TileCtx<'_> {
                 0.0
             }
         };
-        Cluster {
-            key: ((err.to_bits() as u64) << 32) | (u32::MAX - i as u32) as u64,
-            estimate,
-        }
+        Cluster::new(err, i, estimate)
     }
 }
 
