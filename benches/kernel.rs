@@ -5,7 +5,7 @@
 //!     one point light, 5 and 8 orders with 128 median-cut lights, D-BRDF with 1 and 128.
 
 use brdfkit::conventions::ShadingFrame;
-use brdfkit::env::prepare::{EnvSpec, SamplerKind};
+use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::kernel::cluster::DirLights;
 use brdfkit::kernel::gather::Scratch;
 use brdfkit::kernel::lanes::{Dispatch, F32x8, Isa, Kernel, LANES};
@@ -158,6 +158,7 @@ fn scene(material: MaterialSpec, env_lights: Option<usize>) -> Scene {
                 EnvSpec::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr"));
             env.sampler = SamplerKind::MedianCut;
             env.count = n;
+            env.method = EnvMethod::Lights;
             f.env = Some(env);
         }
         None => {

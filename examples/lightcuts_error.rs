@@ -17,7 +17,6 @@
 //!   (as `examples/transfer_error.rs`);
 //! - the mean and largest cut (clusters per pixel) and the pixels `cut_max` stopped.
 
-use brdfkit::image_io::Image;
 use brdfkit::render::{rasterize, render, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::shade::{shade, ShadeOptions};
@@ -31,28 +30,6 @@ fn scene(material: &str, probe: &str, env: &str, size: u32) -> Scene {
     );
     let file = SceneFile::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
     Scene::resolve(&file, Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap()
-}
-
-fn p99(reference: &Image, img: &Image) -> f64 {
-    let norms: Vec<f64> = reference
-        .pixels
-        .iter()
-        .map(|p| p.as_dvec3().length())
-        .collect();
-    let covered: Vec<f64> = norms.iter().copied().filter(|&n| n > 0.0).collect();
-    let mean = covered.iter().sum::<f64>() / covered.len().max(1) as f64;
-    let mut rel: Vec<f64> = reference
-        .pixels
-        .iter()
-        .zip(&img.pixels)
-        .zip(&norms)
-        .filter(|(_, &n)| n > 0.01 * mean)
-        .map(|((r, x), &n)| (x.as_dvec3() - r.as_dvec3()).length() / n)
-        .collect();
-    rel.sort_by(f64::total_cmp);
-    rel.get(((rel.len() as f64 * 0.99) as usize).min(rel.len().saturating_sub(1)))
-        .copied()
-        .unwrap_or(0.0)
 }
 
 fn main() {
@@ -100,7 +77,13 @@ fn main() {
                 println!(
                     "| {name} | {probe} | {e} | {:.3}% | {:.2}% | {:.1} | {} | {} |",
                     100.0 * brdfkit::metrics::relative_rmse(&reference, &shaded.image, None),
-                    100.0 * p99(&reference, &shaded.image),
+                    100.0
+                        * brdfkit::metrics::relative_error_quantile(
+                            &reference,
+                            &shaded.image,
+                            0.99,
+                            |_| true
+                        ),
                     c.mean(),
                     c.largest,
                     c.capped

@@ -5,10 +5,10 @@
 //! cargo run --release --example transfer_error -- [SIZE] [k=EXACT_LIGHTS] [m=MATERIAL] [PROBE...]
 //! ```
 //!
-//! `k=` sets `exact_lights` (default 16); `m=` keeps one material (repeatable).
+//! `k=` sets `exact_lights` (default 64, the `[env]` default); `m=` keeps one material (repeatable).
 //! For every library SH material and Lambert (albedo 0.8) under each shipped probe (or the
 //! ones named: `city`, `studio`, `sky`), renders a 256-segment sphere at SIZE x SIZE
-//! (default 64) with the transfer method (default grid 128 x 65, 16 exact lights) and with
+//! (default 64) with the transfer method (default grid 128 x 65, 64 exact lights) and with
 //! the converged reference ([`RenderOptions::converged_reference`] on `sampler = "full"`,
 //! f64, every texel a light), and prints:
 //! - rel RMSE: relative RMSE over the image ([`brdfkit::metrics::relative_rmse`]);
@@ -32,7 +32,6 @@
 //!   shows its cached time).
 
 use brdfkit::env::prepare::CacheDir;
-use brdfkit::image_io::Image;
 use brdfkit::library::Representation;
 use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
@@ -76,37 +75,13 @@ fn scene(
     Scene::resolve_with_cache(&file, Path::new(env!("CARGO_MANIFEST_DIR")), cache).unwrap()
 }
 
-/// The 99th percentile of the per-pixel relative error over the pixels `keep` admits
-/// (covered, `|r|` at least 1% of the mean `|r|`).
-fn p99(reference: &Image, img: &Image, keep: impl Fn(glam::Vec3) -> bool) -> f64 {
-    let norms: Vec<f64> = reference
-        .pixels
-        .iter()
-        .map(|p| p.as_dvec3().length())
-        .collect();
-    let covered: Vec<f64> = norms.iter().copied().filter(|&n| n > 0.0).collect();
-    let mean = covered.iter().sum::<f64>() / covered.len().max(1) as f64;
-    let mut rel: Vec<f64> = reference
-        .pixels
-        .iter()
-        .zip(&img.pixels)
-        .zip(&norms)
-        .filter(|((r, _), &n)| n > 0.01 * mean && keep(**r))
-        .map(|((r, x), &n)| (x.as_dvec3() - r.as_dvec3()).length() / n)
-        .collect();
-    rel.sort_by(f64::total_cmp);
-    rel.get(((rel.len() as f64 * 0.99) as usize).min(rel.len().saturating_sub(1)))
-        .copied()
-        .unwrap_or(0.0)
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let size: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(64);
     let k: usize = args
         .iter()
         .find_map(|a| a.strip_prefix("k=")?.parse().ok())
-        .unwrap_or(16);
+        .unwrap_or(brdfkit::env::prepare::DEFAULT_EXACT_LIGHTS);
     let only: Vec<&str> = args.iter().filter_map(|a| a.strip_prefix("m=")).collect();
     let mut probes: Vec<&str> = args
         .iter()
@@ -152,8 +127,10 @@ fn main() {
             )
             .image;
             let e = brdfkit::metrics::relative_rmse(&reference, &got, None);
-            let q = p99(&reference, &got, |_| true);
-            let q_pos = p99(&reference, &got, |r| r.min_element() >= 0.0);
+            let q = brdfkit::metrics::relative_error_quantile(&reference, &got, 0.99, |_| true);
+            let q_pos = brdfkit::metrics::relative_error_quantile(&reference, &got, 0.99, |r| {
+                r.min_element() >= 0.0
+            });
             let neg = reference
                 .pixels
                 .iter()

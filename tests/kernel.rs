@@ -2,7 +2,7 @@
 
 mod shading_paths;
 
-use brdfkit::env::prepare::{EnvSpec, SamplerKind};
+use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::kernel::lanes::Dispatch;
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
 use brdfkit::render;
@@ -20,6 +20,7 @@ fn scene(material: MaterialSpec, lights: usize) -> Scene {
         EnvSpec::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr"));
     env.sampler = SamplerKind::MedianCut;
     env.count = lights;
+    env.method = EnvMethod::Lights;
     f.env = Some(env);
     // Plus a point light, which takes the scalar path inside the kernel's frame loop.
     f.lights = Some(

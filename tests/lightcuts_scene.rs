@@ -27,28 +27,6 @@ fn scene(probe: &str, material: &str, env_extra: &str) -> brdfkit::error::Result
 const BLINN_PHONG_200: &str = "kind = \"blinn-phong\"\nexponent = 200";
 const LINDT: &str = "kind = \"library\"\nname = \"lindt-paper\"";
 
-/// The 99th percentile over covered pixels of `|x - r| / |r|` (RGB norms), pixels with
-/// `|r|` below 1% of the mean `|r|` left out (as `examples/transfer_error.rs`).
-fn p99(reference: &Image, img: &Image) -> f64 {
-    let norms: Vec<f64> = reference
-        .pixels
-        .iter()
-        .map(|p| p.as_dvec3().length())
-        .collect();
-    let covered: Vec<f64> = norms.iter().copied().filter(|&n| n > 0.0).collect();
-    let mean = covered.iter().sum::<f64>() / covered.len().max(1) as f64;
-    let mut rel: Vec<f64> = reference
-        .pixels
-        .iter()
-        .zip(&img.pixels)
-        .zip(&norms)
-        .filter(|(_, &n)| n > 0.01 * mean)
-        .map(|((r, x), &n)| (x.as_dvec3() - r.as_dvec3()).length() / n)
-        .collect();
-    rel.sort_by(f64::total_cmp);
-    rel[((rel.len() as f64 * 0.99) as usize).min(rel.len() - 1)]
-}
-
 /// The light-cut render of `s` (default f32 path) and its cut sizes.
 fn cut_render(s: &Scene) -> (Image, CutStats) {
     let vis = rasterize(s, false);
@@ -81,7 +59,7 @@ fn lightcuts_match_the_converged_reference() {
             );
             let (got, cuts) = cut_render(&s);
             let e = brdfkit::metrics::relative_rmse(&r, &got, None);
-            let q = p99(&r, &got);
+            let q = brdfkit::metrics::relative_error_quantile(&r, &got, 0.99, |_| true);
             eprintln!(
                 "{probe} {name}: rel RMSE {e:.5} p99 {q:.5} mean cut {:.1} largest {} capped {}",
                 cuts.mean(),
@@ -147,8 +125,8 @@ fn shared_cuts_match_the_reference_and_the_per_pixel_cuts() {
                  {e_pp:.5} p99 {:.5}, shared vs per-pixel {d:.5}; shared: {} pixels, {} cuts \
                  ({:.1} pixels per cut), mean cut {:.1}, largest {}, capped {}; per-pixel \
                  mean cut {:.1}",
-                p99(&r, &shared.image),
-                p99(&r, &per_pixel.image),
+                brdfkit::metrics::relative_error_quantile(&r, &shared.image, 0.99, |_| true),
+                brdfkit::metrics::relative_error_quantile(&r, &per_pixel.image, 0.99, |_| true),
                 c.pixels,
                 c.tiles,
                 c.pixels as f64 / c.tiles.max(1) as f64,

@@ -14,7 +14,7 @@
 use brdfkit::acquire::{acquire, AcquireOptions, Method, DEFAULT_LAMBDA};
 use brdfkit::brdf::{AshikhminShirley, Brdf};
 use brdfkit::compare::{self, Loaded, Thresholds};
-use brdfkit::env::prepare::{EnvSpec, SamplerKind};
+use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
 use brdfkit::sh::basis::sh_lm;
@@ -47,6 +47,7 @@ fn base_scene() -> Scene {
         EnvSpec::new(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr"));
     env.sampler = SamplerKind::MedianCut;
     env.count = 64;
+    env.method = EnvMethod::Lights;
     f.env = Some(env);
     f.lights = Some(brdfkit::scene::default_lights());
     Scene::resolve(&f, Path::new("/")).unwrap()

@@ -48,7 +48,16 @@ fn suspicious_inputs_are_warned_about() {
     // Through the light-set cache: the first run decodes the probe and stores its load
     // report with the lights, the second reads the entry without decoding, and both warn.
     for pass in ["computed", "cached"] {
-        let mut args = vec!["render", "--env", &square, "-o", "cached.exr"];
+        // Delta lights (`--env-method lights`): the light-set cache is theirs.
+        let mut args = vec![
+            "render",
+            "--env",
+            &square,
+            "--env-method",
+            "lights",
+            "-o",
+            "cached.exr",
+        ];
         args.extend_from_slice(&small[..4]);
         let (code, err) = run(d, &args);
         assert_eq!(code, Some(0), "{pass}: {err}");

@@ -88,11 +88,11 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
         ok.stderr
     );
 
-    // Measured columns (prep_ms 16, frame_ms 17, pareto 18) are not compared.
+    // Measured columns (prep_ms 17, frame_ms 18, pareto 19) are not compared.
     let timed = edit(
-        &edit(&edit(&stored, 2, 16, "999.000"), 2, 17, "0.001"),
+        &edit(&edit(&stored, 2, 17, "999.000"), 2, 18, "0.001"),
         2,
-        18,
+        19,
         "0",
     );
     std::fs::write(dir.join("timed.csv"), timed).unwrap();
@@ -100,7 +100,7 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
     assert_eq!(r.code, Some(0), "{}{}", r.stdout, r.stderr);
 
     // Seeded faults: one deterministic value edited (rel_rmse of row 5 in its last
-    // digit; flip_mean of row 8, a transfer row), each found and named; a shard checks
+    // digit; flip_mean (column 15) of row 8, a transfer row), each found and named; a shard checks
     // only its rows.
     let rel = stored.lines().nth(6).unwrap().split(',').nth(12).unwrap();
     let last = rel.chars().last().unwrap();
@@ -109,7 +109,7 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
         &rel[..rel.len() - 1],
         if last == '9' { '8' } else { '9' }
     );
-    let edited = edit(&edit(&stored, 5, 12, &bumped), 8, 14, "0.5");
+    let edited = edit(&edit(&stored, 5, 12, &bumped), 8, 15, "0.5");
     std::fs::write(dir.join("edited.csv"), edited).unwrap();
     let r = sweep(dir, &["--check", "edited.csv"]);
     assert_eq!(r.code, Some(1), "{}{}", r.stdout, r.stderr);

@@ -100,12 +100,13 @@ cut 1000; x orders 1..8 x lookups nearest, bilinear x \
 precision f32: 1024 rows for an 8-band SH material.\n\n\
 CSV columns: index, method, sampler, lights, transfer_azimuth, transfer_polar, exact_lights, \
 cut_error, cut_max (the method's parameters, - where not the row's method's), order, lookup, \
-precision, rel_rmse (relative RMSE over covered pixels), max_err (largest absolute channel error, \
+precision, rel_rmse (relative RMSE over covered pixels), p99_rel (99th percentile of the \
+per-pixel relative error over covered pixels), max_err (largest absolute channel error, \
 linear radiance), flip_mean (FLIP of the tone-mapped images), default (1 for the scene's own \
 configuration): deterministic, the same on every machine; then prep_ms (the method's preparation: \
 light set or transfer table), frame_ms (median frame time), pareto (1 if no other row is both \
 faster and more accurate, over frame_ms and rel_rmse): measured, they vary run to run. A CSV \
-written before the method column is refused (regenerate it).\n\n\
+written before the method or the p99_rel column is refused (regenerate it).\n\n\
 The reference is rendered once (minutes for the default scene) and cached as EXR in --cache, keyed \
 by a hash of the scene, its input files, the brdfkit version and the reference algorithm version, \
 and checked on read (size, finite pixels, a checksum file beside it); --no-cache \
@@ -129,6 +130,12 @@ pub struct SweepArgs {
     /// A material class's built-in scene instead: a sphere under the city probe, 128x96, in Lambert (diffuse), teal-paint (sh-glossy, SH 8 bands) or Blinn-Phong exponent 200 (glossy).
     #[arg(long, value_enum)]
     pub class: Option<crate::sweep::MaterialClass>,
+    /// Also require the 99th percentile of the per-pixel relative error (p99_rel) to be at most this fraction when choosing the fastest configuration within 1% (the rule behind `[env] method = "auto"` uses 0.1).
+    #[arg(long, value_name = "FRACTION")]
+    pub max_p99: Option<f64>,
+    /// The probe lighting the swept scene instead of its own: a shipped probe by name (city, sky, studio) or an HDR file (lat-long EXR). The reference and every method use it.
+    #[arg(long, value_name = "NAME|FILE")]
+    pub probe: Option<String>,
     /// Environment methods, comma-separated: lights, transfer, lightcuts. Default all three (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets and MERL tables).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub methods: Vec<crate::sweep::MethodKind>,

@@ -127,6 +127,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
         if let Some(n) = a.lights {
             env.count = n;
         }
+        // Asking for a sampler or a light count asks for a delta light set.
+        if env.method == crate::env::prepare::EnvMethod::Auto {
+            env.method = crate::env::prepare::EnvMethod::Lights;
+        }
         if a.lights.is_some()
             && (a.reference || env.sampler == crate::env::prepare::SamplerKind::Full)
         {
@@ -155,6 +159,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if let Some(l) = a.lookup {
         set_lookup(&mut file.material, l)?;
     }
+    // `[env] method = "auto"` made concrete for this material (the progress bar below
+    // names the method's preparation).
+    let auto_method = file
+        .env
+        .as_ref()
+        .is_some_and(|e| e.method == crate::env::prepare::EnvMethod::Auto);
+    file.resolve_env_method();
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
         None => vec![PathBuf::from("out.png"), PathBuf::from("out.exr")],
@@ -251,7 +262,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
                     e.lights
                 ),
             ),
+            None if scene.lightcuts.is_some() => (
+                "light-set",
+                format!("light cuts through a tree of {} texels", e.lights),
+            ),
             None => ("light-set", format!("{} lights", e.lights)),
+        };
+        // Say what `auto` chose, and how to choose otherwise.
+        let what = match file.env.as_ref().filter(|_| auto_method) {
+            Some(env) => format!(
+                "{what} ([env] method \"auto\" is \"{}\" for {}; set method or --env-method to choose)",
+                env.method.name(),
+                scene.material.name()
+            ),
+            None => what,
         };
         if let Some(why) = &e.cache_rejected {
             eprintln!("warning: {cached} cache entry ignored and rewritten: {why}");

@@ -7,7 +7,7 @@
 //! part of the schema lives with the rest of the material in `material.rs`.
 
 use super::MaterialSpec;
-use crate::env::prepare::EnvSpec;
+use crate::env::prepare::{EnvMethod, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::Tonemap;
 use crate::kernel::lanes::KernelPath;
@@ -177,9 +177,36 @@ impl SceneFile {
         SceneFile::parse(&text).map_err(|m| Error::format(path, m))
     }
 
-    /// Parses scene TOML text; the error is one line.
+    /// Parses scene TOML text; the error is one line. An `[env]` table that states
+    /// `sampler` or `count` with `method` unset or `"auto"` asks for a delta light set: its
+    /// method becomes `lights` ([`super::env_method`]).
     pub fn parse(text: &str) -> std::result::Result<SceneFile, String> {
-        toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))
+        let mut file: SceneFile =
+            toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))?;
+        if let Some(env) = file.env.as_mut() {
+            if env.method == EnvMethod::Auto {
+                let table: toml::Table =
+                    toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))?;
+                let stated = |key: &str| {
+                    table
+                        .get("env")
+                        .and_then(toml::Value::as_table)
+                        .is_some_and(|t| t.contains_key(key))
+                };
+                if stated("sampler") || stated("count") {
+                    env.method = EnvMethod::Lights;
+                }
+            }
+        }
+        Ok(file)
+    }
+
+    /// Replaces `[env] method = "auto"` by the method it stands for under this scene's
+    /// material ([`super::env_method::auto_method`]); other methods are kept.
+    pub fn resolve_env_method(&mut self) {
+        if let Some(env) = self.env.as_mut() {
+            env.method = super::env_method::concrete_method(env.method, &self.material);
+        }
     }
 
     /// The scene's light specifications: its `[[light]]` tables; none when it has only an

@@ -18,6 +18,7 @@
 #![doc = include_str!("../../docs/scene-format.md")]
 
 pub mod camera;
+pub mod env_method;
 mod file;
 mod material;
 mod resolve;

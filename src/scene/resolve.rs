@@ -225,8 +225,12 @@ impl Scene {
         let mut env = None;
         let mut transfer = None;
         let mut lightcuts = None;
-        if let Some(spec) = file
-            .env
+        // `auto` replaced by the method it stands for under this material.
+        let env_spec = file.env.clone().map(|mut s| {
+            s.method = super::env_method::concrete_method(s.method, &file.material);
+            s
+        });
+        if let Some(spec) = env_spec
             .as_ref()
             .filter(|s| s.method == EnvMethod::Lightcuts)
         {
@@ -246,8 +250,7 @@ impl Scene {
                 total_irradiance: tree.leaf_irradiance_sum().to_array(),
             });
             lightcuts = Some(Arc::new(p.cuts));
-        } else if let Some(spec) = file
-            .env
+        } else if let Some(spec) = env_spec
             .as_ref()
             .filter(|s| s.method == EnvMethod::Transfer)
         {
@@ -280,7 +283,7 @@ impl Scene {
                 total_irradiance: p.lights.total_irradiance().to_array(),
             });
             transfer = Some(Arc::new(p.table));
-        } else if let Some(spec) = &file.env {
+        } else if let Some(spec) = &env_spec {
             let prepared = prepare::prepare_with_progress(spec, base, cache.path(), progress)?;
             lights.extend(prepare::to_scene_lights(&prepared.lights));
             env = Some(EnvSummary {

@@ -25,18 +25,21 @@ use std::path::Path;
 /// parameters, `-` where a parameter is not the row's method's; then the errors and the
 /// default flag), then measured ones. `cut_error` and `cut_max` are the parameters of
 /// `lightcuts`.
-pub const CSV_HEADER: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
+pub const CSV_HEADER: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,p99_rel,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
 
 /// The header of sweep CSVs written before the method axis (no `method` column), recognised
 /// only to say so when one is read.
 const HEADER_BEFORE_METHODS: &str =
     "index,sampler,lights,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
 
+/// The header of sweep CSVs written before the `p99_rel` column, recognised only to say so.
+const HEADER_BEFORE_P99: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
+
 /// Number of deterministic leading columns of [`CSV_HEADER`] (`index` .. `default`).
-pub const DETERMINISTIC_COLUMNS: usize = 16;
+pub const DETERMINISTIC_COLUMNS: usize = 17;
 
 /// The column names of [`CSV_HEADER`], in order (the field names of `Record`).
-const COLUMNS: [&str; 19] = [
+const COLUMNS: [&str; 20] = [
     "index",
     "method",
     "sampler",
@@ -50,6 +53,7 @@ const COLUMNS: [&str; 19] = [
     "lookup",
     "precision",
     "rel_rmse",
+    "p99_rel",
     "max_err",
     "flip_mean",
     "default",
@@ -64,6 +68,9 @@ pub struct Row {
     pub config: Config,
     /// Relative RMSE over covered pixels (see the module doc), dimensionless.
     pub rel_rmse: f64,
+    /// 99th percentile of the per-pixel relative error over covered pixels
+    /// ([`crate::metrics::relative_error_quantile`]), dimensionless.
+    pub p99_rel: f64,
     /// Largest absolute channel error, linear radiance.
     pub max_err: f64,
     /// Mean FLIP of the display encodings, in [0, 1].
@@ -127,6 +134,8 @@ struct Record {
     #[serde(serialize_with = "columns::shortest")]
     rel_rmse: f64,
     #[serde(serialize_with = "columns::shortest")]
+    p99_rel: f64,
+    #[serde(serialize_with = "columns::shortest")]
     max_err: f64,
     #[serde(serialize_with = "columns::shortest")]
     flip_mean: f64,
@@ -163,6 +172,7 @@ impl From<&Row> for Record {
             lookup: c.lookup,
             precision: c.precision,
             rel_rmse: r.rel_rmse,
+            p99_rel: r.p99_rel,
             max_err: r.max_err,
             flip_mean: r.flip_mean,
             default: r.default,
@@ -256,6 +266,7 @@ impl Record {
                 precision: self.precision,
             },
             rel_rmse: self.rel_rmse,
+            p99_rel: self.p99_rel,
             max_err: self.max_err,
             flip_mean: self.flip_mean,
             default: self.default,
@@ -328,6 +339,13 @@ fn check_header(headers: &::csv::StringRecord) -> std::result::Result<(), String
             "a sweep CSV from before the method axis (no method column): its rows are \
              lights rows of an older grid and its index numbering may not be this build's; \
              regenerate it with this build (`brdfkit sweep`, see `brdfkit sweep --help`)"
+                .into(),
+        );
+    }
+    if headers.iter().collect::<Vec<_>>().join(",") == HEADER_BEFORE_P99 {
+        return Err(
+            "a sweep CSV from before the p99_rel column: regenerate it with this build \
+             (`brdfkit sweep`, see `brdfkit sweep --help`)"
                 .into(),
         );
     }

@@ -33,6 +33,23 @@ fn shipped_probe(name: &str) -> Result<PathBuf> {
     Ok(probe)
 }
 
+/// The probe `--probe` names: a shipped probe by name (`city`, `sky`, `studio`: the file
+/// `assets/probes/NAME.exr`), else a path to an HDR file. An error names the argument when
+/// neither exists.
+pub fn probe_path(name_or_file: &str) -> Result<PathBuf> {
+    let file = PathBuf::from(name_or_file);
+    if file.is_file() {
+        return Ok(file);
+    }
+    if matches!(name_or_file, "city" | "sky" | "studio") {
+        return shipped_probe(&format!("{name_or_file}.exr"));
+    }
+    Err(Error::field(
+        "--probe",
+        format!("{name_or_file:?} is neither a shipped probe (city, sky, studio) nor a file"),
+    ))
+}
+
 /// The scene a sweep renders: the default is the teapot in `blue-silk` (library SH
 /// material, 8 bands, its own bilinear lookup) under `assets/probes/city.exr`, 160x120,
 /// environment sampler and count at their defaults (the render defaults).

@@ -3,7 +3,8 @@
 //!
 //! Design rule: every value here is a pure function of the two images and the coverage
 //! mask (no timing, no thread-count dependence), so shards merge exactly. `rel_rmse` is
-//! [`crate::metrics::relative_rmse`] over covered pixels only; `max_err` and `flip_mean` come from
+//! [`crate::metrics::relative_rmse`] and `p99_rel` [`crate::metrics::relative_error_quantile`]
+//! over covered pixels only; `max_err` and `flip_mean` come from
 //! [`crate::compare`] over the whole frame, as `brdfkit compare` reports them.
 
 use crate::compare::{self, Loaded, Thresholds};
@@ -21,17 +22,43 @@ pub(super) fn covered_pixels(scene: &Scene) -> Vec<bool> {
         .collect()
 }
 
-/// (relative RMSE over `covered` pixels, largest absolute channel difference in linear
-/// radiance, mean FLIP of the display encodings) of `img` against `reference`.
-pub(super) fn errors(reference: &Loaded, covered: &[bool], img: &Image) -> Result<(f64, f64, f64)> {
+/// The deterministic errors of one image against the reference.
+#[derive(Clone, Copy, Debug)]
+pub struct Errors {
+    /// Relative RMSE over the covered pixels.
+    pub rel_rmse: f64,
+    /// 99th percentile of the per-pixel relative error over the covered pixels
+    /// ([`metrics::relative_error_quantile`]).
+    pub p99_rel: f64,
+    /// Largest absolute channel difference, linear radiance.
+    pub max_err: f64,
+    /// Mean FLIP of the display encodings.
+    pub flip_mean: f64,
+}
+
+/// The [`Errors`] of `img` against `reference`.
+pub(super) fn errors(reference: &Loaded, covered: &[bool], img: &Image) -> Result<Errors> {
     let (m, _) = compare::compare(
         reference,
         &Loaded::from_linear(img.clone()),
         &Thresholds::DEFAULT,
     )?;
-    Ok((
-        metrics::relative_rmse(&reference.image, img, Some(covered)),
-        m.max_abs as f64,
-        m.flip_mean as f64,
-    ))
+    // The quantile over covered pixels only: both images black elsewhere (the quantile
+    // leaves out pixels whose reference is black).
+    let only_covered = |im: &Image| {
+        let mut out = im.clone();
+        for (p, &c) in out.pixels.iter_mut().zip(covered) {
+            if !c {
+                *p = glam::Vec3::ZERO;
+            }
+        }
+        out
+    };
+    let (r_cov, x_cov) = (only_covered(&reference.image), only_covered(img));
+    Ok(Errors {
+        rel_rmse: metrics::relative_rmse(&reference.image, img, Some(covered)),
+        p99_rel: metrics::relative_error_quantile(&r_cov, &x_cov, 0.99, |_| true),
+        max_err: m.max_abs as f64,
+        flip_mean: m.flip_mean as f64,
+    })
 }

@@ -51,6 +51,9 @@
 //! Deterministic (the same bits on every machine and thread count, so shards merge exactly):
 //! - `rel_rmse`: relative RMSE over the pixels the mesh covers,
 //!   `sqrt(sum |x - r|^2 / sum |r|^2)` over those pixels' RGB channels (linear radiance);
+//! - `p99_rel`: the 99th percentile over the covered pixels of the per-pixel relative error
+//!   `|x - r| / |r|` (RGB norms; pixels whose reference is below 1% of the mean left out,
+//!   [`crate::metrics::relative_error_quantile`]): the tail `rel_rmse` averages away;
 //! - `max_err`: largest absolute channel difference (linear radiance, the probe's units);
 //! - `flip_mean`: mean FLIP ([`crate::compare`]) between the display encodings (exposure 0,
 //!   ACES, sRGB, 8 bits) of the two images;
@@ -112,7 +115,7 @@ pub use cache::{
     image_checksum, read_cached_reference, reference_key, REFERENCE_ALGORITHM_VERSION,
 };
 pub use check::{deterministic_mismatches, Mismatch};
-pub use default_scene::{default_scene_file, MaterialClass};
+pub use default_scene::{default_scene_file, probe_path, MaterialClass};
 pub use grid::{
     default_counts, default_exact_lights, default_samplers, default_transfer_grids, describe,
     lookup_name, parse_lookup, parse_sampler, precision_name, sampler_name, Config, DefaultConfig,

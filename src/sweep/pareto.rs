@@ -72,6 +72,7 @@ mod tests {
                 },
                 rel_rmse,
                 max_err: 0.0,
+                p99_rel: 0.0,
                 flip_mean: 0.0,
                 default: false,
                 prep_ms: 0.0,

@@ -84,6 +84,8 @@ impl Sweep {
         frames: usize,
         on_reference: impl FnOnce(Option<&Path>, u64) -> Progress,
     ) -> Result<Sweep> {
+        // The scene's own method (`auto` made concrete for its material): its default row.
+        file.resolve_env_method();
         let Some(env) = file.env.clone() else {
             return Err(Error::field(
                 "--scene",
@@ -367,12 +369,13 @@ impl Sweep {
             // one `--merge` recomputes from the written rows (ties included).
             let frame_ms = (times[times.len() / 2] * 1e3).round() / 1e3;
             let img = image.expect("frames >= 1");
-            let (rel_rmse, max_err, flip_mean) = self.errors(&img)?;
+            let e = self.errors(&img)?;
             let row = Row {
                 config: *c,
-                rel_rmse,
-                max_err,
-                flip_mean,
+                rel_rmse: e.rel_rmse,
+                p99_rel: e.p99_rel,
+                max_err: e.max_err,
+                flip_mean: e.flip_mean,
                 default: self.default.matches(c),
                 prep_ms: *prep_ms,
                 frame_ms,
@@ -384,9 +387,8 @@ impl Sweep {
         Ok(rows)
     }
 
-    /// (relative RMSE over covered pixels, max abs error, FLIP mean) of an image against
-    /// the reference ([`super::metrics`]).
-    pub fn errors(&self, img: &Image) -> Result<(f64, f64, f64)> {
+    /// The errors of an image against the reference ([`super::metrics::Errors`]).
+    pub fn errors(&self, img: &Image) -> Result<metrics::Errors> {
         metrics::errors(&self.reference, &self.covered, img)
     }
 }

@@ -48,6 +48,7 @@ fn lights_row() -> Row {
         },
         rel_rmse: 0.012345678901234,
         max_err: 1.5e-3,
+        p99_rel: 0.031,
         flip_mean: 0.0291,
         default: true,
         prep_ms: 1.2345,
@@ -63,7 +64,7 @@ fn csv_round_trip() {
     let line = text.lines().nth(1).unwrap();
     assert_eq!(
         line,
-        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1,1.234,83.000,1"
+        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1,1.234,83.000,1"
     );
     let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
     assert_eq!(back.len(), 1);
@@ -71,7 +72,7 @@ fn csv_round_trip() {
     assert_eq!(back[0].csv_line(), line);
     assert_eq!(
         back[0].deterministic_part(),
-        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1"
+        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1"
     );
     // A transfer row: its parameters, `-` for the sampler's.
     let transfer = Row {
@@ -90,7 +91,7 @@ fn csv_round_trip() {
     let line = text.lines().nth(1).unwrap();
     assert_eq!(
         line,
-        "900,transfer,-,-,64,33,16,-,-,5,bilinear,f64,0.012345678901234,0.0015,0.0291,1,1.234,83.000,1"
+        "900,transfer,-,-,64,33,16,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1,1.234,83.000,1"
     );
     let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
     assert_eq!(back[0].config, transfer.config);
@@ -107,7 +108,7 @@ fn csv_round_trip() {
     };
     assert_eq!(
         tiny.csv_line(),
-        "7,lights,median-cut,64,-,-,-,-,-,5,-,f64,0.000000001,1000000000000000000000,0.0291,1,1.234,83.000,1"
+        "7,lights,median-cut,64,-,-,-,-,-,5,-,f64,0.000000001,0.031,1000000000000000000000,0.0291,1,1.234,83.000,1"
     );
     // No rows: the header alone.
     assert_eq!(csv_text(&[]), format!("{CSV_HEADER}\n"));
@@ -116,7 +117,7 @@ fn csv_round_trip() {
 /// A method's parameters must be given on its rows and `-` on every other method's.
 #[test]
 fn method_parameters_belong_to_their_method() {
-    let line = |fields: &str| format!("{CSV_HEADER}\n{fields},0.5,0.1,0.01,0,1.000,2.000,0\n");
+    let line = |fields: &str| format!("{CSV_HEADER}\n{fields},0.5,0.6,0.1,0.01,0,1.000,2.000,0\n");
     // Good rows, for reference.
     for ok in [
         "0,lights,lloyd,128,-,-,-,-,-,8,bilinear,f32",
@@ -231,11 +232,11 @@ fn reordered_columns_read_the_same() {
     let text = readme_csv();
     let rows = parse_csv(
         Path::new("a.csv"),
-        reorder(&text, 40, &(0..19).collect::<Vec<_>>()).as_bytes(),
+        reorder(&text, 40, &(0..20).collect::<Vec<_>>()).as_bytes(),
     )
     .unwrap();
     assert_eq!(rows.len(), 39);
-    let reversed: Vec<usize> = (0..19).rev().collect();
+    let reversed: Vec<usize> = (0..20).rev().collect();
     let moved = reorder(&text, 40, &reversed);
     assert!(moved.starts_with("pareto,frame_ms,"));
     let back = parse_csv(Path::new("b.csv"), moved.as_bytes()).unwrap();
@@ -243,18 +244,18 @@ fn reordered_columns_read_the_same() {
     // Written back in the fixed column order.
     assert_eq!(
         csv_text(&back),
-        reorder(&text, 40, &(0..19).collect::<Vec<_>>())
+        reorder(&text, 40, &(0..20).collect::<Vec<_>>())
     );
 }
 
 #[test]
 fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
     let text = readme_csv();
-    let all: Vec<usize> = (0..19).collect();
+    let all: Vec<usize> = (0..20).collect();
     let without = |k: usize| -> Vec<usize> { all.iter().copied().filter(|&i| i != k).collect() };
     // A missing column (pareto dropped from every line).
     assert_mentions(
-        &parse_error(&reorder(&text, 3, &without(18))),
+        &parse_error(&reorder(&text, 3, &without(19))),
         &[
             "shard-7.csv",
             "line 1",
@@ -269,14 +270,25 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
         &["shard-7.csv", "line 1", "unknown column \"max_error\""],
     );
     let mut twice = all.clone();
-    twice.push(13);
+    twice.push(14);
     assert_mentions(
         &parse_error(&reorder(&text, 3, &twice)),
         &["shard-7.csv", "line 1", "\"max_err\" appears twice"],
     );
     assert_mentions(&parse_error(""), &["shard-7.csv", "line 1", "empty file"]);
+    // A CSV from before the p99_rel column is named as such.
+    let no_p99 = reorder(&text, 3, &without(13));
+    assert_mentions(
+        &parse_error(&no_p99),
+        &[
+            "shard-7.csv",
+            "line 1",
+            "before the p99_rel column",
+            "regenerate",
+        ],
+    );
     // Bad values, in a CSV with its columns reversed: the column is named by header.
-    let reversed: Vec<usize> = (0..19).rev().collect();
+    let reversed: Vec<usize> = (0..20).rev().collect();
     let moved = reorder(&text, 4, &reversed);
     let mut lines: Vec<String> = moved.lines().map(str::to_string).collect();
     let set = |lines: &[String], line: usize, column: &str, value: &str| -> String {
@@ -314,6 +326,6 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
     lines[2] = lines[2].rsplit_once(',').unwrap().0.to_string();
     assert_mentions(
         &parse_error(&(lines.join("\n") + "\n")),
-        &["shard-7.csv", "line 3:", "18 fields, expected 19"],
+        &["shard-7.csv", "line 3:", "19 fields, expected 20"],
     );
 }

@@ -84,7 +84,10 @@ fn method_names_are_the_env_method_names() {
         assert_eq!(MethodKind::parse(&m.name()), Some(m));
     }
     assert_eq!(MethodKind::parse("light"), None);
-    let spec = EnvSpec::new("p.exr".into());
+    // `auto` names no point of the axis: the sweep makes it concrete first.
+    let mut spec = EnvSpec::new("p.exr".into());
+    assert_eq!(MethodAxis::of_spec(&spec), None);
+    spec.method = EnvMethod::Lights;
     assert_eq!(
         MethodAxis::of_spec(&spec),
         Some(MethodAxis::Lights {
@@ -101,7 +104,7 @@ fn method_names_are_the_env_method_names() {
         Some(MethodAxis::Transfer {
             azimuth: 128,
             polar: 65,
-            exact_lights: 16
+            exact_lights: 64
         })
     );
 }
