@@ -53,7 +53,7 @@ pub enum Command {
     Lights(LightsArgs),
     /// Compare two images (EXR with EXR, PNG with PNG): error metrics, FLIP, pass or fail.
     #[command(
-        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or channel layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff) and the error histogram printed.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01\n  brdfkit compare golden/fig3-13-teal-paint.exr gpu-out.exr --manifest golden/manifest.toml --entry fig3-13-teal-paint"
+        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or colour layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff; one that cannot be written is a warning, the status stays 1) and the error histogram printed.\nRGBA images (EXR or PNG) compare with RGB ones on colour; --alpha compare compares alpha too.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01\n  brdfkit compare golden/fig3-13-teal-paint.exr gpu-out.exr --manifest golden/manifest.toml --entry fig3-13-teal-paint"
     )]
     Compare(CompareArgs),
     /// Check or update the golden reference images in golden/.
