@@ -112,7 +112,9 @@ pub const MAX_LIGHTS: usize = 1 << 16;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnvSpec {
-    /// Equirectangular probe, `.exr` or `.hdr` (relative to the scene file).
+    /// Equirectangular probe, `.exr` or `.hdr` (relative to the scene file). May be left
+    /// out when `lights` is given (then it is only named, never read).
+    #[serde(default)]
     pub file: PathBuf,
     #[serde(default)]
     pub sampler: SamplerKind,
@@ -153,6 +155,13 @@ pub struct EnvSpec {
     /// Light cuts: largest cut per pixel (clusters), 1 to [`MAX_LIGHTS`].
     #[serde(default = "default_cut_max")]
     pub cut_max: usize,
+    /// A light set file (`.json` or `.csv`, as `brdfkit lights -o` writes it; relative to
+    /// the scene file) used instead of sampling the probe: its directions are world
+    /// directions as written (`rotation` must be 0; rotate with `lights --rotation`),
+    /// its irradiances are scaled by `intensity`; `sampler`, `count` and `seed` are unused.
+    /// `method = "lights"` only. See [`read_light_set`].
+    #[serde(default)]
+    pub lights: Option<PathBuf>,
 }
 
 fn default_cut_error() -> f32 {
@@ -189,6 +198,7 @@ impl EnvSpec {
     pub fn use_full_probe(&mut self) {
         self.sampler = SamplerKind::Full;
         self.method = EnvMethod::Lights;
+        self.lights = None;
     }
 
     /// An environment light from a probe file with default settings.
@@ -207,11 +217,33 @@ impl EnvSpec {
             exact_lights: DEFAULT_EXACT_LIGHTS,
             cut_error: DEFAULT_CUT_ERROR,
             cut_max: DEFAULT_CUT_MAX,
+            lights: None,
         }
     }
 
     /// Checks the fields; errors name them (`env.count`, ...).
     pub fn check(&self) -> Result<()> {
+        if self.lights.is_none() && self.file.as_os_str().is_empty() {
+            return Err(Error::field(
+                "env.file",
+                "missing: an [env] names a probe file (or a light set file in env.lights)",
+            ));
+        }
+        if self.lights.is_some() {
+            if matches!(self.method, EnvMethod::Transfer | EnvMethod::Lightcuts) {
+                return Err(Error::field(
+                    "env.lights",
+                    "a light set file is shaded with method = \"lights\" only",
+                ));
+            }
+            if self.rotation != 0.0 {
+                return Err(Error::field(
+                    "env.rotation",
+                    "must be 0 with env.lights: the file's directions are world directions \
+                     (rotate them with `brdfkit lights --rotation`)",
+                ));
+            }
+        }
         if self.count == 0 || self.count > MAX_LIGHTS {
             return Err(Error::field(
                 "env.count",
@@ -313,6 +345,14 @@ pub fn prepare_with_progress(
     progress: &Progress,
 ) -> Result<Prepared> {
     spec.check()?;
+    if let Some(file) = &spec.lights {
+        let mut lights = read_light_set(&base.join(file))?;
+        spec.scale_intensity(&mut lights);
+        return Ok(Prepared {
+            lights,
+            ..Prepared::default()
+        });
+    }
     let path = base.join(&spec.file);
     // Not a regular file (a device such as /dev/zero, a FIFO) or over the limit: refused
     // before it is read.
@@ -364,6 +404,27 @@ pub fn prepare_with_progress(
         cache_file,
         cache_rejected,
     })
+}
+
+/// Reads a light set file for `[env] lights`: `.json` ([`super::lightset_io::read_json`])
+/// or `.csv` ([`super::lightset_io::read_csv`]), by extension. Errors name the file and
+/// the field `env.lights` (wrong extension), or the file and the line or light.
+pub fn read_light_set(path: &Path) -> Result<LightSet> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let read = match ext.as_deref() {
+        Some("json") => super::lightset_io::read_json(path).map(|(_, ls)| ls),
+        Some("csv") => super::lightset_io::read_csv(path),
+        _ => {
+            return Err(Error::field(
+                "env.lights",
+                format!("{}: a light set file ends in .json or .csv", path.display()),
+            ))
+        }
+    };
+    read.map_err(|e| Error::Message(format!("env.lights: {e}")))
 }
 
 /// The light set as scene lights (directional, each with its irradiance).
