@@ -5,6 +5,7 @@
 mod acquire;
 pub mod cache;
 pub mod compare;
+pub mod export;
 mod golden;
 pub mod lights;
 pub mod lights_report;
@@ -16,6 +17,7 @@ mod turntable;
 
 pub use cache::{CacheAction, CacheArgs};
 pub use compare::CompareArgs;
+pub use export::ExportArgs;
 pub use lights::LightsArgs;
 
 use crate::aov::Aov;
@@ -113,6 +115,11 @@ renders it without the cache. The sweep reads no other cache (light sets and tab
         after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (1024 rows)\n  brdfkit sweep --class sh-glossy -o sh.csv --plot sh.png # one material class\n  brdfkit sweep --methods lights --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --methods transfer --transfer-grids 64x33 --exact-lights 0,16 -o t.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\n\nChecking a stored CSV against this build (deterministic columns, exactly; CI does this for the README's):\n  brdfkit sweep --check assets/readme/sweep.csv --shard 11/41\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
     )]
     Sweep(SweepArgs),
+    /// Write what a GPU build needs to draw a scene's frame: camera matrices, mesh, lights, material, resolved scene.
+    #[command(
+        after_help = "Example:\n  brdfkit export golden/default-160x120.toml -o gpu-scene\n\nWrites camera.json (eye, target, up, fov, near, viewport, view/projection matrices, conventions),\nmesh.obj (triangles, per-vertex normals), scene_lights.json (every light, in shading order),\nlights.json + lights.csv (an [env]'s delta lights, after rotation and intensity), material.json\n(+ material.exr for SH data sets and D-BRDFs), scene.toml (renders the same frame) and export.json.\nSee docs/export-format.md."
+    )]
+    Export(ExportArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -373,5 +380,6 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Materials => acquire::run_materials().map(|_| true),
         Command::Cache(args) => cache::run(args).map(|_| true),
         Command::Sweep(args) => sweep::run(args),
+        Command::Export(args) => export::run(args).map(|_| true),
     }
 }
