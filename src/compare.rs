@@ -14,6 +14,10 @@
 //! Thresholds follow wgpu's image tests: a FLIP mean and a FLIP value at a high percentile,
 //! each with a reason (see [`Thresholds::DEFAULT`]).
 
+mod alpha;
+
+pub use alpha::AlphaMetrics;
+
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image, Tonemap};
 use glam::Vec3;
@@ -275,21 +279,6 @@ pub struct Metrics {
     pub alpha: Option<AlphaMetrics>,
 }
 
-/// The alpha channel compared as a fourth channel ([`AlphaMode::Compare`]).
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct AlphaMetrics {
-    /// Largest absolute alpha difference.
-    pub max_abs: f32,
-    /// Pixels whose alpha differs.
-    pub differing_pixels: usize,
-    /// FLIP of alpha shown as a grey image (8-bit, `round(255 clamp(alpha))`, no tone
-    /// map): its mean and its value at the threshold's percentile.
-    pub flip_mean: f32,
-    pub flip_at_percentile: f32,
-    /// NaN or infinite alpha values in either image.
-    pub non_finite: usize,
-}
-
 /// FLIP of `expected` against `actual` (8-bit RGB display bytes): the per-pixel error
 /// and its pool.
 fn flip_of(w: u32, h: u32, expected: &[u8], actual: &[u8]) -> (Vec<f32>, nv_flip::FlipPool) {
@@ -298,42 +287,6 @@ fn flip_of(w: u32, h: u32, expected: &[u8], actual: &[u8]) -> (Vec<f32>, nv_flip
     let err = nv_flip::flip(fe, fa, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
     let pool = nv_flip::FlipPool::from_image(&err);
     (err.to_vec(), pool)
-}
-
-/// The alpha measures of two images of one size (missing alpha counts as 1).
-fn alpha_metrics(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> AlphaMetrics {
-    let n = (expected.image.width * expected.image.height) as usize;
-    let opaque = vec![1.0f32; n];
-    let e = expected.alpha.as_deref().unwrap_or(&opaque);
-    let a = actual.alpha.as_deref().unwrap_or(&opaque);
-    let grey = |v: &[f32]| -> Vec<u8> {
-        v.iter()
-            .flat_map(|&x| [image_io::display::to_u8(x); 3])
-            .collect()
-    };
-    let (_, mut pool) = flip_of(
-        expected.image.width,
-        expected.image.height,
-        &grey(e),
-        &grey(a),
-    );
-    let mut m = AlphaMetrics {
-        max_abs: 0.0,
-        differing_pixels: 0,
-        flip_mean: pool.mean(),
-        flip_at_percentile: pool.get_percentile(th.percentile, false),
-        non_finite: 0,
-    };
-    for (&x, &y) in e.iter().zip(a) {
-        if !(x.is_finite() && y.is_finite()) {
-            m.non_finite += 1;
-            continue;
-        }
-        let d = (x - y).abs();
-        m.max_abs = m.max_abs.max(d);
-        m.differing_pixels += usize::from(d != 0.0);
-    }
-    m
 }
 
 /// Compares `expected` with `actual` on their colour channels ([`AlphaMode::Ignore`]).
@@ -390,7 +343,7 @@ pub fn compare_with_alpha(
         differing_pixels: d.differing_pixels,
         histogram: d.histogram,
         non_finite: d.non_finite,
-        alpha: (alpha == AlphaMode::Compare).then(|| alpha_metrics(expected, actual, th)),
+        alpha: (alpha == AlphaMode::Compare).then(|| alpha::measure(expected, actual, th)),
     };
     Ok((metrics, flip))
 }

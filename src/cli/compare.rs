@@ -71,14 +71,14 @@ pub fn run(a: CompareArgs) -> Result<bool> {
         ));
     }
     // An explicit --diff with a wrong extension is a usage error, refused before the
-    // comparison. Where it cannot be written is only a warning (before the comparison and
-    // again if writing fails): the comparison's verdict does not depend on the diff image.
+    // comparison. Where it cannot be written is found only when a failure writes it, and
+    // is a warning then: the comparison's verdict does not depend on the diff image.
     if let Some(p) = &a.diff {
-        if let Err(e) = crate::image_io::check_output(p, &["png"], "--diff") {
-            if !p.extension().is_some_and(|x| x.eq_ignore_ascii_case("png")) {
-                return Err(e);
-            }
-            eprintln!("warning: {e}");
+        if !p.extension().is_some_and(|x| x.eq_ignore_ascii_case("png")) {
+            return Err(crate::error::Error::format(
+                p,
+                "--diff: wrong output format: the file name must end in .png",
+            ));
         }
     }
     let expected = compare::load(&a.expected)?;

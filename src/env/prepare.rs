@@ -159,7 +159,7 @@ pub struct EnvSpec {
     /// the scene file) used instead of sampling the probe: its directions are world
     /// directions as written (`rotation` must be 0; rotate with `lights --rotation`),
     /// its irradiances are scaled by `intensity`; `sampler`, `count` and `seed` are unused.
-    /// `method = "lights"` only. See [`read_light_set`].
+    /// `method = "lights"` only ([`super::lightset_io::read_by_extension`]).
     #[serde(default)]
     pub lights: Option<PathBuf>,
 }
@@ -346,7 +346,8 @@ pub fn prepare_with_progress(
 ) -> Result<Prepared> {
     spec.check()?;
     if let Some(file) = &spec.lights {
-        let mut lights = read_light_set(&base.join(file))?;
+        let mut lights = super::lightset_io::read_by_extension(&base.join(file))
+            .map_err(|e| Error::Message(format!("env.lights: {e}")))?;
         spec.scale_intensity(&mut lights);
         return Ok(Prepared {
             lights,
@@ -404,27 +405,6 @@ pub fn prepare_with_progress(
         cache_file,
         cache_rejected,
     })
-}
-
-/// Reads a light set file for `[env] lights`: `.json` ([`super::lightset_io::read_json`])
-/// or `.csv` ([`super::lightset_io::read_csv`]), by extension. Errors name the file and
-/// the field `env.lights` (wrong extension), or the file and the line or light.
-pub fn read_light_set(path: &Path) -> Result<LightSet> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let read = match ext.as_deref() {
-        Some("json") => super::lightset_io::read_json(path).map(|(_, ls)| ls),
-        Some("csv") => super::lightset_io::read_csv(path),
-        _ => {
-            return Err(Error::field(
-                "env.lights",
-                format!("{}: a light set file ends in .json or .csv", path.display()),
-            ))
-        }
-    };
-    read.map_err(|e| Error::Message(format!("env.lights: {e}")))
 }
 
 /// The light set as scene lights (directional, each with its irradiance).
