@@ -135,6 +135,11 @@ fn light_set_of(lights: &[Light]) -> LightSet {
     ls
 }
 
+/// A D-BRDF's constants and table size (thesis 2.3.6; the table itself is in the file).
+fn dbrdf_json(d: &crate::brdf::dbrdf::DBrdf) -> serde_json::Value {
+    json!({ "c": fj(d.c), "rs": fa(&d.rs.to_array()), "half_vector_texels": d.grid() })
+}
+
 /// The material's model and parameters (`material.json`); `file` names the written data
 /// file, if any.
 fn material_json(m: &Material, file: Option<&str>) -> serde_json::Value {
@@ -149,14 +154,18 @@ fn material_json(m: &Material, file: Option<&str>) -> serde_json::Value {
         Material::AshikhminShirley(a) => json!({
             "nu": fj(a.nu), "nv": fj(a.nv), "rs": fa(&a.rs.to_array()), "rd": fa(&a.rd.to_array()),
         }),
-        Material::LambertDbrdf(l) => json!({ "rd": fa(&l.rd.to_array()) }),
+        Material::LambertDbrdf(l) => json!({
+            "rd": fa(&l.rd.to_array()),
+            "lobe": dbrdf_json(&l.lobe),
+        }),
+        Material::DBrdf(d) => dbrdf_json(d),
         Material::Sh(ds) => json!({
             "bands": ds.bands(),
             "view_texels": ds.grid(),
             "coeff_lookup": ds.coeff_lookup,
             "cosine_included": ds.cosine_included(),
         }),
-        Material::DBrdf(_) | Material::Merl(_) => json!({}),
+        Material::Merl(_) => json!({}),
     };
     v["model"] = json!(m.name());
     v["file"] = json!(file);
@@ -183,7 +192,8 @@ fn pretty(v: &serde_json::Value) -> String {
 
 /// Exports the scene file `scene_path` into `dir` (created if missing). The scene is
 /// resolved first (errors name the scene file and field); nothing is written unless it
-/// resolves and its environment is exportable.
+/// resolves and its environment is exportable, and no file appears in `dir` unless all
+/// were written (they are staged in a temporary directory inside `dir`, then moved).
 pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
     let text = crate::image_io::read_regular_text(
         scene_path,
@@ -211,6 +221,15 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
         return Err(Error::format(dir, "-o: exists and is not a directory"));
     }
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "cannot create directory", e))?;
+    // Every file is written into a staging directory inside `dir` and moved beside it only
+    // when all are written: a failure leaves none of them (the staging directory is removed
+    // on drop).
+    let staging = tempfile::Builder::new()
+        .prefix(".brdfkit-export-")
+        .tempdir_in(dir)
+        .map_err(|e| Error::io(dir, "cannot create a staging directory in", e))?;
+    let final_dir = dir;
+    let dir = staging.path();
     let mut files = Vec::new();
     let put = |files: &mut Vec<PathBuf>, name: &str, text: &str| -> Result<()> {
         let p = dir.join(name);
@@ -391,5 +410,11 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
         })),
     });
     put(&mut files, "export.json", &pretty(&index))?;
-    Ok(Exported { files })
+    let mut moved = Vec::with_capacity(files.len());
+    for f in files {
+        let to = final_dir.join(f.file_name().expect("a file name"));
+        std::fs::rename(&f, &to).map_err(|e| Error::io(&to, "cannot move into place", e))?;
+        moved.push(to);
+    }
+    Ok(Exported { files: moved })
 }
