@@ -111,6 +111,14 @@ fn a_written_light_set_renders_the_bits_of_the_sampled_probe() {
         bits(&img) != bits(&sampled),
         "a brighter light left the bits unchanged"
     );
+    // --sampler/--lights on the command line sample the probe instead of the file; without
+    // a probe that is an error naming env.file.
+    let (code, _, err) = run(
+        p,
+        &["render", "sets/csv.toml", "--lights", "8", "-o", "x.exr"],
+    );
+    assert_eq!(code, 2);
+    assert!(err.contains("env.file"), "{err}");
 }
 
 #[test]
