@@ -2,13 +2,21 @@
 //! GPU build's CI relies on. The pixel measures are [`crate::metrics`]'s; FLIP is here.
 //!
 //! Design rule: like is compared with like. Two EXR files are compared as linear floats;
-//! two PNG files as their 8-bit sRGB values scaled to [0, 1]. A size, channel-layout or
-//! kind mismatch is *unusable input*, never a silent conversion. FLIP (NVIDIA's perceptual
+//! two PNG files as their 8-bit sRGB values scaled to [0, 1]. A size, colour-layout
+//! (RGB against L) or kind mismatch is *unusable input*, never a silent conversion. An
+//! alpha channel (RGBA EXR or PNG, what most GPU read-backs produce) is ignored by default
+//! ([`AlphaMode::Ignore`]): RGBA is compared with RGB on its colour channels, never
+//! premultiplied. [`AlphaMode::Compare`] compares it as a fourth channel, an image without
+//! one counting as opaque (alpha 1). FLIP (NVIDIA's perceptual
 //! difference, through the `nv-flip` crate) is computed on what a person sees: PNGs as they
 //! are, EXRs after [`crate::image_io::display_u8`] (exposure 0, ACES, sRGB).
 //!
 //! Thresholds follow wgpu's image tests: a FLIP mean and a FLIP value at a high percentile,
 //! each with a reason (see [`Thresholds::DEFAULT`]).
+
+mod alpha;
+
+pub use alpha::AlphaMetrics;
 
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image, Tonemap};
@@ -24,6 +32,29 @@ pub struct Layout {
     pub channels: String,
 }
 
+impl Layout {
+    /// The colour channels without a trailing alpha: "RGB" for "RGB" and "RGBA", "L" for
+    /// "L" and "LA".
+    pub fn colour(&self) -> &str {
+        self.channels
+            .strip_suffix('A')
+            .filter(|c| !c.is_empty())
+            .unwrap_or(&self.channels)
+    }
+}
+
+/// What `compare` does with an alpha channel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum AlphaMode {
+    /// Colour channels only; an RGBA image compares with an RGB one.
+    #[default]
+    Ignore,
+    /// Alpha as a fourth channel (an image without alpha counts as opaque, alpha 1): its
+    /// largest absolute difference is reported, and its FLIP (alpha as a grey image,
+    /// 8-bit, no tone map) must pass the same bounds as the colour's.
+    Compare,
+}
+
 /// A loaded image for comparison: RGB values (linear for EXR, encoded/255 for PNG) and,
 /// for FLIP, 8-bit display bytes.
 #[derive(Clone, Debug)]
@@ -31,6 +62,9 @@ pub struct Loaded {
     pub image: Image,
     pub display: Vec<u8>,
     pub layout: Layout,
+    /// Alpha per pixel (row-major; linear for EXR, value/255 for PNG), when the file has
+    /// an alpha channel.
+    pub alpha: Option<Vec<f32>>,
 }
 
 impl Loaded {
@@ -51,6 +85,7 @@ impl Loaded {
                 kind: "EXR",
                 channels: "RGB".into(),
             },
+            alpha: None,
         }
     }
 }
@@ -64,7 +99,8 @@ pub const PNG_MAX_EXPANSION: u64 = 1100;
 /// Bytes a PNG's decoder may allocate whatever the file's length.
 pub const PNG_ALLOC_SLACK: u64 = 16 << 20;
 
-/// Loads an EXR (R, G, B, optional A) or PNG (any 8/16-bit colour type). Errors name the
+/// Loads an EXR (R, G, B, optional A) or PNG (any 8/16-bit colour type, alpha kept in
+/// [`Loaded::alpha`]). Errors name the
 /// file: not a regular file or over [`crate::image_io::MAX_EXR_FILE_BYTES`], unreadable, unknown extension, undecodable or truncated, over [`MAX_SIDE`] per
 /// side, missing R/G/B (EXR), or a PNG whose declared size needs more memory than
 /// [`PNG_MAX_EXPANSION`] x its length + [`PNG_ALLOC_SLACK`].
@@ -108,16 +144,13 @@ pub fn load(path: &Path) -> Result<Loaded> {
                     ));
                 }
             }
-            let mut sorted = names.clone();
-            sorted.sort();
-            let channels = if sorted.iter().any(|n| n == "A") {
-                "RGBA"
-            } else {
-                "RGB"
+            let has_alpha = names.iter().any(|n| n == "A");
+            let (image, alpha) = image_io::read_exr_rgba(path)?;
+            let mut loaded = Loaded::from_linear(image);
+            if has_alpha {
+                loaded.layout.channels = "RGBA".into();
+                loaded.alpha = Some(alpha);
             }
-            .to_string();
-            let mut loaded = Loaded::from_linear(image_io::read_exr(path)?);
-            loaded.layout.channels = channels;
             Ok(loaded)
         }
         Some("png") => {
@@ -151,6 +184,12 @@ pub fn load(path: &Path) -> Result<Loaded> {
                 _ => "other",
             }
             .to_string();
+            let alpha = img.color().has_alpha().then(|| {
+                img.to_rgba8()
+                    .pixels()
+                    .map(|p| p[3] as f32 / 255.0)
+                    .collect()
+            });
             let rgb = img.to_rgb8();
             let (w, h) = rgb.dimensions();
             let display = rgb.into_raw();
@@ -169,6 +208,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
                     kind: "PNG",
                     channels,
                 },
+                alpha,
             })
         }
         _ => Err(Error::format(
@@ -235,11 +275,33 @@ pub struct Metrics {
     pub histogram: Vec<(f32, usize)>,
     /// NaN or infinite values in either image.
     pub non_finite: usize,
+    /// The alpha channel's measures under [`AlphaMode::Compare`].
+    pub alpha: Option<AlphaMetrics>,
 }
 
-/// Compares `expected` with `actual`. Fails (unusable input) when sizes, kinds or channel
-/// layouts differ.
+/// FLIP of `expected` against `actual` (8-bit RGB display bytes): the per-pixel error
+/// and its pool.
+fn flip_of(w: u32, h: u32, expected: &[u8], actual: &[u8]) -> (Vec<f32>, nv_flip::FlipPool) {
+    let fe = nv_flip::FlipImageRgb8::with_data(w, h, expected);
+    let fa = nv_flip::FlipImageRgb8::with_data(w, h, actual);
+    let err = nv_flip::flip(fe, fa, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    let pool = nv_flip::FlipPool::from_image(&err);
+    (err.to_vec(), pool)
+}
+
+/// Compares `expected` with `actual` on their colour channels ([`AlphaMode::Ignore`]).
+/// Fails (unusable input) when sizes, kinds or colour layouts differ.
 pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(Metrics, Vec<f32>)> {
+    compare_with_alpha(expected, actual, th, AlphaMode::Ignore)
+}
+
+/// [`compare`], with the alpha channel ignored or compared ([`AlphaMode`]).
+pub fn compare_with_alpha(
+    expected: &Loaded,
+    actual: &Loaded,
+    th: &Thresholds,
+    alpha: AlphaMode,
+) -> Result<(Metrics, Vec<f32>)> {
     let (e, a) = (&expected.image, &actual.image);
     if (e.width, e.height) != (a.width, a.height) {
         return Err(Error::field(
@@ -250,7 +312,9 @@ pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(M
             ),
         ));
     }
-    if expected.layout != actual.layout {
+    if expected.layout.kind != actual.layout.kind
+        || expected.layout.colour() != actual.layout.colour()
+    {
         return Err(Error::field(
             "images",
             format!(
@@ -263,11 +327,7 @@ pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(M
         ));
     }
     let d = crate::metrics::differences(e, a);
-    let fe = nv_flip::FlipImageRgb8::with_data(e.width, e.height, &expected.display);
-    let fa = nv_flip::FlipImageRgb8::with_data(a.width, a.height, &actual.display);
-    let err = nv_flip::flip(fe, fa, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    let mut pool = nv_flip::FlipPool::from_image(&err);
-    let flip = err.to_vec();
+    let (flip, mut pool) = flip_of(e.width, e.height, &expected.display, &actual.display);
     let metrics = Metrics {
         width: e.width,
         height: e.height,
@@ -283,16 +343,23 @@ pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(M
         differing_pixels: d.differing_pixels,
         histogram: d.histogram,
         non_finite: d.non_finite,
+        alpha: (alpha == AlphaMode::Compare).then(|| alpha::measure(expected, actual, th)),
     };
     Ok((metrics, flip))
 }
 
 impl Metrics {
-    /// Whether the comparison passes: no non-finite values, and both FLIP bounds hold.
+    /// Whether the comparison passes: no non-finite values, and both FLIP bounds hold (on
+    /// the colour, and on the alpha when it is compared).
     pub fn passes(&self, th: &Thresholds) -> bool {
         self.non_finite == 0
             && self.flip_mean <= th.flip_mean
             && self.flip_at_percentile <= th.flip_at_percentile
+            && self.alpha.as_ref().is_none_or(|a| {
+                a.non_finite == 0
+                    && a.flip_mean <= th.flip_mean
+                    && a.flip_at_percentile <= th.flip_at_percentile
+            })
     }
 }
 

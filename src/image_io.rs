@@ -174,17 +174,28 @@ pub fn read_regular_text(
 /// is not a regular file of at most [`MAX_EXR_FILE_BYTES`], cannot be read or decoded, or if
 /// its header declares more pixels than its length can hold ([`check_exr_declared_size`]).
 pub fn read_exr(path: &Path) -> Result<Image> {
+    read_exr_rgba(path).map(|(img, _)| img)
+}
+
+/// [`read_exr`] with the alpha channel: the image's RGB and one alpha value per pixel
+/// (row-major; 1 for every pixel of a file without an `A` channel, as the `exr` crate's
+/// RGBA reader fills it).
+pub fn read_exr_rgba(path: &Path) -> Result<(Image, Vec<f32>)> {
     let img = exr_guard::read_headers(path, MAX_EXR_FILE_BYTES, "EXR image")
         .and_then(|h| {
             h.decode(|path| {
                 exr::prelude::read_first_rgba_layer_from_file(
                     path,
-                    |res, _| Image::new(res.width() as u32, res.height() as u32),
-                    |img: &mut Image,
+                    |res, _| {
+                        let (w, h) = (res.width() as u32, res.height() as u32);
+                        (Image::new(w, h), vec![1.0f32; res.width() * res.height()])
+                    },
+                    |(img, alpha): &mut (Image, Vec<f32>),
                      pos: exr::prelude::Vec2<usize>,
-                     (r, g, b, _a): (f32, f32, f32, f32)| {
-                        let w = img.width as usize;
-                        img.pixels[pos.y() * w + pos.x()] = Vec3::new(r, g, b);
+                     (r, g, b, a): (f32, f32, f32, f32)| {
+                        let i = pos.y() * img.width as usize + pos.x();
+                        img.pixels[i] = Vec3::new(r, g, b);
+                        alpha[i] = a;
                     },
                 )
             })

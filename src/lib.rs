@@ -54,7 +54,8 @@
 //! [`sweep`] renders a grid of configurations (every `[env] method` and its parameters, on
 //! any scene or one of three material classes) against the converged reference (run time
 //! against error, Pareto front); [`turntable`] renders animated sequences; [`shard`] splits
-//! either over machines.
+//! either over machines. [`export`] writes a scene's resolved camera matrices, mesh,
+//! lights and material for a GPU build to draw the same frame.
 //!
 //! ## Layering
 //! Dependencies point one way, leaf first, with no import cycle between modules:
@@ -106,6 +107,7 @@ pub mod compare;
 pub mod conventions;
 pub mod env;
 pub mod error;
+pub mod export;
 pub mod golden;
 pub mod hash;
 pub mod image_io;

@@ -171,3 +171,107 @@ fn thresholds_come_from_the_manifest_entry_and_flags_override_them() {
         "{err}"
     );
 }
+
+/// Writes `img` with the alpha `alpha(x, y)` as an RGBA EXR (f32, the exr crate's defaults).
+fn write_rgba_exr(
+    path: &Path,
+    img: &brdfkit::image_io::Image,
+    alpha: impl Fn(usize, usize) -> f32 + Sync,
+) {
+    exr::prelude::write_rgba_file(path, img.width as usize, img.height as usize, |x, y| {
+        let p = img.get(x as u32, y as u32);
+        (p.x, p.y, p.z, alpha(x, y))
+    })
+    .unwrap();
+}
+
+#[test]
+fn rgba_read_backs_compare_with_the_rgb_original() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    for out in ["a.exr", "a.png"] {
+        let args = ["render", "--width", "48", "--height", "36", "-o", out];
+        assert_eq!(run(p, &args).0, 0);
+    }
+    let img = brdfkit::image_io::read_exr(&p.join("a.exr")).unwrap();
+    // Opaque RGBA copies of both: what a GPU read-back of the same frame writes.
+    write_rgba_exr(&p.join("opaque.exr"), &img, |_, _| 1.0);
+    let png = image::open(p.join("a.png")).unwrap().to_rgba8();
+    png.save(p.join("opaque.png")).unwrap();
+    // Half transparent (the left half alpha 0), colour unchanged.
+    write_rgba_exr(
+        &p.join("holes.exr"),
+        &img,
+        |x, _| if x < 24 { 0.0 } else { 1.0 },
+    );
+    // A seeded colour difference (every value x0.8) with alpha 1.
+    let mut dim = img.clone();
+    for px in &mut dim.pixels {
+        *px *= 0.8;
+    }
+    write_rgba_exr(&p.join("dim.exr"), &dim, |_, _| 1.0);
+
+    for (expected, actual, alpha, want) in [
+        ("a.exr", "opaque.exr", "ignore", 0),
+        ("a.exr", "opaque.exr", "compare", 0),
+        ("opaque.exr", "a.exr", "compare", 0),
+        ("a.png", "opaque.png", "ignore", 0),
+        ("a.png", "opaque.png", "compare", 0),
+        ("a.exr", "holes.exr", "ignore", 0),
+        ("a.exr", "holes.exr", "compare", 1),
+        ("a.exr", "dim.exr", "ignore", 1),
+    ] {
+        let (code, out, err) = run(
+            p,
+            &[
+                "compare", expected, actual, "--alpha", alpha, "--diff", "r.png",
+            ],
+        );
+        assert_eq!(
+            code, want,
+            "{expected} vs {actual}, alpha {alpha}: {out}{err}"
+        );
+    }
+    let (_, out, _) = run(p, &["compare", "a.exr", "holes.exr", "--alpha", "compare"]);
+    assert!(
+        out.contains("alpha: max abs error 1.000000e0"),
+        "the alpha difference is reported: {out}"
+    );
+    // Colour layouts still differ for EXR against PNG.
+    let (code, _, err) = run(p, &["compare", "a.exr", "opaque.png"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn a_failure_stays_exit_1_when_the_diff_cannot_be_written() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    assert_eq!(
+        run(
+            p,
+            &["render", "--width", "40", "--height", "30", "-o", "a.exr"]
+        )
+        .0,
+        0
+    );
+    let img = brdfkit::image_io::read_exr(&p.join("a.exr")).unwrap();
+    let mut dim = img.clone();
+    for px in &mut dim.pixels {
+        *px *= 0.8;
+    }
+    write_rgba_exr(&p.join("dim.exr"), &dim, |_, _| 1.0);
+    for diff in ["no/such/dir/d.png", "a.exr/d.png"] {
+        let (code, out, err) = run(p, &["compare", "a.exr", "dim.exr", "--diff", diff]);
+        assert_eq!(code, 1, "--diff {diff}: {out}{err}");
+        assert!(out.contains("FAIL"), "{out}");
+        assert!(
+            err.lines().count() == 1 && err.starts_with("warning") && err.contains(diff),
+            "one warning line naming the diff path: {err}"
+        );
+        assert!(!err.contains("error:"), "{err}");
+    }
+    assert!(!p.join("no").exists());
+    // The same comparison passes with the diff unwritable: nothing to write, no change.
+    let (code, _, _) = run(p, &["compare", "a.exr", "a.exr", "--diff", "no/such/d.png"]);
+    assert_eq!(code, 0);
+}

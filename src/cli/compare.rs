@@ -1,6 +1,7 @@
-//! `brdfkit compare A B`: exit 0 on pass, 1 on fail, 2 on unusable input.
+//! `brdfkit compare A B`: exit 0 on pass, 1 on fail, 2 on unusable input. A failure stays
+//! exit 1 whatever happens to the diff image: one that cannot be written is a warning line.
 
-use crate::compare::{self, Thresholds};
+use crate::compare::{self, AlphaMode, Thresholds};
 use crate::error::Result;
 use std::path::PathBuf;
 
@@ -25,9 +26,12 @@ pub struct CompareArgs {
     /// Largest passing FLIP value at --percentile (default 0.1, or the entry's).
     #[arg(long)]
     pub max_flip_at_percentile: Option<f32>,
-    /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png).
+    /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png). A diff that cannot be written is a warning; the exit status stays 1.
     #[arg(long)]
     pub diff: Option<PathBuf>,
+    /// The alpha channel of RGBA images: ignored (RGBA compares with RGB on colour), or compared as a fourth channel (an image without alpha counts as opaque).
+    #[arg(long, value_enum, default_value = "ignore")]
+    pub alpha: AlphaMode,
     /// Print the error histogram even when the comparison passes.
     #[arg(long)]
     pub histogram: bool,
@@ -66,23 +70,34 @@ pub fn run(a: CompareArgs) -> Result<bool> {
             format!("{} must be in (0, 1)", th.percentile),
         ));
     }
-    // An explicit --diff is checked before the comparison; the default (beside ACTUAL) is
-    // not, so a passing comparison in a read-only directory still passes.
+    // An explicit --diff with a wrong extension is a usage error, refused before the
+    // comparison. Where it cannot be written is found only when a failure writes it, and
+    // is a warning then: the comparison's verdict does not depend on the diff image.
     if let Some(p) = &a.diff {
-        crate::image_io::check_output(p, &["png"], "--diff")?;
+        if !p.extension().is_some_and(|x| x.eq_ignore_ascii_case("png")) {
+            return Err(crate::error::Error::format(
+                p,
+                "--diff: wrong output format: the file name must end in .png",
+            ));
+        }
     }
     let expected = compare::load(&a.expected)?;
     let actual = compare::load(&a.actual)?;
-    let (m, flip) = compare::compare(&expected, &actual, &th)?;
+    let (m, flip) = compare::compare_with_alpha(&expected, &actual, &th, a.alpha)?;
     let pass = m.passes(&th);
     println!(
-        "{} vs {} ({}x{} {} {})",
+        "{} vs {} ({}x{} {} {} vs {}, alpha {})",
         a.expected.display(),
         a.actual.display(),
         m.width,
         m.height,
         expected.layout.kind,
-        expected.layout.channels
+        expected.layout.channels,
+        actual.layout.channels,
+        match a.alpha {
+            AlphaMode::Ignore => "ignored",
+            AlphaMode::Compare => "compared",
+        }
     );
     println!("  max abs error   {:.6e}", m.max_abs);
     println!("  max rel error   {:.6e}", m.max_rel);
@@ -112,6 +127,21 @@ pub fn run(a: CompareArgs) -> Result<bool> {
             String::new()
         }
     );
+    if let Some(al) = &m.alpha {
+        println!(
+            "  alpha: max abs error {:.6e}, differing pixels {}, FLIP mean {:.6}, p{} {:.6}{}",
+            al.max_abs,
+            al.differing_pixels,
+            al.flip_mean,
+            th.percentile * 100.0,
+            al.flip_at_percentile,
+            if al.non_finite > 0 {
+                format!(", {} non-finite", al.non_finite)
+            } else {
+                String::new()
+            }
+        );
+    }
     if !pass || a.histogram {
         println!("  error histogram (largest channel difference per pixel):");
         let total = (m.width * m.height).max(1) as f64;
@@ -140,12 +170,16 @@ pub fn run(a: CompareArgs) -> Result<bool> {
                 .unwrap_or_default();
             a.actual.with_file_name(format!("{stem}.diff.png"))
         });
-        compare::write_report_image(&out, &expected, &actual, &flip)?;
-        println!(
-            "FAIL: expected | FLIP heatmap | actual written to {}",
-            out.display()
-        );
+        match compare::write_report_image(&out, &expected, &actual, &flip) {
+            Ok(()) => println!(
+                "FAIL: expected | FLIP heatmap | actual written to {}",
+                out.display()
+            ),
+            Err(e) => {
+                println!("FAIL");
+                eprintln!("warning: diff image not written: {e}");
+            }
+        }
     }
-    let _ = PathBuf::new();
     Ok(pass)
 }

@@ -5,6 +5,7 @@
 mod acquire;
 pub mod cache;
 pub mod compare;
+pub mod export;
 mod golden;
 pub mod lights;
 pub mod lights_report;
@@ -16,6 +17,7 @@ mod turntable;
 
 pub use cache::{CacheAction, CacheArgs};
 pub use compare::CompareArgs;
+pub use export::ExportArgs;
 pub use lights::LightsArgs;
 
 use crate::aov::Aov;
@@ -53,7 +55,7 @@ pub enum Command {
     Lights(LightsArgs),
     /// Compare two images (EXR with EXR, PNG with PNG): error metrics, FLIP, pass or fail.
     #[command(
-        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or channel layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff) and the error histogram printed.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01\n  brdfkit compare golden/fig3-13-teal-paint.exr gpu-out.exr --manifest golden/manifest.toml --entry fig3-13-teal-paint"
+        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or colour layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff; one that cannot be written is a warning, the status stays 1) and the error histogram printed.\nRGBA images (EXR or PNG) compare with RGB ones on colour; --alpha compare compares alpha too.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01\n  brdfkit compare golden/fig3-13-teal-paint.exr gpu-out.exr --manifest golden/manifest.toml --entry fig3-13-teal-paint"
     )]
     Compare(CompareArgs),
     /// Check or update the golden reference images in golden/.
@@ -114,6 +116,11 @@ renders it without the cache. The sweep reads no other cache (light sets and tab
         after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (1024 rows)\n  brdfkit sweep --class sh-glossy -o sh.csv --plot sh.png # one material class\n  brdfkit sweep --methods lights --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --methods transfer --transfer-grids 64x33 --exact-lights 0,16 -o t.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\n\nChecking a stored CSV against this build (deterministic columns, exactly; CI does this for the README's):\n  brdfkit sweep --check assets/readme/sweep.csv --shard 11/41\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
     )]
     Sweep(SweepArgs),
+    /// Write what a GPU build needs to draw a scene's frame: camera matrices, mesh, lights, material, resolved scene.
+    #[command(
+        after_help = "Example:\n  brdfkit export golden/default-160x120.toml -o gpu-scene\n\nWrites camera.json (eye, target, up, fov, near, viewport, view/projection matrices, conventions),\nmesh.obj (triangles, per-vertex normals), scene_lights.json (every light, in shading order),\nlights.json + lights.csv (an [env]'s delta lights, after rotation and intensity), material.json\n(+ material.exr for SH data sets and D-BRDFs), scene.toml (renders the same frame) and export.json.\nSee docs/file-formats.md."
+    )]
+    Export(ExportArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -380,5 +387,6 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Materials => acquire::run_materials().map(|_| true),
         Command::Cache(args) => cache::run(args).map(|_| true),
         Command::Sweep(args) => sweep::run(args),
+        Command::Export(args) => export::run(args).map(|_| true),
     }
 }

@@ -121,6 +121,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 "need an environment: give --env PROBE or an [env] table",
             ));
         };
+        // Sampling asked for on the command line replaces a light set file
+        // (`[env] lights`): the probe is sampled (and must be named).
+        env.lights = None;
         if let Some(s) = a.sampler {
             env.sampler = s;
         }
@@ -215,6 +218,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         ),
         // The light tree's build (~0.3 s) is not counted.
         Some(env) if env.method == crate::env::prepare::EnvMethod::Lightcuts => Progress::hidden(),
+        // A light set file is read, not sampled.
+        Some(env) if env.lights.is_some() => Progress::hidden(),
         Some(env) => {
             let config = env.sampler_config();
             let what = match config.n() {

@@ -133,7 +133,9 @@ pub const MAX_LIGHTS: usize = 1 << 16;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnvSpec {
-    /// Equirectangular probe, `.exr` or `.hdr` (relative to the scene file).
+    /// Equirectangular probe, `.exr` or `.hdr` (relative to the scene file). May be left
+    /// out when `lights` is given (then it is only named, never read).
+    #[serde(default)]
     pub file: PathBuf,
     #[serde(default)]
     pub sampler: SamplerKind,
@@ -174,6 +176,13 @@ pub struct EnvSpec {
     /// Light cuts: largest cut per pixel (clusters), 1 to [`MAX_LIGHTS`].
     #[serde(default = "default_cut_max")]
     pub cut_max: usize,
+    /// A light set file (`.json` or `.csv`, as `brdfkit lights -o` writes it; relative to
+    /// the scene file) used instead of sampling the probe: its directions are world
+    /// directions as written (`rotation` must be 0; rotate with `lights --rotation`),
+    /// its irradiances are scaled by `intensity`; `sampler`, `count` and `seed` are unused.
+    /// `method = "lights"` only ([`super::lightset_io::read_by_extension`]).
+    #[serde(default)]
+    pub lights: Option<PathBuf>,
 }
 
 fn default_cut_error() -> f32 {
@@ -210,6 +219,7 @@ impl EnvSpec {
     pub fn use_full_probe(&mut self) {
         self.sampler = SamplerKind::Full;
         self.method = EnvMethod::Lights;
+        self.lights = None;
     }
 
     /// An environment light from a probe file with default settings.
@@ -228,11 +238,33 @@ impl EnvSpec {
             exact_lights: DEFAULT_EXACT_LIGHTS,
             cut_error: DEFAULT_CUT_ERROR,
             cut_max: DEFAULT_CUT_MAX,
+            lights: None,
         }
     }
 
     /// Checks the fields; errors name them (`env.count`, ...).
     pub fn check(&self) -> Result<()> {
+        if self.lights.is_none() && self.file.as_os_str().is_empty() {
+            return Err(Error::field(
+                "env.file",
+                "missing: an [env] names a probe file (or a light set file in env.lights)",
+            ));
+        }
+        if self.lights.is_some() {
+            if matches!(self.method, EnvMethod::Transfer | EnvMethod::Lightcuts) {
+                return Err(Error::field(
+                    "env.lights",
+                    "a light set file is shaded with method = \"lights\" only",
+                ));
+            }
+            if self.rotation != 0.0 {
+                return Err(Error::field(
+                    "env.rotation",
+                    "must be 0 with env.lights: the file's directions are world directions \
+                     (rotate them with `brdfkit lights --rotation`)",
+                ));
+            }
+        }
         if self.count == 0 || self.count > MAX_LIGHTS {
             return Err(Error::field(
                 "env.count",
@@ -334,6 +366,15 @@ pub fn prepare_with_progress(
     progress: &Progress,
 ) -> Result<Prepared> {
     spec.check()?;
+    if let Some(file) = &spec.lights {
+        let mut lights = super::lightset_io::read_by_extension(&base.join(file))
+            .map_err(|e| Error::Message(format!("env.lights: {e}")))?;
+        spec.scale_intensity(&mut lights);
+        return Ok(Prepared {
+            lights,
+            ..Prepared::default()
+        });
+    }
     let path = base.join(&spec.file);
     // Not a regular file (a device such as /dev/zero, a FIFO) or over the limit: refused
     // before it is read.

@@ -95,8 +95,13 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
     if any_missing_normals {
         mesh.compute_smooth_normals();
     } else {
+        // A normal already of unit length (within f32 rounding) is kept as written, so a
+        // mesh written with its normals (`brdfkit export`) reads back bit for bit;
+        // normalising again could move it by an ulp.
         for n in &mut mesh.normals {
-            *n = n.try_normalize().unwrap_or(Vec3::Y);
+            if (n.length_squared() - 1.0).abs() > 4.0 * f32::EPSILON {
+                *n = n.try_normalize().unwrap_or(Vec3::Y);
+            }
         }
     }
     Ok(mesh)

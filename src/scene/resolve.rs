@@ -287,7 +287,8 @@ impl Scene {
             let prepared = prepare::prepare_with_progress(spec, base, cache.path(), progress)?;
             lights.extend(prepare::to_scene_lights(&prepared.lights));
             env = Some(EnvSummary {
-                file: base.join(&spec.file),
+                // The light set file when `[env] lights` names one (the probe is not read).
+                file: base.join(spec.lights.as_ref().unwrap_or(&spec.file)),
                 lights: prepared.lights.len(),
                 cache_hit: prepared.cache_hit,
                 cache_rejected: prepared.cache_rejected,

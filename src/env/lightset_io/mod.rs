@@ -83,6 +83,9 @@ pub enum LightSetIoError {
     },
     #[error("{path}: invalid light set JSON: {message}")]
     Json { path: PathBuf, message: String },
+    /// A name [`read_by_extension`] cannot read (not `.json` or `.csv`).
+    #[error("{path}: a light set file name ends in .json or .csv")]
+    Extension { path: PathBuf },
     #[error("{path}:{line}: field {field}: {message}")]
     Csv {
         path: PathBuf,
@@ -174,6 +177,22 @@ pub fn read_json(path: &Path) -> Result<(LightSetHeader, LightSet), LightSetIoEr
         });
     }
     Ok((file.header, file.lights))
+}
+
+/// Reads a light set by its extension: `.json` ([`read_json`], header dropped) or `.csv`
+/// ([`read_csv`]); any other name is [`LightSetIoError::Extension`].
+pub fn read_by_extension(path: &Path) -> Result<LightSet, LightSetIoError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("json") => read_json(path).map(|(_, ls)| ls),
+        Some("csv") => read_csv(path),
+        _ => Err(LightSetIoError::Extension {
+            path: path.to_path_buf(),
+        }),
+    }
 }
 
 /// Writes a light set as CSV (atomically).
