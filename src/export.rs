@@ -200,15 +200,26 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
         crate::scene::MAX_SCENE_BYTES,
         "scene file",
     )?;
-    let file = SceneFile::parse(&text).map_err(|m| Error::format(scene_path, m))?;
+    let mut file = SceneFile::parse(&text).map_err(|m| Error::format(scene_path, m))?;
     let base = scene_path.parent().unwrap_or(Path::new("."));
+    // `auto` made concrete: it may stand for a transfer table or light cuts.
+    let auto = file.env.as_ref().is_some_and(|e| e.method == EnvMethod::Auto);
+    file.resolve_env_method();
     if let Some(env) = &file.env {
         if matches!(env.method, EnvMethod::Transfer | EnvMethod::Lightcuts) {
-            return Err(Error::format(
-                scene_path,
+            let why = if auto {
+                format!(
+                    "env.method: \"auto\" is \"{}\" for this material, and export writes delta \
+                     lights; a transfer table or light tree is not a light set (state method = \
+                     \"lights\" with a sampler and count)",
+                    env.method.name()
+                )
+            } else {
                 "env.method: export writes delta lights; a transfer table or light tree is \
-                 not a light set (use method = \"lights\")",
-            ));
+                 not a light set (use method = \"lights\")"
+                    .to_string()
+            };
+            return Err(Error::format(scene_path, why));
         }
     }
     let scene = Scene::resolve(&file, base).map_err(|e| match e {

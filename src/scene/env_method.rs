@@ -19,7 +19,7 @@
 //! line.
 
 use super::MaterialSpec;
-use crate::env::prepare::EnvMethod;
+use crate::env::prepare::{EnvMethod, EnvSpec};
 use crate::library::{self, Representation};
 
 /// The method `auto` stands for under `material` (module doc).
@@ -36,9 +36,11 @@ pub fn auto_method(material: &MaterialSpec) -> EnvMethod {
     }
 }
 
-/// `method`, with `auto` replaced by [`auto_method`] of `material`.
-pub fn concrete_method(method: EnvMethod, material: &MaterialSpec) -> EnvMethod {
-    match method {
+/// The `[env]` table's method, with `auto` replaced by [`auto_method`] of `material`, or by
+/// `lights` when the table reads a light set file (`lights = "set.json"`: delta lights).
+pub fn concrete_method(env: &EnvSpec, material: &MaterialSpec) -> EnvMethod {
+    match env.method {
+        EnvMethod::Auto if env.lights.is_some() => EnvMethod::Lights,
         EnvMethod::Auto => auto_method(material),
         m => m,
     }
@@ -51,7 +53,7 @@ mod tests {
 
     fn method_of(toml: &str) -> EnvMethod {
         let f = SceneFile::parse(toml).unwrap();
-        concrete_method(f.env.as_ref().unwrap().method, &f.material)
+        concrete_method(f.env.as_ref().unwrap(), &f.material)
     }
 
     #[test]
@@ -92,6 +94,9 @@ mod tests {
         let text = "[material]\nkind = \"lambert\"\n[env]\nfile = \"p.exr\"\ncount = 64\nmethod = \"transfer\"\n";
         assert_eq!(method_of(text), EnvMethod::Transfer);
         let text = "[env]\nfile = \"p.exr\"\nmethod = \"auto\"\ncount = 64\n";
+        assert_eq!(method_of(text), EnvMethod::Lights);
+        // A light set file is delta lights.
+        let text = "[material]\nkind = \"lambert\"\n[env]\nlights = \"set.json\"\n";
         assert_eq!(method_of(text), EnvMethod::Lights);
     }
 }

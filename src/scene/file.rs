@@ -205,7 +205,7 @@ impl SceneFile {
     /// material ([`super::env_method::auto_method`]); other methods are kept.
     pub fn resolve_env_method(&mut self) {
         if let Some(env) = self.env.as_mut() {
-            env.method = super::env_method::concrete_method(env.method, &self.material);
+            env.method = super::env_method::concrete_method(env, &self.material);
         }
     }
 

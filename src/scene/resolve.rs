@@ -227,7 +227,7 @@ impl Scene {
         let mut lightcuts = None;
         // `auto` replaced by the method it stands for under this material.
         let env_spec = file.env.clone().map(|mut s| {
-            s.method = super::env_method::concrete_method(s.method, &file.material);
+            s.method = super::env_method::concrete_method(&s, &file.material);
             s
         });
         if let Some(spec) = env_spec
