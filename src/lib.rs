@@ -124,3 +124,4 @@ pub mod shade;
 pub mod shard;
 pub mod sweep;
 pub mod turntable;
+pub mod view;

@@ -13,6 +13,7 @@ mod render;
 pub mod source;
 mod sweep;
 mod turntable;
+mod view;
 
 pub use cache::{CacheAction, CacheArgs};
 pub use compare::CompareArgs;
@@ -113,6 +114,32 @@ renders it without the cache. The sweep reads no other cache (light sets and tab
         after_help = "Examples:\n  brdfkit sweep -o sweep.csv --plot sweep.png            # the default sweep (1024 rows)\n  brdfkit sweep --class sh-glossy -o sh.csv --plot sh.png # one material class\n  brdfkit sweep --methods lights --samplers median-cut,lloyd --counts 16,64,256 --orders 5,8 -o small.csv\n  brdfkit sweep --methods transfer --transfer-grids 64x33 --exact-lights 0,16 -o t.csv\n  brdfkit sweep --precisions f32,f64 --lookups bilinear -o prec.csv\n  brdfkit sweep --scene my.toml --plot my.png             # any scene with an [env]\n\nMany machines (shards are 0-based: I/N with 0 <= I < N; row k goes to shard k % N):\n  brdfkit sweep --shard 0/2 -o s0.csv      # on one machine\n  brdfkit sweep --shard 1/2 -o s1.csv      # on another\n  brdfkit sweep --merge s0.csv s1.csv -o sweep.csv --plot sweep.png\nThe merged CSV is what one run writes (rows by index, the pareto column recomputed over all rows).\n\nChecking a stored CSV against this build (deterministic columns, exactly; CI does this for the README's):\n  brdfkit sweep --check assets/readme/sweep.csv --shard 11/41\nIn a Slurm array job (#SBATCH --array=0-3): --shard \"$SLURM_ARRAY_TASK_ID/4\"."
     )]
     Sweep(SweepArgs),
+    /// Open a window on a scene: orbit, zoom, swap material and probe, watch it refine (X11).
+    #[command(
+        after_help = "Examples:\n  brdfkit view                                  # the default scene\n  brdfkit view --env assets/probes/city.exr --material teal-paint\n  brdfkit view --script s.txt --screenshot shot.png --write-scene shot.toml   # driven, then `brdfkit render shot.toml` gives the same pixels\n\nControls: drag orbit, wheel zoom, shift+drag turn the environment, m/n material, p probe, e method,\n]/[ lights x2 / /2, b SH band skip, l SH lookup, +/- exposure, a AOV, h status line, r reset, q/Esc quit.\nScript lines (--script): `MS drag DX DY`, `MS shift-drag DX`, `MS wheel N`, `MS key K`, `MS resize W H`, `MS quit`\n(MS: milliseconds from the first frame request; see src/view/script.rs). --stats prints frames per second\nand refinement times at the end. Render options set the scene as for `render`; --width/--height size the window."
+    )]
+    View(ViewArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct ViewArgs {
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Drive the viewer from a file of timed input events (see below); it quits after the last.
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+    /// At the end, write the last frame (without the status line) as a PNG, as `render` writes it.
+    #[arg(long, value_name = "PNG")]
+    pub screenshot: Option<PathBuf>,
+    /// At the end, write the last frame's scene file: `brdfkit render FILE` gives the same pixels.
+    #[arg(long, value_name = "TOML")]
+    pub write_scene: Option<PathBuf>,
+    /// Another probe for P to cycle through (repeatable).
+    #[arg(long, value_name = "PROBE")]
+    pub probe: Vec<PathBuf>,
+    /// Refinement steps while the view is still (0: none): 4x the lights each, the last with nothing dropped and every SH band.
+    #[arg(long, default_value_t = crate::view::refine::DEFAULT_STEPS)]
+    pub refine_steps: usize,
 }
 
 #[derive(clap::Args, Debug)]
@@ -373,5 +400,6 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Materials => acquire::run_materials().map(|_| true),
         Command::Cache(args) => cache::run(args).map(|_| true),
         Command::Sweep(args) => sweep::run(args),
+        Command::View(args) => view::run(args).map(|_| true),
     }
 }
