@@ -54,12 +54,13 @@
 //! [`sweep`] renders a grid of configurations (every `[env] method` and its parameters, on
 //! any scene or one of three material classes) against the converged reference (run time
 //! against error, Pareto front); [`turntable`] renders animated sequences; [`shard`] splits
-//! either over machines.
+//! either over machines. [`view`] is the interactive viewer (`brdfkit view`: a window,
+//! winit + softbuffer, each frame [`render::render`] of a scene file it can write out).
 //!
 //! ## Layering
 //! Dependencies point one way, leaf first, with no import cycle between modules:
 //! [`conventions`] -> [`brdf`] -> [`sh`] -> [`material`] -> [`kernel`] -> [`shade`] ->
-//! [`render`] -> tools ([`golden`], [`sweep`], [`turntable`]) -> [`cli`]; off that path,
+//! [`render`] -> tools ([`golden`], [`sweep`], [`turntable`], [`view`]) -> [`cli`]; off that path,
 //! [`acquire`] (after [`sh`]) -> [`library`] (after [`material`], which it builds) ->
 //! [`scene`] (which resolves a library name). A file format sits beside the type it stores
 //! ([`sh::file`], [`brdf::dbrdf::file`], [`env::lightset_io`]); a model never names a

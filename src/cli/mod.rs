@@ -134,6 +134,12 @@ pub struct ViewArgs {
     /// At the end, write the last frame's scene file: `brdfkit render FILE` gives the same pixels.
     #[arg(long, value_name = "TOML")]
     pub write_scene: Option<PathBuf>,
+    /// At the end, write the window as shown (frame, probe background, status line) as a PNG.
+    #[arg(long, value_name = "PNG")]
+    pub window_shot: Option<PathBuf>,
+    /// Show the probe behind the object from the start (key g; display only, never in --screenshot).
+    #[arg(long)]
+    pub background: bool,
     /// Another probe for P to cycle through (repeatable).
     #[arg(long, value_name = "PROBE")]
     pub probe: Vec<PathBuf>,

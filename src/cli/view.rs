@@ -56,6 +56,9 @@ pub fn run(a: ViewArgs) -> Result<()> {
     if let Some(p) = &a.screenshot {
         image_io::check_output(p, &["png"], "--screenshot")?;
     }
+    if let Some(p) = &a.window_shot {
+        image_io::check_output(p, &["png"], "--window-shot")?;
+    }
     if let Some(p) = &a.write_scene {
         image_io::check_output(p, &["toml"], "--write-scene")?;
     }
@@ -77,6 +80,8 @@ pub fn run(a: ViewArgs) -> Result<()> {
         script,
         screenshot: a.screenshot,
         write_scene: a.write_scene,
+        window_shot: a.window_shot,
+        background: a.background,
         stats: r.stats,
         refine_steps: a.refine_steps,
         cache: if r.no_cache {

@@ -54,6 +54,8 @@ pub struct App {
     /// Quit once the current view's exact frame is shown (end of a script).
     quitting: bool,
     counters: Counters,
+    /// The last window contents presented (for `--window-shot`).
+    presented: Option<(u32, u32, Vec<u32>)>,
     /// When the status line is next redrawn for its frames/s.
     status_tick: Instant,
     /// The result `run` returns.
@@ -93,6 +95,7 @@ impl App {
             quitting: false,
             counters: Counters::new(Instant::now()),
             status_tick: Instant::now(),
+            presented: None,
             outcome: Ok(()),
         }
     }
@@ -108,6 +111,7 @@ impl App {
             aov: self.state.aov,
             preview: true,
             refine: false,
+            background: self.state.background,
         });
     }
 
@@ -133,7 +137,9 @@ impl App {
     /// The status lines: frame time, frames/s, size, material, method, lights, step.
     fn status(&self) -> Vec<String> {
         let mut lines = Vec::new();
-        let method = match &self.state.file.env {
+        // The method and light count of the frame shown (a refinement step's, when still).
+        let file = self.shown.as_ref().map_or(&self.state.file, |f| &f.file);
+        let method = match &file.env {
             None => "scene lights".to_string(),
             Some(e) => {
                 let probe = e.file.file_name().unwrap_or_default().to_string_lossy();
@@ -154,15 +160,15 @@ impl App {
                     (true, true) => format!("step {}/{}", f.step, self.cfg.refine_steps),
                 };
                 lines.push(format!(
-                    "{:.1} ms  {} fps  {}x{}  {}  {}  {} lights  {}{}",
+                    "{:.1} ms  {} fps  {}x{}  {}  {}  {}  {} lights{}",
                     f.frame_ms,
                     self.counters.fps_now(),
                     f.image.width,
                     f.image.height,
+                    step,
                     self.state.material_name(),
                     method,
                     f.lights,
-                    step,
                     f.aov.map(|a| format!("  aov {a:?}")).unwrap_or_default()
                 ));
             }
@@ -215,6 +221,9 @@ impl App {
             let scale = if w >= 1200 { 2 } else { 1 };
             overlay::draw_lines(&mut buf, w, h, &lines, scale);
         }
+        if self.cfg.window_shot.is_some() {
+            self.presented = Some((w as u32, h as u32, buf.to_vec()));
+        }
         let _ = buf.present();
     }
 
@@ -231,6 +240,14 @@ impl App {
     }
 
     fn write_outputs(&self) -> Result<()> {
+        if let (Some(p), Some((w, h, px))) = (&self.cfg.window_shot, &self.presented) {
+            let rgb = px
+                .iter()
+                .flat_map(|&c| [(c >> 16) as u8, (c >> 8) as u8, c as u8])
+                .collect();
+            crate::image_io::write_png_bytes(p, *w, *h, rgb)?;
+            eprintln!("wrote {} ({w}x{h}, the window)", p.display());
+        }
         if self.cfg.screenshot.is_none() && self.cfg.write_scene.is_none() {
             return Ok(());
         }
@@ -417,8 +434,13 @@ impl ApplicationHandler<Reply> for App {
                         self.counters.refined(f.step, self.last_change.elapsed());
                     }
                 }
-                self.counters
-                    .frame(f.frame_ms, f.step, f.image.width, f.image.height);
+                self.counters.frame(
+                    f.frame_ms,
+                    f.render_ms,
+                    f.step,
+                    f.image.width,
+                    f.image.height,
+                );
                 self.shown = Some(f);
                 self.redraw();
             }
@@ -510,6 +532,7 @@ impl App {
             aov: self.state.aov,
             preview: false,
             refine: true,
+            background: self.state.background,
         });
     }
 }

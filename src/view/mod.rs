@@ -18,6 +18,7 @@
 //! - `refine.rs`: the refinement steps of a still view.
 //! - `script.rs`: `--script` files of timed input.
 //! - `overlay.rs`: the status line.
+//! - `background.rs`: the probe behind the object (display only).
 //! - `stats.rs`: the counters `--stats` prints (frames per second, refinement times).
 //! - `scene_toml.rs`: a frame's scene file as TOML.
 //!
@@ -26,6 +27,7 @@
 //! Wayland desktops run it through XWayland). Without a display `run` fails with one line.
 
 mod app;
+mod background;
 pub mod input;
 mod overlay;
 pub mod refine;
@@ -54,8 +56,13 @@ pub struct ViewConfig {
     pub script: Option<script::Script>,
     /// Where the last frame is written at the end (PNG, without the status line).
     pub screenshot: Option<PathBuf>,
+    /// Where the last window contents (frame, background, status line) are written at the
+    /// end (PNG).
+    pub window_shot: Option<PathBuf>,
     /// Where the last frame's scene file is written at the end (TOML).
     pub write_scene: Option<PathBuf>,
+    /// Show the probe behind the object from the start (display only).
+    pub background: bool,
     /// Print the counters at the end.
     pub stats: bool,
     /// Refinement steps after the fast frame ([`refine`]).
@@ -87,7 +94,8 @@ pub fn run(cfg: ViewConfig) -> Result<()> {
         f.mesh.segments.clamp(1, 256),
         std::path::Path::new("."),
     )?);
-    let state = state::ViewState::new(cfg.file.clone(), mesh, &cfg.probes, cfg.aov);
+    let state = state::ViewState::new(cfg.file.clone(), mesh, &cfg.probes, cfg.aov)
+        .with_background(cfg.background);
     let mut app = app::App::new(cfg, state, event_loop.create_proxy());
     event_loop
         .run_app(&mut app)

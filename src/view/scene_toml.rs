@@ -33,8 +33,10 @@ mod tests {
 
     #[test]
     fn the_written_file_reads_back_as_the_same_scene_file() {
-        let mut f = SceneFile::default();
-        f.env = Some(EnvSpec::new("/probes/city.exr".into()));
+        let mut f = SceneFile {
+            env: Some(EnvSpec::new("/probes/city.exr".into())),
+            ..SceneFile::default()
+        };
         f.env.as_mut().unwrap().rotation = 12.5;
         f.camera = Some(CameraSpec {
             position: Some([0.1, 1.0 / 3.0, 7.0]),

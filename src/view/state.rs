@@ -152,6 +152,15 @@ impl ViewState {
         s
     }
 
+    /// This state with the probe background on or off, also after a reset.
+    pub fn with_background(mut self, on: bool) -> ViewState {
+        self.background = on;
+        if let Some(o) = self.opened.as_mut() {
+            o.background = on;
+        }
+        self
+    }
+
     /// The render size (pixels), the window's inner size.
     pub fn set_size(&mut self, width: u32, height: u32) {
         self.file.render.width = width.clamp(1, crate::scene::MAX_SIDE);
@@ -289,10 +298,7 @@ impl ViewState {
                         .and_then(|i| all.get(i + 1).copied()),
                 };
             }
-            Action::ToggleBackground => {
-                self.background = !self.background;
-                return Ok(false);
-            }
+            Action::ToggleBackground => self.background = !self.background,
             Action::ToggleOverlay => {
                 self.overlay = !self.overlay;
                 return Ok(false);

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 struct Shown {
     at: Duration,
     frame_ms: f64,
+    render_ms: f64,
     step: usize,
     width: u32,
     height: u32,
@@ -34,10 +35,11 @@ impl Counters {
     }
 
     /// Counts a frame shown now.
-    pub fn frame(&mut self, frame_ms: f64, step: usize, width: u32, height: u32) {
+    pub fn frame(&mut self, frame_ms: f64, render_ms: f64, step: usize, width: u32, height: u32) {
         self.shown.push(Shown {
             at: self.start.elapsed(),
             frame_ms,
+            render_ms,
             step,
             width,
             height,
@@ -68,7 +70,9 @@ impl Counters {
         for s in 0..secs {
             let f: Vec<&Shown> = self.shown.iter().filter(|x| x.at.as_secs() == s).collect();
             let fast: Vec<&&Shown> = f.iter().filter(|x| x.step == 0).collect();
-            let mean = |v: &[&&Shown]| v.iter().map(|x| x.frame_ms).sum::<f64>() / v.len() as f64;
+            let mean = |v: &[&&Shown], ms: fn(&Shown) -> f64| {
+                v.iter().map(|x| ms(x)).sum::<f64>() / v.len() as f64
+            };
             let size = f
                 .first()
                 .map(|x| format!("{}x{}", x.width, x.height))
@@ -81,7 +85,11 @@ impl Counters {
                 if fast.is_empty() {
                     String::new()
                 } else {
-                    format!(", mean frame {:.1} ms", mean(&fast))
+                    format!(
+                        ", mean frame {:.1} ms of which render {:.1} ms",
+                        mean(&fast, |x| x.frame_ms),
+                        mean(&fast, |x| x.render_ms)
+                    )
                 },
                 f.len() - fast.len(),
             );

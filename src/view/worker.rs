@@ -11,6 +11,7 @@
 //! that keeps a shift-drag fast. Its frame is marked not exact, and the viewer asks for the
 //! exact one when the view is still.
 
+use super::background::Background;
 use crate::aov::Aov;
 use crate::conventions::rotate_about_up;
 use crate::env::prepare::CacheDir;
@@ -37,6 +38,8 @@ pub struct Job {
     pub preview: bool,
     /// Whether the refinement worker renders it (echoed in the reply).
     pub refine: bool,
+    /// Show the probe behind the object ([`super::background`]; display only).
+    pub background: bool,
 }
 
 /// A rendered frame.
@@ -114,8 +117,9 @@ pub fn spawn(
                 .build()
                 .expect("thread pool");
             let mut kept: Option<Kept> = None;
+            let mut probe: Option<Background> = None;
             while let Some(job) = newest(&rx) {
-                let reply = match pool.install(|| run_job(&job, &cache, &mut kept)) {
+                let reply = match pool.install(|| run_job(&job, &cache, &mut kept, &mut probe)) {
                     Ok(frame) => Reply::Frame(Box::new(frame)),
                     Err(message) => Reply::Failed {
                         generation: job.generation,
@@ -146,6 +150,7 @@ fn run_job(
     job: &Job,
     cache: &CacheDir,
     kept: &mut Option<Kept>,
+    probe: &mut Option<Background>,
 ) -> std::result::Result<Frame, String> {
     let start = Instant::now();
     let key = scene_key(&job.file);
@@ -195,7 +200,10 @@ fn run_job(
     let t = Instant::now();
     let image = render::render(&scene, &opts).image;
     let render_ms = t.elapsed().as_secs_f64() * 1e3;
-    let pixels = display_pixels(&image, job.aov, &job.file);
+    let mut pixels = display_pixels(&image, job.aov, &job.file);
+    if let (true, None, Some(env)) = (job.background, job.aov, &job.file.env) {
+        Background::of(probe, env)?.paint(&scene, env.intensity, &job.file.output, &mut pixels);
+    }
     Ok(Frame {
         generation: job.generation,
         step: job.step,
@@ -221,9 +229,10 @@ pub fn display_pixels(img: &Image, aov: Option<Aov>, file: &SceneFile) -> Vec<u3
             .map(|c| pack(c[0], c[1], c[2]))
             .collect(),
         None => {
+            use rayon::prelude::*;
             let (e, t) = (file.output.exposure, file.output.tonemap);
             img.pixels
-                .iter()
+                .par_iter()
                 .map(|p| {
                     pack(
                         display_u8(p.x, e, t),
