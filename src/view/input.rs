@@ -1,6 +1,6 @@
 //! Input mapping: what a key, a drag or a wheel notch does, as one [`Action`] each.
 //!
-//! The window's events ([`super::app`]) and the script's lines ([`super::script`]) both go
+//! The window's events (`app.rs`) and the script's lines ([`super::script`]) both go
 //! through here, so a script drives the viewer exactly as a person does. The controls table
 //! in the README is this file's [`CONTROLS`].
 
