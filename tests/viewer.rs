@@ -203,6 +203,69 @@ fn scripted_orbit_material_and_probe_change_give_the_pixels_render_gives() {
 }
 
 #[test]
+fn a_still_view_refines_to_the_frame_render_gives_for_its_last_step() {
+    let Some(exe) = xvfb_path() else {
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "tests/viewer.rs: the refinement test did not run: Xvfb is not installed (Debian package xvfb)"
+        );
+        return;
+    };
+    let x = start_xvfb(&exe);
+    let tmp = tempfile::tempdir().unwrap();
+    let cache = tmp.path().join("cache");
+    let script = tmp.path().join("script.txt");
+    std::fs::write(&script, "0 drag 20 0\n100 await-refined\n").unwrap();
+    let (shot, scene) = (tmp.path().join("shot.png"), tmp.path().join("shot.toml"));
+    let o = Command::new(BIN)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "view",
+            "--width",
+            "128",
+            "--height",
+            "96",
+            "--refine-steps",
+            "1",
+        ])
+        .args(["--env", "assets/probes/city.exr", "--sampler", "median-cut"])
+        .args(["--lights", "32", "--material", "blue-silk"])
+        .args(["--script".as_ref(), script.as_os_str()])
+        .args(["--screenshot".as_ref(), shot.as_os_str()])
+        .args(["--write-scene".as_ref(), scene.as_os_str()])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("BRDFKIT_CACHE_DIR", &cache)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "view failed: {err}");
+    // The last step (refine.rs): 4x the lights, nothing dropped, every SH band.
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let file = brdfkit::scene::SceneFile::parse(&text).unwrap();
+    assert_eq!(file.env.as_ref().unwrap().count, 128);
+    assert_eq!(file.render.drop_lights, 0.0);
+    assert!(!file.render.band_skip);
+    let viewed = rgb(&shot);
+    let rendered = render(&scene, &tmp.path().join("render.png"), &cache);
+    assert!(
+        viewed == rendered,
+        "the refined frame differs from `brdfkit render`"
+    );
+    // Seeded fault: the fast frame (the step-0 document) is a different image, so a viewer
+    // that stopped refining would fail the comparison above.
+    let fast = tmp.path().join("fast.toml");
+    let fast_text = text
+        .replace("count = 128", "count = 32")
+        .replace("band_skip = false", "band_skip = true");
+    assert_ne!(fast_text, text);
+    std::fs::write(&fast, fast_text).unwrap();
+    let unrefined = render(&fast, &tmp.path().join("fast.png"), &cache);
+    assert!(viewed != unrefined, "refinement changed no pixel");
+}
+
+#[test]
 fn without_a_display_view_fails_with_one_line() {
     let o = Command::new(BIN)
         .args(["view", "--width", "32", "--height", "24"])

@@ -51,6 +51,8 @@ pub struct App {
     script: Option<Script>,
     next_event: usize,
     started: Option<Instant>,
+    /// How long `await-refined` lines have held the script's clock.
+    held: Duration,
     /// Quit once the current view's exact frame is shown (end of a script).
     quitting: bool,
     counters: Counters,
@@ -93,6 +95,7 @@ impl App {
             next_event: 0,
             started: None,
             quitting: false,
+            held: Duration::ZERO,
             counters: Counters::new(Instant::now()),
             status_tick: Instant::now(),
             presented: None,
@@ -308,8 +311,13 @@ impl App {
         let events = self.script.as_ref()?.events.clone();
         while self.next_event < events.len() && !self.quitting {
             let (at, input) = &events[self.next_event];
-            if started + *at > Instant::now() {
-                return Some(started + *at);
+            if started + *at + self.held > Instant::now() {
+                return Some(started + *at + self.held);
+            }
+            if *input == ScriptInput::AwaitRefined && !self.refined() {
+                // Held: the script's clock stops until the last step is shown.
+                self.held = Instant::now() - (started + *at);
+                return Some(Instant::now() + Duration::from_millis(20));
             }
             self.next_event += 1;
             match input {
@@ -319,6 +327,7 @@ impl App {
                         let _ = w.request_inner_size(PhysicalSize::new(*width, *height));
                     }
                 }
+                ScriptInput::AwaitRefined => {}
                 ScriptInput::Quit => self.quitting = true,
             }
         }
@@ -523,6 +532,18 @@ impl ApplicationHandler<Reply> for App {
 }
 
 impl App {
+    /// Whether the current view's last refinement step is shown.
+    fn refined(&self) -> bool {
+        let steps = if self.state.aov.is_some() {
+            0
+        } else {
+            self.cfg.refine_steps
+        };
+        self.shown
+            .as_ref()
+            .is_some_and(|f| f.generation == self.generation && f.exact && f.step == steps)
+    }
+
     fn send_refine(&mut self, step: usize) {
         self.refine_busy = true;
         let _ = self.refine.send(Job {

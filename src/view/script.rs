@@ -12,6 +12,7 @@
 //! | `100 wheel N` | N wheel notches (positive: towards the target) |
 //! | `100 key K` | key K of the controls table (`m`, `p`, `]`, `escape`, ...) |
 //! | `100 resize W H` | ask the window for an inner size of W x H pixels |
+//! | `100 await-refined` | hold the script until the view's last refinement step is shown |
 //! | `100 quit` | stop reading; quit once the current view's frame is shown |
 //!
 //! After the last line the viewer quits as at `quit`: it waits for the frame of the final
@@ -27,7 +28,12 @@ use std::time::Duration;
 #[derive(Clone, Debug, PartialEq)]
 pub enum ScriptInput {
     Act(Action),
-    Resize { width: u32, height: u32 },
+    Resize {
+        width: u32,
+        height: u32,
+    },
+    /// Wait (the script's clock included) until the last refinement step is shown.
+    AwaitRefined,
     Quit,
 }
 
@@ -106,10 +112,11 @@ impl Script {
                         2,
                     )
                 }
+                "await-refined" => (ScriptInput::AwaitRefined, 0),
                 "quit" => (ScriptInput::Quit, 0),
                 other => {
                     return Err(err(format!(
-                        "unknown action {other:?} (drag, shift-drag, wheel, key, resize, quit)"
+                        "unknown action {other:?} (drag, shift-drag, wheel, key, resize, await-refined, quit)"
                     )))
                 }
             };
@@ -129,10 +136,11 @@ mod tests {
     #[test]
     fn parses_each_action_and_names_bad_lines() {
         let s = Script::parse(
-            "# orbit then swap\n0 drag 10 -5\n10 shift-drag 4\n20 wheel 2\n30 key m\n40 resize 320 240\n50 quit\n",
+            "# orbit then swap\n0 drag 10 -5\n10 shift-drag 4\n20 wheel 2\n30 key m\n40 resize 320 240\n45 await-refined\n50 quit\n",
         )
         .unwrap();
-        assert_eq!(s.events.len(), 6);
+        assert_eq!(s.events.len(), 7);
+        assert_eq!(s.events[5].1, ScriptInput::AwaitRefined);
         assert_eq!(
             s.events[0],
             (
