@@ -6,6 +6,11 @@
 //! change, the refinement one for the still view), and their frames come back as user
 //! events, so input is handled while a frame renders and closing the window ends the
 //! process at once (workers are not waited for).
+//!
+//! Why this file stays whole (~550 lines): it is one struct, [`App`], and winit's
+//! `ApplicationHandler` on it; every method reads and changes the same fields (the view's
+//! generation, the frame shown, the refinement in flight, the script's clock), and split
+//! apart they would each need all of them.
 
 use super::input::{self, Action};
 use super::script::{Script, ScriptInput};
