@@ -19,8 +19,13 @@ struct Xvfb {
 }
 
 impl Drop for Xvfb {
+    /// SIGTERM, so the server removes its socket and lock file (SIGKILL would leave them,
+    /// and later runs would skip that display number).
     fn drop(&mut self) {
-        let _ = self.child.kill();
+        // SAFETY: signals the child this struct started and still owns (not yet waited for).
+        unsafe {
+            libc::kill(self.child.id() as libc::pid_t, libc::SIGTERM);
+        }
         let _ = self.child.wait();
     }
 }
