@@ -55,12 +55,14 @@
 //! any scene or one of three material classes) against the converged reference (run time
 //! against error, Pareto front); [`turntable`] renders animated sequences; [`shard`] splits
 //! either over machines. [`export`] writes a scene's resolved camera matrices, mesh,
-//! lights and material for a GPU build to draw the same frame.
+//! lights and material for a GPU build to draw the same frame. [`view`] is the interactive
+//! viewer (`brdfkit view`: a window, winit + softbuffer, each frame [`render::render`] of a
+//! scene file it can write out).
 //!
 //! ## Layering
 //! Dependencies point one way, leaf first, with no import cycle between modules:
 //! [`conventions`] -> [`brdf`] -> [`sh`] -> [`material`] -> [`kernel`] -> [`shade`] ->
-//! [`render`] -> tools ([`golden`], [`sweep`], [`turntable`]) -> [`cli`]; off that path,
+//! [`render`] -> tools ([`golden`], [`sweep`], [`turntable`], [`view`]) -> [`cli`]; off that path,
 //! [`acquire`] (after [`sh`]) -> [`library`] (after [`material`], which it builds) ->
 //! [`scene`] (which resolves a library name). A file format sits beside the type it stores
 //! ([`sh::file`], [`brdf::dbrdf::file`], [`env::lightset_io`]); a model never names a
@@ -126,3 +128,4 @@ pub mod shade;
 pub mod shard;
 pub mod sweep;
 pub mod turntable;
+pub mod view;

@@ -14,6 +14,7 @@ mod render;
 pub mod source;
 mod sweep;
 mod turntable;
+mod view;
 
 pub use cache::{CacheAction, CacheArgs};
 pub use compare::CompareArgs;
@@ -121,6 +122,38 @@ renders it without the cache. The sweep reads no other cache (light sets and tab
         after_help = "Example:\n  brdfkit export golden/default-160x120.toml -o gpu-scene\n\nWrites camera.json (eye, target, up, fov, near, viewport, view/projection matrices, conventions),\nmesh.obj (triangles, per-vertex normals), scene_lights.json (every light, in shading order),\nlights.json + lights.csv (an [env]'s delta lights, after rotation and intensity), material.json\n(+ material.exr for SH data sets and D-BRDFs), scene.toml (renders the same frame) and export.json.\nSee docs/file-formats.md."
     )]
     Export(ExportArgs),
+    /// Open a window on a scene: orbit, zoom, swap material and probe, watch it refine (X11).
+    #[command(
+        after_help = "Examples:\n  brdfkit view                                  # the default scene\n  brdfkit view --env assets/probes/city.exr --material teal-paint\n  brdfkit view --script s.txt --screenshot shot.png --write-scene shot.toml   # driven, then `brdfkit render shot.toml` gives the same pixels\n\nControls: drag orbit, wheel zoom, shift+drag turn the environment, m/n material, p probe, e method,\n]/[ lights x2 / /2, b SH band skip, l SH lookup, +/- exposure, a AOV, g probe background, h status line,\nr reset, q/Esc quit.\nScript lines (--script): `MS drag DX DY`, `MS shift-drag DX`, `MS wheel N`, `MS key K`, `MS resize W H`, `MS await-refined`, `MS quit`\n(MS: milliseconds from the first frame request; see src/view/script.rs). --stats prints frames per second\nand refinement times at the end. Render options set the scene as for `render`; --width/--height size the window."
+    )]
+    View(ViewArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct ViewArgs {
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Drive the viewer from a file of timed input events (see below); it quits after the last.
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+    /// At the end, write the last frame (without the status line) as a PNG, as `render` writes it.
+    #[arg(long, value_name = "PNG")]
+    pub screenshot: Option<PathBuf>,
+    /// At the end, write the last frame's scene file: `brdfkit render FILE` gives the same pixels.
+    #[arg(long, value_name = "TOML")]
+    pub write_scene: Option<PathBuf>,
+    /// At the end, write the window as shown (frame, probe background, status line) as a PNG.
+    #[arg(long, value_name = "PNG")]
+    pub window_shot: Option<PathBuf>,
+    /// Show the probe behind the object from the start (key g; display only, never in --screenshot).
+    #[arg(long)]
+    pub background: bool,
+    /// Another probe for P to cycle through (repeatable).
+    #[arg(long, value_name = "PROBE")]
+    pub probe: Vec<PathBuf>,
+    /// Refinement steps while the view is still (0: none): 4x the lights each, the last with nothing dropped and every SH band.
+    #[arg(long, default_value_t = crate::view::refine::DEFAULT_STEPS)]
+    pub refine_steps: usize,
 }
 
 #[derive(clap::Args, Debug)]
@@ -388,5 +421,6 @@ pub fn run(cli: Cli) -> Result<bool> {
         Command::Cache(args) => cache::run(args).map(|_| true),
         Command::Sweep(args) => sweep::run(args),
         Command::Export(args) => export::run(args).map(|_| true),
+        Command::View(args) => view::run(args).map(|_| true),
     }
 }

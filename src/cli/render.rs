@@ -42,126 +42,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             return Ok(());
         }
     }
-    let (mut file, base) = match &a.scene {
-        Some(p) => (
-            SceneFile::load(p)?,
-            p.parent().map(Path::to_path_buf).unwrap_or_default(),
-        ),
-        None => (SceneFile::default(), PathBuf::from(".")),
-    };
-    if let Some(w) = a.width {
-        file.render.width = check_side("--width", w)?;
-    }
-    if let Some(h) = a.height {
-        file.render.height = check_side("--height", h)?;
-    }
-    if let Some(t) = a.threads {
-        file.render.threads = t;
-    }
-    if let Some(t) = a.tile_size {
-        file.render.tile_size = t;
-    }
-    if let Some(c) = a.cull {
-        file.render.cull = match c {
-            CullArg::None => Cull::None,
-            CullArg::Back => Cull::Back,
-        };
-    }
-    if let Some(f) = a.drop_lights {
-        if !(0.0..1.0).contains(&f) {
-            return Err(Error::field(
-                "--drop-lights",
-                format!("{f} is out of range (0 <= fraction < 1)"),
-            ));
-        }
-        file.render.drop_lights = f;
-    }
-    if a.no_band_skip {
-        file.render.band_skip = false;
-    }
-    if let Some(k) = a.kernel {
-        if crate::kernel::lanes::Dispatch::choose(k).is_none() {
-            return Err(Error::field(
-                "--kernel",
-                format!("'{}' is not available on this CPU", k.name()),
-            ));
-        }
-        file.render.kernel = k;
-    }
-    if let Some(e) = a.exposure {
-        file.output.exposure = e;
-    }
-    if let Some(t) = a.tonemap {
-        file.output.tonemap = t;
-    }
-    if let Some(m) = &a.mesh {
-        // A mesh path given on the command line is relative to the working directory (made
-        // absolute here, so the scene file's own relative paths keep their base: the
-        // scene's directory).
-        file.mesh.source = match m.as_str() {
-            "teapot" | "sphere" => m.clone(),
-            path => std::env::current_dir()
-                .map(|d| d.join(path))
-                .unwrap_or_else(|_| PathBuf::from(path))
-                .to_string_lossy()
-                .into_owned(),
-        };
-    }
-    if let Some(p) = &a.env {
-        // A probe given on the command line is relative to the working directory.
-        let abs = std::env::current_dir()
-            .map(|d| d.join(p))
-            .unwrap_or_else(|_| p.clone());
-        file.env = Some(EnvSpec::new(abs));
-    }
-    if a.sampler.is_some() || a.lights.is_some() {
-        let Some(env) = file.env.as_mut() else {
-            return Err(Error::field(
-                "--sampler/--lights",
-                "need an environment: give --env PROBE or an [env] table",
-            ));
-        };
-        // Sampling asked for on the command line replaces a light set file
-        // (`[env] lights`): the probe is sampled (and must be named).
-        env.lights = None;
-        if let Some(s) = a.sampler {
-            env.sampler = s;
-        }
-        if let Some(n) = a.lights {
-            env.count = n;
-        }
-        // Asking for a sampler or a light count asks for a delta light set.
-        if env.method == crate::env::prepare::EnvMethod::Auto {
-            env.method = crate::env::prepare::EnvMethod::Lights;
-        }
-        if a.lights.is_some()
-            && (a.reference || env.sampler == crate::env::prepare::SamplerKind::Full)
-        {
-            eprintln!(
-                "warning: --lights is ignored with the full probe (--sampler full or --reference): every texel is a light"
-            );
-        }
-    }
-    if let Some(m) = a.env_method {
-        let Some(env) = file.env.as_mut() else {
-            return Err(Error::field(
-                "--env-method",
-                "needs an environment: the scene has no [env] table; give --env PROBE or add one",
-            ));
-        };
-        env.method = m;
-    }
-    if a.reference {
-        if let Some(env) = file.env.as_mut() {
-            env.use_full_probe();
-        }
-    }
-    if let Some(m) = &a.material {
-        file.material = crate::scene::MaterialSpec::from_cli(m)?;
-    }
-    if let Some(l) = a.lookup {
-        set_lookup(&mut file.material, l)?;
-    }
+    let (mut file, base) = scene_file(&a)?;
     // `[env] method = "auto"` made concrete for this material (the progress bar below
     // names the method's preparation).
     let auto_method = file
@@ -353,6 +234,133 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The scene file `render` renders: the scene's file (or the default scene) with every
+/// command-line option applied, and the directory its relative paths resolve against.
+/// `brdfkit view` starts from the same ([`crate::cli::view`]).
+pub(super) fn scene_file(a: &RenderArgs) -> Result<(SceneFile, PathBuf)> {
+    let (mut file, base) = match &a.scene {
+        Some(p) => (
+            SceneFile::load(p)?,
+            p.parent().map(Path::to_path_buf).unwrap_or_default(),
+        ),
+        None => (SceneFile::default(), PathBuf::from(".")),
+    };
+    if let Some(w) = a.width {
+        file.render.width = check_side("--width", w)?;
+    }
+    if let Some(h) = a.height {
+        file.render.height = check_side("--height", h)?;
+    }
+    if let Some(t) = a.threads {
+        file.render.threads = t;
+    }
+    if let Some(t) = a.tile_size {
+        file.render.tile_size = t;
+    }
+    if let Some(c) = a.cull {
+        file.render.cull = match c {
+            CullArg::None => Cull::None,
+            CullArg::Back => Cull::Back,
+        };
+    }
+    if let Some(f) = a.drop_lights {
+        if !(0.0..1.0).contains(&f) {
+            return Err(Error::field(
+                "--drop-lights",
+                format!("{f} is out of range (0 <= fraction < 1)"),
+            ));
+        }
+        file.render.drop_lights = f;
+    }
+    if a.no_band_skip {
+        file.render.band_skip = false;
+    }
+    if let Some(k) = a.kernel {
+        if crate::kernel::lanes::Dispatch::choose(k).is_none() {
+            return Err(Error::field(
+                "--kernel",
+                format!("'{}' is not available on this CPU", k.name()),
+            ));
+        }
+        file.render.kernel = k;
+    }
+    if let Some(e) = a.exposure {
+        file.output.exposure = e;
+    }
+    if let Some(t) = a.tonemap {
+        file.output.tonemap = t;
+    }
+    if let Some(m) = &a.mesh {
+        // A mesh path given on the command line is relative to the working directory (made
+        // absolute here, so the scene file's own relative paths keep their base: the
+        // scene's directory).
+        file.mesh.source = match m.as_str() {
+            "teapot" | "sphere" => m.clone(),
+            path => std::env::current_dir()
+                .map(|d| d.join(path))
+                .unwrap_or_else(|_| PathBuf::from(path))
+                .to_string_lossy()
+                .into_owned(),
+        };
+    }
+    if let Some(p) = &a.env {
+        // A probe given on the command line is relative to the working directory.
+        let abs = std::env::current_dir()
+            .map(|d| d.join(p))
+            .unwrap_or_else(|_| p.clone());
+        file.env = Some(EnvSpec::new(abs));
+    }
+    if a.sampler.is_some() || a.lights.is_some() {
+        let Some(env) = file.env.as_mut() else {
+            return Err(Error::field(
+                "--sampler/--lights",
+                "need an environment: give --env PROBE or an [env] table",
+            ));
+        };
+        // Sampling asked for on the command line replaces a light set file
+        // (`[env] lights`): the probe is sampled (and must be named).
+        env.lights = None;
+        if let Some(s) = a.sampler {
+            env.sampler = s;
+        }
+        if let Some(n) = a.lights {
+            env.count = n;
+        }
+        // Asking for a sampler or a light count asks for a delta light set.
+        if env.method == crate::env::prepare::EnvMethod::Auto {
+            env.method = crate::env::prepare::EnvMethod::Lights;
+        }
+        if a.lights.is_some()
+            && (a.reference || env.sampler == crate::env::prepare::SamplerKind::Full)
+        {
+            eprintln!(
+                "warning: --lights is ignored with the full probe (--sampler full or --reference): every texel is a light"
+            );
+        }
+    }
+    if let Some(m) = a.env_method {
+        let Some(env) = file.env.as_mut() else {
+            return Err(Error::field(
+                "--env-method",
+                "needs an environment: the scene has no [env] table; give --env PROBE or add one",
+            ));
+        };
+        env.method = m;
+    }
+    if a.reference {
+        if let Some(env) = file.env.as_mut() {
+            env.use_full_probe();
+        }
+    }
+    if let Some(m) = &a.material {
+        file.material = crate::scene::MaterialSpec::from_cli(m)?;
+    }
+    if let Some(l) = a.lookup {
+        set_lookup(&mut file.material, l)?;
+    }
+    Ok((file, base))
 }
 
 /// Sets `--lookup` on an SH material (library SH material or SH file), overriding the scene's

@@ -130,7 +130,7 @@ pub const DEFAULT_CUT_MAX: usize = 1000;
 pub const MAX_LIGHTS: usize = 1 << 16;
 
 /// The `[env]` table of a scene file.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct EnvSpec {
     /// Equirectangular probe, `.exr` or `.hdr` (relative to the scene file). May be left

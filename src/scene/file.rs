@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 pub const MAX_SCENE_BYTES: u64 = 1 << 20;
 
 /// The scene file as written (all optional).
-#[derive(Debug, Default, Deserialize)]
+#[derive(Debug, Default, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SceneFile {
     pub camera: Option<CameraSpec>,
@@ -33,7 +33,7 @@ pub struct SceneFile {
     pub output: OutputSpec,
 }
 
-#[derive(Debug, Default, Clone, Deserialize)]
+#[derive(Debug, Default, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct CameraSpec {
     pub position: Option<[f32; 3]>,
@@ -43,7 +43,7 @@ pub struct CameraSpec {
     pub near: Option<f32>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct MeshSpec {
     pub source: String,
@@ -59,7 +59,7 @@ impl Default for MeshSpec {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, serde::Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum LightSpec {
     Directional {
@@ -95,7 +95,7 @@ pub fn default_lights() -> Vec<LightSpec> {
     }]
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RenderSpec {
     pub width: u32,
@@ -150,7 +150,7 @@ impl Default for RenderSpec {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, serde::Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct OutputSpec {
     pub path: Option<PathBuf>,

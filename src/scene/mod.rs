@@ -28,4 +28,4 @@ pub use file::{
     MAX_SCENE_BYTES,
 };
 pub use material::MaterialSpec;
-pub use resolve::{load_mesh, EnvSummary, Scene, MAX_SIDE};
+pub use resolve::{load_mesh, resolve_camera, EnvSummary, Scene, MAX_SIDE};

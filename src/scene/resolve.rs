@@ -300,44 +300,7 @@ impl Scene {
         }
 
         let aspect = r.width as f32 / r.height as f32;
-        let spec = file.camera.clone().unwrap_or_default();
-        let fov = spec.fov_y_deg.unwrap_or(camera::DEFAULT_FOV_Y_DEG);
-        if !(fov > 0.0 && fov < 179.0) {
-            return Err(Error::field(
-                "camera.fov_y_deg",
-                format!("{fov} is out of range (0 to 179 degrees)"),
-            ));
-        }
-        let bounds = mesh.bounds();
-        let mut cam = Camera::frame(&bounds, mesh.radius_about(bounds.center()), aspect, fov);
-        if let Some(t) = spec.target {
-            cam.target = vec3("camera.target", t)?;
-        }
-        if let Some(p) = spec.position {
-            cam.position = vec3("camera.position", p)?;
-            cam.near = (cam.target - cam.position).length() * 1e-3;
-        }
-        if let Some(u) = spec.up {
-            cam.up = vec3("camera.up", u)?;
-            if cam.up.length_squared() == 0.0 {
-                return Err(Error::field("camera.up", "must not be the zero vector"));
-            }
-        }
-        if cam.position == cam.target {
-            return Err(Error::field(
-                "camera.position",
-                "equals camera.target: no viewing direction",
-            ));
-        }
-        if let Some(n) = spec.near {
-            cam.near = n;
-        }
-        if !(cam.near > 0.0 && cam.near.is_finite()) {
-            return Err(Error::field(
-                "camera.near",
-                format!("{} must be a finite number > 0", cam.near),
-            ));
-        }
+        let cam = resolve_camera(&file.camera.clone().unwrap_or_default(), &mesh, aspect)?;
         Ok(Scene {
             mesh: Arc::new(mesh),
             camera: cam,
@@ -355,4 +318,49 @@ impl Scene {
     pub fn default_scene() -> Scene {
         Scene::resolve(&SceneFile::default(), Path::new(".")).expect("the default scene is valid")
     }
+}
+
+/// The camera a scene's `[camera]` table places for a frame of aspect ratio `aspect`
+/// (width / height) around `mesh`: [`Camera::frame`] fitted to the mesh, then each field the
+/// table gives. Errors name the field (`camera.fov_y_deg`, ...). [`Scene::resolve`] places
+/// its camera so; the viewer ([`crate::view`]) places each orbiting frame's camera so.
+pub fn resolve_camera(spec: &super::CameraSpec, mesh: &Mesh, aspect: f32) -> Result<Camera> {
+    let fov = spec.fov_y_deg.unwrap_or(camera::DEFAULT_FOV_Y_DEG);
+    if !(fov > 0.0 && fov < 179.0) {
+        return Err(Error::field(
+            "camera.fov_y_deg",
+            format!("{fov} is out of range (0 to 179 degrees)"),
+        ));
+    }
+    let bounds = mesh.bounds();
+    let mut cam = Camera::frame(&bounds, mesh.radius_about(bounds.center()), aspect, fov);
+    if let Some(t) = spec.target {
+        cam.target = vec3("camera.target", t)?;
+    }
+    if let Some(p) = spec.position {
+        cam.position = vec3("camera.position", p)?;
+        cam.near = (cam.target - cam.position).length() * 1e-3;
+    }
+    if let Some(u) = spec.up {
+        cam.up = vec3("camera.up", u)?;
+        if cam.up.length_squared() == 0.0 {
+            return Err(Error::field("camera.up", "must not be the zero vector"));
+        }
+    }
+    if cam.position == cam.target {
+        return Err(Error::field(
+            "camera.position",
+            "equals camera.target: no viewing direction",
+        ));
+    }
+    if let Some(n) = spec.near {
+        cam.near = n;
+    }
+    if !(cam.near > 0.0 && cam.near.is_finite()) {
+        return Err(Error::field(
+            "camera.near",
+            format!("{} must be a finite number > 0", cam.near),
+        ));
+    }
+    Ok(cam)
 }
