@@ -29,8 +29,12 @@ fn every_dispatch_path_computes_the_same_lanes() {
     let a = vec![1.0, -2.0, 3.0, -4.0, 5.0, 0.0, 7.0, -0.5];
     let b = vec![0.5, 1.0, -1.0, 2.0, 2.0, 3.0, 0.25, 1.0];
     let want = Dispatch::portable().run(Probe(a.clone(), b.clone()));
-    let got = Dispatch::detect().run(Probe(a.clone(), b.clone()));
-    assert_eq!(want, got);
+    for path in KernelPath::available() {
+        let got = Dispatch::choose(path)
+            .unwrap()
+            .run(Probe(a.clone(), b.clone()));
+        assert_eq!(want, got, "{}", path.name());
+    }
     let lanes: Vec<f32> = (0..8)
         .map(|i| (a[i] * b[i] + a[i] - b[i]).clamp(-1.0, 10.0))
         .collect();
@@ -75,4 +79,58 @@ fn auto_and_portable_always_have_a_path() {
         Some(KernelPath::Portable)
     );
     assert!(KernelPath::available().contains(&KernelPath::Portable));
+}
+
+/// The same per-lane chain at the path's widest width ([`Isa::wide`]), split into halves
+/// ([`Isa::half`]), and on eight lanes.
+struct WideProbe(Vec<f32>, Vec<f32>);
+impl Kernel for WideProbe {
+    type Out = (usize, Vec<f32>, Vec<f32>, Vec<f32>);
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> Self::Out {
+        let w = s.wide();
+        let n = <S::Wide as Width>::N;
+        let (mut wide, mut halves, mut narrow) = (vec![0.0; 16], vec![0.0; 16], vec![0.0; 16]);
+        for o in (0..16).step_by(n) {
+            let (a, b) = (w.load(&self.0[o..]), w.load(&self.1[o..]));
+            let r = (a * b + a - b).fma(a, b).neg_fma(b, a);
+            w.store(r, &mut wide[o..]);
+            for h in 0..n / LANES {
+                s.half(r, h).store(&mut halves[o + h * LANES..]);
+            }
+        }
+        for o in (0..16).step_by(LANES) {
+            let (a, b) = (s.load(&self.0[o..]), s.load(&self.1[o..]));
+            let r = (a * b + a - b).mul_add(a, b).neg_mul_add(b, a);
+            r.store(&mut narrow[o..]);
+        }
+        (n, wide, halves, narrow)
+    }
+}
+
+#[test]
+fn wide_vectors_compute_the_eight_lane_values_in_lane_order() {
+    // Distinct lanes, so a swapped or repeated half shows; values whose products round.
+    let a: Vec<f32> = (0..16).map(|i| 1.0 + i as f32 / 3.0).collect();
+    let b: Vec<f32> = (0..16).map(|i| 0.7 - i as f32 / 7.0).collect();
+    let want: Vec<f32> = (0..16)
+        .map(|i| {
+            let r = (a[i] * b[i] + a[i] - b[i]).mul_add(a[i], b[i]);
+            (-r).mul_add(b[i], a[i])
+        })
+        .collect();
+    let mut widths = Vec::new();
+    for path in KernelPath::available() {
+        let (n, wide, halves, narrow) = Dispatch::choose(path)
+            .unwrap()
+            .run(WideProbe(a.clone(), b.clone()));
+        assert_eq!(wide, want, "{}: wide", path.name());
+        assert_eq!(halves, want, "{}: halves", path.name());
+        assert_eq!(narrow, want, "{}: eight lanes", path.name());
+        widths.push((path, n));
+    }
+    for (path, n) in widths {
+        let expected = if path == KernelPath::Avx512 { 16 } else { 8 };
+        assert_eq!(n, expected, "{}", path.name());
+    }
 }
