@@ -144,24 +144,35 @@ fn kernel_throughput(c: &mut Criterion) {
         // Counted work: every pixel x every light x every term (lights below a pixel's horizon
         // included, as the thesis's shader does them; the kernel masks them per chunk).
         g.throughput(Throughput::Elements((pixels * dl.len() * t) as u64));
-        g.bench_with_input(
-            BenchmarkId::new("128-lights", format!("{bands}-orders")),
-            &bands,
-            |b, _| {
-                let mut scratch = Scratch::default();
-                scratch.reserve(dl.len());
-                b.iter(|| {
-                    black_box(isa.run(ShPixels {
-                        rec: &rec,
-                        coeffs: &coeffs,
-                        frames: &frames,
-                        lights: &dl,
-                        chunks: &all,
-                        scratch: &mut scratch,
-                    }))
-                })
-            },
-        );
+        // On each SIMD path (portable, libm's fmaf per lane where the target has no FMA, is
+        // far slower and left out).
+        for path in KernelPath::available() {
+            if path == KernelPath::Portable {
+                continue;
+            }
+            let d = Dispatch::choose(path).unwrap();
+            g.bench_with_input(
+                BenchmarkId::new(
+                    format!("128-lights-{}", path.name()),
+                    format!("{bands}-orders"),
+                ),
+                &bands,
+                |b, _| {
+                    let mut scratch = Scratch::default();
+                    scratch.reserve(dl.len());
+                    b.iter(|| {
+                        black_box(d.run(ShPixels {
+                            rec: &rec,
+                            coeffs: &coeffs,
+                            frames: &frames,
+                            lights: &dl,
+                            chunks: &all,
+                            scratch: &mut scratch,
+                        }))
+                    })
+                },
+            );
+        }
     }
     g.finish();
 }

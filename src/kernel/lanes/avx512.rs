@@ -82,6 +82,32 @@ impl Width for Avx512Wide {
         let out = &mut out[..16];
         unsafe { _mm512_storeu_ps(out.as_mut_ptr(), v.0) }
     }
+    #[inline(always)]
+    fn load_groups(self, s: &[f32], at: [usize; 2]) -> V16 {
+        let (lo, hi) = (&s[at[0]..at[0] + LANES], &s[at[1]..at[1] + LANES]);
+        unsafe {
+            let lo = _mm256_castps_pd(_mm256_loadu_ps(lo.as_ptr()));
+            let hi = _mm256_castps_pd(_mm256_loadu_ps(hi.as_ptr()));
+            // 64-bit insert: AVX-512F (the 32-bit one needs DQ); same bits.
+            let v = _mm512_insertf64x4::<1>(_mm512_castpd256_pd512(lo), hi);
+            V16(_mm512_castpd_ps(v))
+        }
+    }
+    #[inline(always)]
+    fn gt_mask(self, v: V16, o: V16) -> u32 {
+        unsafe { _mm512_cmp_ps_mask::<_CMP_GT_OQ>(v.0, o.0) as u32 }
+    }
+    #[inline(always)]
+    fn compress_store(self, v: V16, mask: u32, out: &mut [f32], at: usize) -> usize {
+        let out = &mut out[at..at + 16];
+        let m = (mask & 0xffff) as u16;
+        unsafe {
+            // In a register, then one full store, as the eight-lane form.
+            let c = _mm512_maskz_compress_ps(m, v.0);
+            _mm512_storeu_ps(out.as_mut_ptr(), c);
+        }
+        m.count_ones() as usize
+    }
 }
 
 macro_rules! op {

@@ -138,6 +138,14 @@ pub trait Width: Copy + Send + Sync {
     fn zero(self) -> Self::V {
         self.splat(0.0)
     }
+    /// Lanes `8 h .. 8 h + 8` from `s[at[h]..at[h] + 8]`, for the `N / 8` first entries of
+    /// `at` (two groups of eight from anywhere in `s`, e.g. two chunks of lights).
+    fn load_groups(self, s: &[f32], at: [usize; 2]) -> Self::V;
+    /// Bit `i` set where lane `i` of `v` is `> o` (false for NaN), as [`F32x8::gt_mask`].
+    fn gt_mask(self, v: Self::V, o: Self::V) -> u32;
+    /// Writes the lanes whose bit is set in `mask`, in lane order, to `out[at..]`, and
+    /// returns how many, as [`F32x8::compress_store`]; `out` must hold `at + N` values.
+    fn compress_store(self, v: Self::V, mask: u32, out: &mut [f32], at: usize) -> usize;
 }
 
 /// The eight lanes of an instruction set as a [`Width`] (the wide vectors of AVX2 and
@@ -159,6 +167,18 @@ impl<S: Isa> Width for Narrow<S> {
     #[inline(always)]
     fn store(self, v: S::V, out: &mut [f32]) {
         v.store(out)
+    }
+    #[inline(always)]
+    fn load_groups(self, s: &[f32], at: [usize; 2]) -> S::V {
+        self.0.load(&s[at[0]..])
+    }
+    #[inline(always)]
+    fn gt_mask(self, v: S::V, o: S::V) -> u32 {
+        v.gt_mask(o)
+    }
+    #[inline(always)]
+    fn compress_store(self, v: S::V, mask: u32, out: &mut [f32], at: usize) -> usize {
+        v.compress_store(mask, out, at)
     }
 }
 

@@ -134,3 +134,57 @@ fn wide_vectors_compute_the_eight_lane_values_in_lane_order() {
         assert_eq!(n, expected, "{}", path.name());
     }
 }
+
+/// Two groups of eight loaded from anywhere ([`Width::load_groups`]), masked by sign and
+/// compressed ([`Width::gt_mask`], [`Width::compress_store`]) at the path's widest width.
+struct WideCompress(Vec<f32>, [usize; 2]);
+impl Kernel for WideCompress {
+    type Out = Vec<f32>;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> Vec<f32> {
+        let w = s.wide();
+        let n = <S::Wide as Width>::N;
+        let mut out = vec![f32::NAN; 40];
+        let mut at = 3;
+        for h in 0..2 / (n / LANES) {
+            // Eight lanes: one group per pass, as the gather's remainder loop.
+            let groups = [self.1[h], self.1[h]];
+            let v = w.load_groups(&self.0, if n == LANES { groups } else { self.1 });
+            at += w.compress_store(v, w.gt_mask(v, w.zero()), &mut out, at);
+        }
+        out.truncate(at);
+        out
+    }
+}
+
+#[test]
+fn wide_groups_load_mask_and_compress_in_lane_order() {
+    // Signs vary per lane, NaN is never kept, and the second group comes before the first
+    // in memory (as two culled chunks may).
+    let v: Vec<f32> = (0..32)
+        .map(|i| match i % 5 {
+            0 => f32::NAN,
+            1 | 3 => -(i as f32),
+            _ => i as f32 + 0.5,
+        })
+        .collect();
+    let at = [20, 4];
+    let want: Vec<f32> = [at[0]..at[0] + 8, at[1]..at[1] + 8]
+        .into_iter()
+        .flatten()
+        .map(|i| v[i])
+        .filter(|x| *x > 0.0)
+        .collect();
+    assert!(want.len() > 4);
+    for path in KernelPath::available() {
+        let got = Dispatch::choose(path)
+            .unwrap()
+            .run(WideCompress(v.clone(), at));
+        assert!(
+            got[..3].iter().all(|x| x.is_nan()),
+            "{}: wrote before `at`",
+            path.name()
+        );
+        assert_eq!(got[3..], want[..], "{}", path.name());
+    }
+}
