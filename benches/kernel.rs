@@ -2,17 +2,21 @@
 //! (a) SH kernel throughput in (pixel x light x SH term) per second, beside this machine's
 //!     f32 multiply-add peak measured in the same run by a companion micro-bench;
 //! (b) frame time of the 640x480 teapot in the thesis's configurations: 5 and 8 orders with
-//!     one point light, 5 and 8 orders with 128 median-cut lights, D-BRDF with 1 and 128.
+//!     one point light, 5 and 8 orders with 128 median-cut lights, D-BRDF with 1 and 128;
+//! (c) the same frames and a 640x480 sphere (issue 15's llvmpipe comparison scene) on each
+//!     kernel path this CPU runs, plus the default scene on the scalar oracle (the kernel
+//!     path must beat it), for A/B runs of one path against another.
 
 use brdfkit::conventions::ShadingFrame;
 use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::kernel::cluster::DirLights;
 use brdfkit::kernel::gather::Scratch;
-use brdfkit::kernel::lanes::{Dispatch, F32x8, Isa, Kernel, LANES};
+use brdfkit::kernel::lanes::{Arith, Dispatch, Isa, Kernel, KernelPath, Width};
 use brdfkit::kernel::sh::{shade_pixel, ShRecurrence};
 use brdfkit::light::Light;
-use brdfkit::render;
+use brdfkit::render::{self, RenderOptions};
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
+use brdfkit::shade::{ShadeOptions, ShadingPath};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::Vec3;
 use std::hint::black_box;
@@ -22,8 +26,9 @@ use std::path::Path;
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-/// Independent fused multiply-add chains on eight lanes ([`F32x8::mul_add`], the kernel's
-/// instruction: FMA on the AVX2+FMA path): the machine's peak for the kernel's mix.
+/// Independent fused multiply-add chains on the path's widest vectors ([`Arith::fma`], the
+/// kernel's instruction: 8-lane FMA on AVX2, 16-lane on AVX-512): the path's peak for the
+/// kernel's mix.
 struct MaddPeak {
     iters: usize,
     seed: f32,
@@ -33,15 +38,22 @@ impl Kernel for MaddPeak {
     type Out = f32;
     #[inline(always)]
     fn run<S: Isa>(self, s: S) -> f32 {
-        let m = s.splat(0.999_999);
-        let a = s.splat(1e-7);
-        let mut acc = [s.splat(self.seed); 10];
+        let w = s.wide();
+        let m = w.splat(0.999_999);
+        let a = w.splat(1e-7);
+        let mut acc = [w.splat(self.seed); 10];
         for _ in 0..self.iters {
             for v in acc.iter_mut() {
-                *v = v.mul_add(m, a);
+                *v = v.fma(m, a);
             }
         }
-        acc.iter().map(|v| v.sum()).sum()
+        let mut out = [0.0f32; 16];
+        acc.iter()
+            .map(|v| {
+                w.store(*v, &mut out);
+                out.iter().sum::<f32>()
+            })
+            .sum()
     }
 }
 
@@ -96,16 +108,23 @@ fn kernel_throughput(c: &mut Criterion) {
     let iters = 100_000;
     let isa = Dispatch::detect();
     eprintln!("kernel instruction set: {}", isa.name());
-    // 10 chains x 8 lanes x 1 fused multiply-add per iteration: count multiply-adds.
-    g.throughput(Throughput::Elements((iters * 10 * LANES) as u64));
-    g.bench_function(format!("f32x8-{}", isa.name()), |b| {
-        b.iter(|| {
-            isa.run(MaddPeak {
-                iters: black_box(iters),
-                seed: black_box(1.0),
+    // Per path: 10 chains x N lanes x 1 fused multiply-add per iteration (one core).
+    for path in KernelPath::available() {
+        let d = Dispatch::choose(path).unwrap();
+        let lanes = match path {
+            KernelPath::Avx512 => 16,
+            _ => 8,
+        };
+        g.throughput(Throughput::Elements((iters * 10 * lanes) as u64));
+        g.bench_function(format!("f32x{lanes}-{}", d.name()), |b| {
+            b.iter(|| {
+                d.run(MaddPeak {
+                    iters: black_box(iters),
+                    seed: black_box(1.0),
+                })
             })
-        })
-    });
+        });
+    }
     g.finish();
 
     let mut g = c.benchmark_group("sh-kernel");
@@ -125,29 +144,44 @@ fn kernel_throughput(c: &mut Criterion) {
         // Counted work: every pixel x every light x every term (lights below a pixel's horizon
         // included, as the thesis's shader does them; the kernel masks them per chunk).
         g.throughput(Throughput::Elements((pixels * dl.len() * t) as u64));
-        g.bench_with_input(
-            BenchmarkId::new("128-lights", format!("{bands}-orders")),
-            &bands,
-            |b, _| {
-                let mut scratch = Scratch::default();
-                scratch.reserve(dl.len());
-                b.iter(|| {
-                    black_box(isa.run(ShPixels {
-                        rec: &rec,
-                        coeffs: &coeffs,
-                        frames: &frames,
-                        lights: &dl,
-                        chunks: &all,
-                        scratch: &mut scratch,
-                    }))
-                })
-            },
-        );
+        // On each SIMD path (portable, libm's fmaf per lane where the target has no FMA, is
+        // far slower and left out).
+        for path in KernelPath::available() {
+            if path == KernelPath::Portable {
+                continue;
+            }
+            let d = Dispatch::choose(path).unwrap();
+            g.bench_with_input(
+                BenchmarkId::new(
+                    format!("128-lights-{}", path.name()),
+                    format!("{bands}-orders"),
+                ),
+                &bands,
+                |b, _| {
+                    let mut scratch = Scratch::default();
+                    scratch.reserve(dl.len());
+                    b.iter(|| {
+                        black_box(d.run(ShPixels {
+                            rec: &rec,
+                            coeffs: &coeffs,
+                            frames: &frames,
+                            lights: &dl,
+                            chunks: &all,
+                            scratch: &mut scratch,
+                        }))
+                    })
+                },
+            );
+        }
     }
     g.finish();
 }
 
 fn scene(material: MaterialSpec, env_lights: Option<usize>) -> Scene {
+    Scene::resolve(&scene_file(material, env_lights), Path::new("/")).unwrap()
+}
+
+fn scene_file(material: MaterialSpec, env_lights: Option<usize>) -> SceneFile {
     let mut f = SceneFile {
         material,
         ..SceneFile::default()
@@ -172,7 +206,7 @@ fn scene(material: MaterialSpec, env_lights: Option<usize>) -> Scene {
             );
         }
     }
-    Scene::resolve(&f, Path::new("/")).unwrap()
+    f
 }
 
 fn frames(c: &mut Criterion) {
@@ -199,5 +233,82 @@ fn frames(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, kernel_throughput, frames);
+/// The sphere of issue 15's llvmpipe comparison: a 640x480 UV sphere filling most of the
+/// frame, with `material` and the same light choices as [`scene`].
+fn sphere(material: MaterialSpec, env_lights: Option<usize>) -> Scene {
+    let mut f = scene_file(material, env_lights);
+    f.mesh = SceneFile::parse("[mesh]\nsource = \"sphere\"\nsegments = 64\n")
+        .unwrap()
+        .mesh;
+    Scene::resolve(&f, Path::new("/")).unwrap()
+}
+
+fn frames_per_path(c: &mut Criterion) {
+    let mut g = c.benchmark_group("frame-path");
+    g.sample_size(10);
+    let lib = |n: &str| MaterialSpec::Library {
+        name: n.into(),
+        lookup: None,
+    };
+    let scenes = [
+        (
+            "default",
+            Scene::resolve(&SceneFile::default(), Path::new("/")).unwrap(),
+        ),
+        ("sh5-point", scene(lib("magenta-plastic"), None)),
+        ("sh8-128", scene(lib("gold-dust-paint"), Some(128))),
+        ("sh8-512", scene(lib("gold-dust-paint"), Some(512))),
+        ("dbrdf-128", scene(lib("lindt-paper"), Some(128))),
+        ("sphere-sh5-point", sphere(lib("magenta-plastic"), None)),
+        ("sphere-sh8-128", sphere(lib("gold-dust-paint"), Some(128))),
+    ];
+    for (name, s) in &scenes {
+        // The work of one frame, to turn times into G FMA/s: SH bands used, pixels shaded,
+        // (pixel, light) pairs handed to the kernel (an upper bound on those above the
+        // horizon); SH: 3 bands^2 FMAs per pair.
+        let st = render::render(
+            s,
+            &RenderOptions {
+                stats: true,
+                ..RenderOptions::default()
+            },
+        )
+        .stats
+        .unwrap();
+        eprintln!(
+            "frame-path {name}: {} pixels shaded, {} pairs, SH bands {}",
+            st.shade.pixels_shaded, st.shade.light_pairs, st.sh_bands_used
+        );
+        let mut paths: Vec<(String, ShadeOptions)> = KernelPath::available()
+            .into_iter()
+            .filter(|p| *p != KernelPath::Portable)
+            .map(|p| {
+                let o = ShadeOptions {
+                    kernel: Some(p),
+                    ..ShadeOptions::default()
+                };
+                (p.name().to_string(), o)
+            })
+            .collect();
+        if *name == "default" {
+            let o = ShadeOptions {
+                path: Some(ShadingPath::ScalarOracle),
+                ..ShadeOptions::default()
+            };
+            paths.push(("scalar-oracle".into(), o));
+        }
+        for (path, shading) in paths {
+            let opts = RenderOptions {
+                shading,
+                ..RenderOptions::default()
+            };
+            g.bench_function(format!("{name}/{path}"), |b| {
+                b.iter(|| render::render(s, &opts).image)
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, kernel_throughput, frames, frames_per_path);
 criterion_main!(benches);

@@ -83,9 +83,10 @@
 //! per pixel. No floating-point reduction crosses a task boundary (sums over parallel work
 //! are collected and added in index order). Seeded samplers use explicit seeds. There is
 //! no fast-math anywhere. The kernel's instruction set is chosen once per frame from the
-//! scene's `render.kernel` ([`kernel::lanes::KernelPath`]: `auto`, `portable`, `avx2`;
-//! there is no other path), never per thread, and both paths give the same bits: every
-//! multiply-add is fused on both, every lane sum has one order. The golden check demands
+//! scene's `render.kernel` ([`kernel::lanes::KernelPath`]: `auto`, `portable`, `avx2`,
+//! `avx512`; there is no other path), never per thread, and every path gives the same bits:
+//! every multiply-add is fused, every lane sum has one order (16-lane vectors compute
+//! per-light or per-pixel values only). The golden check demands
 //! identical bits on the platform and path that blessed an entry and applies the entry's
 //! tolerance elsewhere ([`golden`]). The fast path's polynomial `acos`/`atan2` and FMA
 //! contractions are explicit, with stated error bounds; the scalar f32 oracle and the f64

@@ -48,10 +48,11 @@ fn golden_copy(edits: &[(&str, &str, &str)]) -> tempfile::TempDir {
 
 #[test]
 fn golden_set_matches_on_every_kernel_path() {
-    // Every path this CPU runs: identical bits on the path that blessed an entry, the
-    // entry's tolerance on the others; and since both kernel paths are built to give the
-    // same bits (fused multiply-add on both, one lane-sum order), no pixel may differ on
-    // any path of the blessing platform.
+    // Every path this CPU runs (portable, avx2, avx512): identical bits on the path that
+    // blessed an entry, the entry's tolerance on the others; and since the kernel paths are
+    // built to give the same bits (fused multiply-add on all, one lane-sum order, 16 lanes
+    // only for per-light and per-pixel values), no pixel may differ on any path of the
+    // blessing platform.
     let report = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/golden-failures");
     let paths = KernelPath::available();
     assert!(paths.contains(&KernelPath::Portable));
@@ -565,17 +566,14 @@ fn the_scalar_oracle_passes_every_shaded_f32_entry() {
     assert!(checked >= 15, "only {checked} shaded f32 entries");
 }
 
-/// Whether this machine renders on the platform and kernel path that blessed `name`; the
-/// exact-bits faults below are only meaningful there.
-fn on_blessing_path(name: &str) -> bool {
+/// The kernel path that blessed `name`, if this machine is its platform and runs that
+/// path (whatever `auto` picks here); the exact-bits faults below are only meaningful there.
+fn blessing_kernel(name: &str) -> Option<KernelPath> {
     let manifest = golden::load_manifest(&golden_dir()).unwrap();
     let e = manifest.entries.iter().find(|e| e.name == name).unwrap();
-    let here = format!(
-        "{}/{}",
-        golden::platform(),
-        brdfkit::kernel::lanes::Dispatch::detect().path().name()
-    );
-    e.blessed_on == here
+    KernelPath::available()
+        .into_iter()
+        .find(|p| e.blessed_on == format!("{}/{}", golden::platform(), p.name()))
 }
 
 #[test]
@@ -587,10 +585,11 @@ fn regressions_within_the_tolerance_fail_on_the_blessing_path() {
     // bit must agree, so each fails there.
     let city = "fig3-8-median-cut-city";
     let full = "fig3-8-full-studio";
-    if !(on_blessing_path(city) && on_blessing_path(full)) {
+    let (Some(kernel), Some(k2)) = (blessing_kernel(city), blessing_kernel(full)) else {
         eprintln!("skipped: this machine is not the platform and kernel path that blessed the set");
         return;
-    }
+    };
+    assert_eq!(kernel, k2);
     let report = tempfile::tempdir().unwrap();
     type Edits<'a> = Vec<(&'a str, &'a str, &'a str)>;
     let faults: [(&str, &str, Edits); 3] = [
@@ -644,7 +643,7 @@ fn regressions_within_the_tolerance_fail_on_the_blessing_path() {
             tmp.path(),
             report.path(),
             &[name.to_string()],
-            &CheckOptions::default(),
+            &CheckOptions { kernel },
         )
         .unwrap()
         .remove(0);

@@ -3,7 +3,7 @@
 mod shading_paths;
 
 use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
-use brdfkit::kernel::lanes::Dispatch;
+use brdfkit::kernel::lanes::{Dispatch, KernelPath};
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
@@ -91,11 +91,11 @@ fn assert_close(
     eprintln!("{what}: worst relative difference {worst:.2e}");
 }
 
-/// The fast path on the detected instruction set and on the portable one.
-fn both_paths(
+/// The fast path on every instruction set this CPU runs (portable, AVX2, AVX-512).
+fn every_path(
     s: &Scene,
     vis: &brdfkit::raster::VisBuffer,
-) -> [(String, brdfkit::image_io::Image); 2] {
+) -> Vec<(String, brdfkit::image_io::Image)> {
     let on = |d: Dispatch| {
         let opts = ShadeOptions {
             kernel: Some(d.path()),
@@ -103,7 +103,17 @@ fn both_paths(
         };
         (d.name().to_string(), shade::shade(s, vis, &opts).image)
     };
-    [on(FramePrep::new(s).dispatch()), on(Dispatch::portable())]
+    assert_eq!(
+        FramePrep::new(s).dispatch().path(),
+        Dispatch::detect().path(),
+        "a frame takes the widest path by default"
+    );
+    let paths = KernelPath::available();
+    assert!(paths.contains(&KernelPath::Portable));
+    paths
+        .into_iter()
+        .map(|p| on(Dispatch::choose(p).unwrap()))
+        .collect()
 }
 
 #[test]
@@ -127,7 +137,7 @@ fn sh_kernel_matches_scalar_oracle_for_library_materials() {
         );
         let vis = render::rasterize(&s, false);
         let oracle = scalar_oracle(&s, &vis);
-        for (path, img) in both_paths(&s, &vis) {
+        for (path, img) in every_path(&s, &vis) {
             assert_close(
                 &img,
                 &oracle,
@@ -149,7 +159,7 @@ fn generic_kernel_matches_scalar_oracle_for_analytic_materials() {
         let s = scene(spec, 128);
         let vis = render::rasterize(&s, false);
         let oracle = scalar_oracle(&s, &vis);
-        for (path, img) in both_paths(&s, &vis) {
+        for (path, img) in every_path(&s, &vis) {
             let what = format!("{} {path}", m.trim());
             assert_close(&img, &oracle, KERNEL_TOLERANCE, &what);
         }
@@ -208,7 +218,7 @@ fn kernels_match_scalar_oracle_on_golden_light_sets() {
         let s = Scene::resolve(&f, &dir).unwrap();
         let vis = render::rasterize(&s, false);
         let oracle = scalar_oracle(&s, &vis);
-        for (path, img) in both_paths(&s, &vis) {
+        for (path, img) in every_path(&s, &vis) {
             assert_close(&img, &oracle, KERNEL_TOLERANCE, &format!("{name} {path}"));
         }
     }
@@ -234,7 +244,7 @@ fn pixel_packed_point_light_path_matches_oracle_and_tile_size() {
             let s = Scene::resolve(&f, Path::new("/")).unwrap();
             let vis = render::rasterize(&s, false);
             let oracle = scalar_oracle(&s, &vis);
-            for (path, img) in both_paths(&s, &vis) {
+            for (path, img) in every_path(&s, &vis) {
                 let what = format!("{name} points tile {tile} {path}");
                 assert_close(&img, &oracle, SH_KERNEL_TOLERANCE, &what);
                 images.push((format!("{name} {path}"), img));

@@ -115,7 +115,7 @@ fn kernel_worst_case_on_every_golden_scene() {
         } else {
             KERNEL_TOLERANCE
         };
-        for d in [Dispatch::detect(), Dispatch::portable()] {
+        for d in every_dispatch() {
             let (worst, over) = compare(&fast(&s, &vis, d, None), &oracle, tol);
             let name = file.file_stem().unwrap().to_string_lossy();
             eprintln!(
@@ -193,7 +193,7 @@ fn seeded_sh_kernel_faults_exceed_the_tolerance() {
             let oracle = scalar_oracle(&s, &vis);
             let lit = oracle.pixels.iter().filter(|p| **p != Vec3::ZERO).count();
             assert!(lit > 300, "{name}, {lighting}: only {lit} lit pixels");
-            for d in [Dispatch::detect(), Dispatch::portable()] {
+            for d in every_dispatch() {
                 let (clean, over) = compare(&fast(&s, &vis, d, None), &oracle, SH_KERNEL_TOLERANCE);
                 assert_eq!(over, 0, "{name}, {lighting}, {}: unfaulted", d.name());
                 eprintln!(
@@ -224,4 +224,12 @@ fn seeded_sh_kernel_faults_exceed_the_tolerance() {
         "smallest seeded fault: {least:.2e} = {:.1} x SH_KERNEL_TOLERANCE",
         least / SH_KERNEL_TOLERANCE
     );
+}
+
+/// Every instruction set this CPU runs (portable, AVX2, AVX-512).
+fn every_dispatch() -> Vec<Dispatch> {
+    brdfkit::kernel::lanes::KernelPath::available()
+        .into_iter()
+        .map(|p| Dispatch::choose(p).unwrap())
+        .collect()
 }

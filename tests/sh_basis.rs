@@ -152,7 +152,7 @@ fn renders(
     };
     let s = scene(tabled.clone(), lights.clone(), band_skip);
     let vis = render::rasterize(&s, false);
-    for d in [Dispatch::detect(), Dispatch::portable()] {
+    for d in every_dispatch() {
         if points {
             // Points only: the pixel-packed path; plus a dark directional light: per pixel.
             out.push((format!("packed {}", d.name()), fast(&s, d, None)));
@@ -214,7 +214,10 @@ fn a_basis_table_renders_the_same_through_every_light_kind_path_and_band_skip() 
             }
         }
     }
-    assert_eq!(results.len(), 2 * 2 * (4 + 6));
+    // Per band skip and lighting: directional (one per path, oracle, f64) and as points
+    // (packed and per pixel per path, oracle, f64).
+    let paths = every_dispatch().len();
+    assert_eq!(results.len(), 2 * 2 * ((paths + 2) + (2 * paths + 2)));
     for (what, ok) in results {
         assert!(ok, "{what}: differs from the analytic-basis oracle");
     }
@@ -247,4 +250,12 @@ fn table_basis_on_any_path_fails_the_check() {
         );
         assert!(!ok, "{path}: reading the table went unnoticed");
     }
+}
+
+/// Every instruction set this CPU runs (portable, AVX2, AVX-512).
+fn every_dispatch() -> Vec<Dispatch> {
+    brdfkit::kernel::lanes::KernelPath::available()
+        .into_iter()
+        .map(|p| Dispatch::choose(p).unwrap())
+        .collect()
 }

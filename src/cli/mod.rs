@@ -336,7 +336,7 @@ pub struct RenderArgs {
     /// Shade SH data sets with every stored band, ignoring the band energy threshold the data set declares (brdfkit.band_threshold).
     #[arg(long)]
     pub no_band_skip: bool,
-    /// Kernel path of the f32 shading: auto (the best this CPU runs), portable, or avx2 (an error where the CPU lacks AVX2+FMA). Every path gives the same bits; only speed differs.
+    /// Kernel path of the f32 shading: auto (the widest this CPU runs), portable, avx2 (an error where the CPU lacks AVX2+FMA) or avx512 (an error without AVX-512F+VL). Every path gives the same bits; only speed differs.
     #[arg(long, value_enum)]
     pub kernel: Option<crate::kernel::lanes::KernelPath>,
     /// Print the work counters (tiles shaded/skipped, pixels, pixel x light pairs, lights dropped, SH bands used) to stderr.
@@ -389,7 +389,7 @@ pub enum GoldenAction {
         /// Golden directory.
         #[arg(long, default_value = "golden")]
         dir: PathBuf,
-        /// Kernel path to render on: auto (the best this CPU runs), portable or avx2.
+        /// Kernel path to render on: auto (the widest this CPU runs), portable, avx2 or avx512.
         #[arg(long, value_enum, default_value = "auto")]
         kernel: crate::kernel::lanes::KernelPath,
         /// Also re-measure each shaded entry's fast-vs-reference bound at 1/4 of its size (f64 reference with every probe texel a light: seconds per environment entry) and hold it to the stored bound (10% + 1e-6 margin).

@@ -11,7 +11,7 @@
 //! the frame of [`crate::conventions::ShadingFrame`].
 
 use super::cluster::DirLights;
-use super::lanes::{F32x8, Isa, LANES};
+use super::lanes::{Arith, F32x8, Isa, Width, LANES};
 use crate::conventions::ShadingFrame;
 use glam::Vec3;
 
@@ -104,6 +104,50 @@ pub fn gather_dir<S: Isa>(
     let (bx, by, bz) = (s.splat(b.x), s.splat(b.y), s.splat(b.z));
     let (nx, ny, nz) = (s.splat(n.x), s.splat(n.y), s.splat(n.z));
     let zero = s.zero();
+    // On AVX-512, two chunks at once (16 lanes): the same per-light arithmetic, and one
+    // compress of both in chunk order, so the list is the one the loop below makes.
+    let mut chunks = chunks;
+    if <S::Wide as Width>::N == 2 * LANES {
+        let w = s.wide();
+        let (tx, ty, tz) = (w.splat(t.x), w.splat(t.y), w.splat(t.z));
+        let (bx, by, bz) = (w.splat(b.x), w.splat(b.y), w.splat(b.z));
+        let (nx, ny, nz) = (w.splat(n.x), w.splat(n.y), w.splat(n.z));
+        let zero = w.zero();
+        let pairs = chunks.chunks_exact(2);
+        chunks = pairs.remainder();
+        for pair in pairs {
+            let (c0, c1) = (pair[0] as usize, pair[1] as usize);
+            let at = [c0 * LANES, c1 * LANES];
+            let dx = w.load_groups(&lights.dx, at);
+            let dy = w.load_groups(&lights.dy, at);
+            let dz = w.load_groups(&lights.dz, at);
+            let z = dz.fma(nz, dy.fma(ny, dx * nx));
+            let live = lights.chunk_live_mask[c0] as u32 | (lights.chunk_live_mask[c1] as u32) << 8;
+            let mask = w.gt_mask(z, zero) & live;
+            if mask == 0 {
+                continue;
+            }
+            let x = dz.fma(tz, dy.fma(ty, dx * tx));
+            let y = dz.fma(bz, dy.fma(by, dx * bx));
+            let (er, eg, eb) = (
+                w.load_groups(&lights.er, at),
+                w.load_groups(&lights.eg, at),
+                w.load_groups(&lights.eb, at),
+            );
+            let (wr, wg, wb) = if includes_cosine {
+                (er, eg, eb)
+            } else {
+                (er * z, eg * z, eb * z)
+            };
+            let at = sc.n;
+            w.compress_store(x, mask, &mut sc.x, at);
+            w.compress_store(y, mask, &mut sc.y, at);
+            w.compress_store(z, mask, &mut sc.z, at);
+            w.compress_store(wr, mask, &mut sc.wr, at);
+            w.compress_store(wg, mask, &mut sc.wg, at);
+            sc.n += w.compress_store(wb, mask, &mut sc.wb, at);
+        }
+    }
     for &ch in chunks {
         let o = ch as usize * LANES;
         let dx = s.load(&lights.dx[o..]);

@@ -17,12 +17,15 @@
 //!   colour ([`sh`], monomorphised per band count 1..=10), the analytic models and the
 //!   D-BRDF by their lane forms ([`models`], chosen by matching on the scene's
 //!   [`crate::material::Material`]).
-//! - **Dispatch.** SIMD lives only in [`lanes`]: [`lanes::F32x8`] on AVX2 + FMA
-//!   (`core::arch`) or portable `[f32; 8]`, chosen once per frame from the scene's
-//!   `render.kernel` ([`lanes::Dispatch::choose`], stored in [`crate::shade::FramePrep`]);
-//!   the tile loop runs inside the chosen path's `target_feature` function. Every tile and
-//!   thread takes the same path, and the two paths give the same bits (fused multiply-add
-//!   on both), so the image depends neither on the thread count nor on the path.
+//! - **Dispatch.** SIMD lives only in [`lanes`]: [`lanes::F32x8`] on AVX-512 (F + VL:
+//!   mask registers; 16-lane vectors, [`lanes::Width`], for the SH basis sums of 16 lights
+//!   and for 16 pixels of the pixel-packed path), AVX2 + FMA (`core::arch`) or portable
+//!   `[f32; 8]`, chosen once per frame from the scene's `render.kernel`
+//!   ([`lanes::Dispatch::choose`], stored in [`crate::shade::FramePrep`]); the tile loop
+//!   runs inside the chosen path's `target_feature` function. Every tile and thread takes
+//!   the same path, and the paths give the same bits (fused multiply-add on all, sums
+//!   across lights on eight lanes in one order), so the image depends neither on the thread
+//!   count nor on the path.
 //! - **Tolerance.** The kernel paths sum in another order than the scalar oracle
 //!   ([`crate::shade::ShadingPath::ScalarOracle`], and the f64 path, neither of which uses
 //!   any of this), use FMA, and the D-BRDF's `acos`/`atan2` are polynomials with stated,

@@ -13,7 +13,7 @@
 
 use super::cluster::DirLights;
 use super::gather::{gather_dir, Scratch};
-use super::lanes::{F32x8, Isa, LANES};
+use super::lanes::{Arith, F32x8, Isa, Narrow, Width, LANES};
 use crate::conventions::{hemi_bilinear_texels, hemi_nearest_texel, ShadingFrame};
 use crate::sh::dataset::{Lookup, ShDataset};
 use glam::Vec3;
@@ -64,11 +64,13 @@ impl ShRecurrence {
 }
 
 /// Per-lane sums `sum_k c_k Y_k(x, y, z)` for the three colours of one view texel's
-/// coefficients `c` (`[R.., G.., B..]`, each `bands^2` long). `bands` is a literal at every
-/// call site of the hot path ([`sh_sum`]), so the loops below have fixed trip counts.
+/// coefficients `c` (`[R.., G.., B..]`, each `bands^2` long), at the width of `s` (8 or 16
+/// lanes: no step crosses lanes, so a lane's value is the same at either). `bands` is a
+/// literal at every call site of the hot path ([`sh_sum`]), so the loops below have fixed
+/// trip counts.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn sh_dot<S: Isa>(
+fn sh_dot<S: Width>(
     s: S,
     bands: usize,
     rec: &ShRecurrence,
@@ -80,8 +82,8 @@ fn sh_dot<S: Isa>(
 ) -> (S::V, S::V, S::V) {
     let t = bands * bands;
     // Per-pixel coefficients `[R.., G.., B..]` (one pixel, splat to every lane), or
-    // `packed`: eight pixels' coefficients transposed, `c[(colour t + k) 8 + lane]`.
-    let w = if packed { LANES } else { 1 };
+    // `packed`: N pixels' coefficients transposed, `c[(colour t + k) N + lane]`.
+    let w = if packed { S::N } else { 1 };
     let (cr, cg, cb) = (&c[..t * w], &c[t * w..2 * t * w], &c[2 * t * w..3 * t * w]);
     let (qmm_t, c1_t) = (&rec.qmm[..bands], &rec.c1[..bands]);
     let (a_t, b_t) = (&rec.a[..t], &rec.b[..t]);
@@ -92,13 +94,13 @@ fn sh_dot<S: Isa>(
         ($k:expr, $yv:expr) => {{
             let (k, yv) = ($k, $yv);
             if packed {
-                ar = yv.mul_add(s.load(&cr[k * LANES..]), ar);
-                ag = yv.mul_add(s.load(&cg[k * LANES..]), ag);
-                ab = yv.mul_add(s.load(&cb[k * LANES..]), ab);
+                ar = yv.fma(s.load(&cr[k * S::N..]), ar);
+                ag = yv.fma(s.load(&cg[k * S::N..]), ag);
+                ab = yv.fma(s.load(&cb[k * S::N..]), ab);
             } else {
-                ar = yv.mul_add(s.splat(cr[k]), ar);
-                ag = yv.mul_add(s.splat(cg[k]), ag);
-                ab = yv.mul_add(s.splat(cb[k]), ab);
+                ar = yv.fma(s.splat(cr[k]), ar);
+                ag = yv.fma(s.splat(cg[k]), ag);
+                ab = yv.fma(s.splat(cb[k]), ab);
             }
         }};
     }
@@ -108,8 +110,8 @@ fn sh_dot<S: Isa>(
     for m in 0..bands {
         if m > 0 {
             // (cos, sin)(m azimuth) from (cos, sin)((m-1) azimuth), scaled by sin(polar)^m.
-            let c = y.neg_mul_add(sm, x * cm);
-            let sn = x.mul_add(sm, y * cm);
+            let c = y.neg_fma(sm, x * cm);
+            let sn = x.fma(sm, y * cm);
             cm = c;
             sm = sn;
         }
@@ -134,7 +136,7 @@ fn sh_dot<S: Isa>(
             emit!(m + 1, q1);
             for l in (m + 2)..bands {
                 let k = l * l + l + m;
-                let q = q2.neg_mul_add(s.splat(b_t[k]), z * q1) * s.splat(a_t[k]);
+                let q = q2.neg_fma(s.splat(b_t[k]), z * q1) * s.splat(a_t[k]);
                 emit!(l, q);
                 q2 = q1;
                 q1 = q;
@@ -146,8 +148,10 @@ fn sh_dot<S: Isa>(
 
 /// `sum_k w_k sum_lm c_lm Y_lm(l_k)` (RGB) over the lights in `sc`, for view coefficients
 /// `c` (`[R.., G.., B..]`, `rec.bands^2` each). Pads `sc` ([`Scratch::pad`]). Summation
-/// order: per lane over the groups in light order, then the lanes in the fixed order of
-/// [`F32x8::sum`]; it depends only on the light list.
+/// order: per lane over the groups of eight in light order, then the lanes in the fixed
+/// order of [`F32x8::sum`]; it depends only on the light list, not on the width the basis
+/// sums were computed at (16 lights at once on AVX-512, split into their two groups of
+/// eight before they are weighted and added).
 #[inline(always)]
 pub fn sh_sum<S: Isa>(s: S, rec: &ShRecurrence, c: &[f32], sc: &mut Scratch) -> Vec3 {
     if sc.n == 0 {
@@ -175,9 +179,38 @@ fn sh_groups<S: Isa>(
     end: usize,
 ) -> Vec3 {
     let (mut tr, mut tg, mut tb) = (s.zero(), s.zero(), s.zero());
-    for o in (0..end).step_by(LANES) {
+    let mut o = 0;
+    // Whole wide groups (16 lights on AVX-512; none elsewhere, whose widest is eight):
+    // the basis sums of 16 lights at once, then weighted and added as two groups of eight,
+    // in light order, exactly as the loop below would.
+    let wide = s.wide();
+    let n = <S::Wide as Width>::N;
+    if n > LANES {
+        while o + n <= end {
+            let (fr, fg, fb) = sh_dot(
+                wide,
+                bands,
+                rec,
+                c,
+                false,
+                wide.load(&sc.x[o..]),
+                wide.load(&sc.y[o..]),
+                wide.load(&sc.z[o..]),
+            );
+            for h in 0..n / LANES {
+                let p = o + h * LANES;
+                tr = s.half(fr, h).mul_add(s.load(&sc.wr[p..]), tr);
+                tg = s.half(fg, h).mul_add(s.load(&sc.wg[p..]), tg);
+                tb = s.half(fb, h).mul_add(s.load(&sc.wb[p..]), tb);
+            }
+            o += n;
+        }
+    }
+    // The groups of eight left (all of them on eight-lane paths).
+    let narrow = Narrow(s);
+    while o < end {
         let (fr, fg, fb) = sh_dot(
-            s,
+            narrow,
             bands,
             rec,
             c,
@@ -189,6 +222,7 @@ fn sh_groups<S: Isa>(
         tr = fr.mul_add(s.load(&sc.wr[o..]), tr);
         tg = fg.mul_add(s.load(&sc.wg[o..]), tg);
         tb = fb.mul_add(s.load(&sc.wb[o..]), tb);
+        o += LANES;
     }
     Vec3::new(tr.sum(), tg.sum(), tb.sum())
 }
@@ -249,15 +283,15 @@ pub fn lookup_coeffs<S: Isa>(s: S, ds: &ShDataset, u: f32, v: f32, out: &mut [f3
     }
 }
 
-/// Eight pixels at once, one per lane, each lit by the same few lights (point lights
-/// only: a point-light scene would otherwise fill one lane of eight). `ct` holds the
-/// pixels' coefficients transposed (`ct[(colour bands^2 + k) 8 + lane]`); light `i` of lane
-/// `p` is at index `8 i + p` of `sc`'s arrays (local direction, weight; weight 0 where the
-/// light is below that pixel's horizon or the lane is empty). Returns per-lane RGB sums,
-/// over the lights in order: a pixel's result does not depend on its neighbours in the
-/// batch.
+/// `N` pixels at once ([`Width::N`] of `s`: 16 on AVX-512, else 8), one per lane, each lit
+/// by the same few lights (point lights only: a point-light scene would otherwise fill one
+/// lane of eight). `ct` holds the pixels' coefficients transposed
+/// (`ct[(colour bands^2 + k) N + lane]`); light `i` of lane `p` is at index `N i + p` of
+/// `sc`'s arrays (local direction, weight; weight 0 where the light is below that pixel's
+/// horizon or the lane is empty). Returns per-lane RGB sums, over the lights in order: a
+/// pixel's result depends neither on its neighbours in the batch nor on the width.
 #[inline(always)]
-pub fn sh_sum_packed<S: Isa>(
+pub fn sh_sum_packed<S: Width>(
     s: S,
     rec: &ShRecurrence,
     ct: &[f32],
@@ -276,7 +310,7 @@ pub fn sh_sum_packed<S: Isa>(
 }
 
 #[inline(always)]
-fn packed_groups<S: Isa>(
+fn packed_groups<S: Width>(
     s: S,
     bands: usize,
     rec: &ShRecurrence,
@@ -286,7 +320,7 @@ fn packed_groups<S: Isa>(
 ) -> (S::V, S::V, S::V) {
     let (mut tr, mut tg, mut tb) = (s.zero(), s.zero(), s.zero());
     for i in 0..lights {
-        let o = i * LANES;
+        let o = i * S::N;
         let (fr, fg, fb) = sh_dot(
             s,
             bands,
@@ -297,9 +331,9 @@ fn packed_groups<S: Isa>(
             s.load(&sc.y[o..]),
             s.load(&sc.z[o..]),
         );
-        tr = fr.mul_add(s.load(&sc.wr[o..]), tr);
-        tg = fg.mul_add(s.load(&sc.wg[o..]), tg);
-        tb = fb.mul_add(s.load(&sc.wb[o..]), tb);
+        tr = fr.fma(s.load(&sc.wr[o..]), tr);
+        tg = fg.fma(s.load(&sc.wg[o..]), tg);
+        tb = fb.fma(s.load(&sc.wb[o..]), tb);
     }
     (tr, tg, tb)
 }

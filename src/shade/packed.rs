@@ -1,5 +1,5 @@
-//! The pixel-packed kernel path: eight pixels of an SH data set under point lights only,
-//! one pixel per lane.
+//! The pixel-packed kernel path: the pixels of an SH data set under point lights only,
+//! one pixel per lane, as many at once as the widest vectors hold (16 on AVX-512, else 8).
 //!
 //! Design rule: same terms as the per-pixel path ([`FramePrep::shade_surface`]), laid out
 //! the other way round. With a handful of lights, a light per lane would leave most lanes
@@ -10,17 +10,18 @@
 use super::fault::drop_last_band;
 use super::{local_view, FramePrep, KernelFault, Surface};
 use crate::conventions::{hemi_texcoord, ShadingFrame};
-use crate::kernel::lanes::{F32x8, Isa, LANES};
+use crate::kernel::lanes::{Isa, Width, MAX_LANES};
 use crate::kernel::{self, sh::ShRecurrence};
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 
 impl FramePrep<'_> {
-    /// Up to eight pixels of an SH data set lit only by point lights, one pixel per lane
-    /// ([`kernel::sh::sh_sum_packed`]): with a handful of lights, a light per lane would
-    /// leave most lanes empty. Same terms as [`FramePrep::shade_surface`]; each pixel's
-    /// sum runs in its own lane over the lights in order, so it does not depend on which
-    /// pixels share its batch (nor on the tile size or thread count).
+    /// Up to [`Width::N`] pixels (of `s`'s wide vectors; [`packed_width`]) of an SH data
+    /// set lit only by point lights, one pixel per lane ([`kernel::sh::sh_sum_packed`]):
+    /// with a handful of lights, a light per lane would leave most lanes empty. Same terms
+    /// as [`FramePrep::shade_surface`]; each pixel's sum runs in its own lane over the
+    /// lights in order, so it does not depend on which pixels share its batch, nor on the
+    /// width (nor on the tile size or thread count). Results in the first `N` entries.
     #[inline(always)]
     pub(super) fn shade_packed<S: Isa>(
         &self,
@@ -30,20 +31,22 @@ impl FramePrep<'_> {
         batch: &[(usize, Surface)],
         buf: &mut Vec<f32>,
         sc: &mut kernel::gather::Scratch,
-    ) -> [Vec3; LANES] {
+    ) -> [Vec3; MAX_LANES] {
+        let w = s.wide();
+        let lanes = packed_width(s);
         let t3 = 3 * ds.bands() * ds.bands();
-        buf.resize(t3 * (LANES + 1), 0.0);
-        let (ct, one) = buf.split_at_mut(t3 * LANES);
+        buf.resize(t3 * (lanes + 1), 0.0);
+        let (ct, one) = buf.split_at_mut(t3 * lanes);
         let includes_cosine = self.brdf.includes_cosine();
         let np = self.points.len();
-        let mut table_basis = [None; LANES];
-        for p in 0..LANES {
+        let mut table_basis = [None; MAX_LANES];
+        for p in 0..lanes {
             let Some((_, surf)) = batch.get(p) else {
                 for k in 0..t3 {
-                    ct[k * LANES + p] = 0.0;
+                    ct[k * lanes + p] = 0.0;
                 }
                 for i in 0..np {
-                    let o = i * LANES + p;
+                    let o = i * lanes + p;
                     (sc.x[o], sc.y[o], sc.z[o]) = (0.0, 0.0, 1.0);
                     (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
                 }
@@ -66,7 +69,7 @@ impl FramePrep<'_> {
                 }));
             }
             for (k, &c) in one.iter().enumerate() {
-                ct[k * LANES + p] = c;
+                ct[k * lanes + p] = c;
             }
             for (i, light) in self.points.iter().enumerate() {
                 let (l, e) = light.at(surf.position);
@@ -78,7 +81,7 @@ impl FramePrep<'_> {
                 } else {
                     (Vec3::Z, Vec3::ZERO)
                 };
-                let o = i * LANES + p;
+                let o = i * lanes + p;
                 (sc.x[o], sc.y[o], sc.z[o]) = (wi.x, wi.y, wi.z);
                 (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);
             }
@@ -87,18 +90,25 @@ impl FramePrep<'_> {
         match self.fault {
             Some(KernelFault::DropLane(lane)) => {
                 for i in 0..np {
-                    let o = i * LANES + lane;
+                    let o = i * lanes + lane;
                     (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
                 }
             }
             Some(KernelFault::SkipLastGroup) => lights = np.saturating_sub(1),
             _ => {}
         }
-        let (r, g, b) = kernel::sh::sh_sum_packed(s, rec, ct, lights, sc);
-        let (mut ar, mut ag, mut ab) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);
-        r.store(&mut ar);
-        g.store(&mut ag);
-        b.store(&mut ab);
-        std::array::from_fn(|p| table_basis[p].unwrap_or(Vec3::new(ar[p], ag[p], ab[p])))
+        let (r, g, b) = kernel::sh::sh_sum_packed(w, rec, ct, lights, sc);
+        let mut a = [[0.0f32; MAX_LANES]; 3];
+        w.store(r, &mut a[0]);
+        w.store(g, &mut a[1]);
+        w.store(b, &mut a[2]);
+        std::array::from_fn(|p| table_basis[p].unwrap_or(Vec3::new(a[0][p], a[1][p], a[2][p])))
     }
+}
+
+/// How many pixels [`FramePrep::shade_packed`] shades at once on `s`: the lanes of its
+/// widest vectors.
+#[inline(always)]
+pub(super) fn packed_width<S: Isa>(_s: S) -> usize {
+    <S::Wide as Width>::N
 }

@@ -14,7 +14,7 @@
 
 use super::{surface_at_index, tile_pixels, FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
-use crate::kernel::lanes::{Isa, Kernel, LANES};
+use crate::kernel::lanes::{Isa, Kernel, MAX_LANES};
 use crate::kernel::{self, cluster::Cone, skip::needs_restore};
 use crate::progress::Progress;
 use crate::raster::VisBuffer;
@@ -32,8 +32,8 @@ pub(super) fn shade_kernels(
 ) -> (Image, ShadeCounts) {
     let mut img = Image::new(vis.width, vis.height);
     let band_len = (vis.width * vis.tile_size) as usize;
-    // Per-pixel lists, or the pixel-packed point-light path's eight lanes per light.
-    let room = prep.dir.len().max(prep.dropped_dir.len()) + LANES * prep.points.len();
+    // Per-pixel lists, or the pixel-packed point-light path's 8 or 16 lanes per light.
+    let room = prep.dir.len().max(prep.dropped_dir.len()) + MAX_LANES * prep.points.len();
     // Parallel over bands of one tile row (contiguous in the image, so tiles write their
     // pixels in place); each worker keeps its buffers across the tiles it shades.
     let counts: Vec<ShadeCounts> = img
@@ -153,7 +153,7 @@ impl Kernel for ShadeTile<'_, '_, '_> {
         let mut restored = 0u64;
         match &prep.sh {
             Some((ds, rec)) if prep.dir.is_empty() && !prep.has_transfer() => {
-                for batch in surfaces.chunks(LANES) {
+                for batch in surfaces.chunks(super::packed::packed_width(s)) {
                     let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
                     for (k, (at, _)) in batch.iter().enumerate() {
                         band[*at] = rgb[k];

@@ -33,6 +33,16 @@ impl Isa for Avx2Fma {
     fn name(self) -> &'static str {
         "avx2+fma"
     }
+    type Wide = Narrow<Avx2Fma>;
+    #[inline(always)]
+    fn wide(self) -> Narrow<Avx2Fma> {
+        Narrow(self)
+    }
+    #[inline(always)]
+    fn half(self, w: A8, h: usize) -> A8 {
+        debug_assert_eq!(h, 0);
+        w
+    }
 }
 
 macro_rules! op {
@@ -54,6 +64,17 @@ impl AddAssign for A8 {
     #[inline(always)]
     fn add_assign(&mut self, o: A8) {
         *self = *self + o;
+    }
+}
+
+impl Arith for A8 {
+    #[inline(always)]
+    fn fma(self, b: A8, c: A8) -> A8 {
+        A8(unsafe { _mm256_fmadd_ps(self.0, b.0, c.0) })
+    }
+    #[inline(always)]
+    fn neg_fma(self, b: A8, c: A8) -> A8 {
+        A8(unsafe { _mm256_fnmadd_ps(self.0, b.0, c.0) })
     }
 }
 
@@ -84,14 +105,6 @@ impl F32x8 for A8 {
             // In bounds: 0 <= idx <= len - 1 by the clamp above.
             A8(_mm256_i32gather_ps::<4>(table.as_ptr(), idx))
         }
-    }
-    #[inline(always)]
-    fn mul_add(self, b: A8, c: A8) -> A8 {
-        A8(unsafe { _mm256_fmadd_ps(self.0, b.0, c.0) })
-    }
-    #[inline(always)]
-    fn neg_mul_add(self, b: A8, c: A8) -> A8 {
-        A8(unsafe { _mm256_fnmadd_ps(self.0, b.0, c.0) })
     }
     #[inline(always)]
     fn div(self, o: A8) -> A8 {

@@ -1,26 +1,36 @@
-//! The one SIMD wrapper: eight f32 lanes ([`F32x8`]) on an instruction set chosen once
-//! per frame ([`Dispatch::choose`] from a [`KernelPath`]), never per pixel or per call.
+//! The one SIMD wrapper: eight f32 lanes ([`F32x8`]), and the widest vectors of the same
+//! instruction set ([`Isa::Wide`], [`Width`]), on an instruction set chosen once per frame
+//! ([`Dispatch::choose`] from a [`KernelPath`]), never per pixel or per call.
 //!
-//! Two implementations of the same small interface, and no others (there is no AVX-512
-//! path yet):
-//! - [`Avx2Fma`]: `core::arch` AVX2 + FMA intrinsics on `__m256` (x86_64 only). A value of
-//!   its vector type can only come from a token, and the only way to make the token is
-//!   [`Dispatch::choose`] after `is_x86_feature_detected!("avx2")` and `("fma")`: holding a
-//!   vector proves the CPU runs its instructions, which makes the safe operators sound.
-//!   [`Dispatch::run`] calls the kernel inside a `#[target_feature(enable = "avx2,fma")]`
-//!   function, so the `#[inline(always)]` kernel code is compiled for AVX2 there.
-//! - [`Portable`]: `[f32; 8]` with per-lane loops, for any CPU.
+//! Three implementations of the same small interface, and no others:
+//! - [`Avx512`]: AVX-512F + VL (with AVX2 + FMA). Its eight lanes are `__m256` with
+//!   mask-register compares, compress and masked moves ([`V8`]); its wide vectors are 16
+//!   lanes of `__m512` ([`V16`]), used where the work is per lane (the SH recurrence over
+//!   16 lights, 16 pixels of the pixel-packed path, multiply-add peaks).
+//! - [`Avx2Fma`]: `core::arch` AVX2 + FMA intrinsics on `__m256` (x86_64 only); its wide
+//!   vectors are its eight lanes ([`Narrow`]).
+//! - [`Portable`]: `[f32; 8]` with per-lane loops, for any CPU (wide: [`Narrow`]).
 //!
-//! Every operation is the IEEE operation per lane, and the two paths give the same bits:
-//! [`F32x8::mul_add`] is fused (one rounding) on both, `vfmadd` on [`Avx2Fma`] and
+//! A value of an x86 path's vector type can only come from a token, and the only way to
+//! make the token is [`Dispatch::choose`] after `is_x86_feature_detected!` of the path's
+//! features: holding a vector proves the CPU runs its instructions, which makes the safe
+//! operators sound. [`Dispatch::run`] calls the kernel inside a `#[target_feature]`
+//! function of the path, so the `#[inline(always)]` kernel code is compiled for it there.
+//!
+//! Every operation is the IEEE operation per lane, and the paths give the same bits:
+//! [`Arith::fma`] ([`F32x8::mul_add`]) is fused (one rounding) on all, `vfmadd` on the x86 paths and
 //! [`f32::mul_add`] per lane on [`Portable`] (a hardware FMA where the target has one, else
 //! libm's correctly rounded `fmaf`, slower but exact); lane sums, gathers (clamped and
 //! truncated indices, NaN to 0), `min`/`max` (the second operand for NaN) and masks follow
-//! one rule on both. `tests/golden.rs` renders every golden entry on both paths and
-//! requires identical bits; the scalar oracle, another summation order, is held within the
-//! kernel tolerances ([`crate::kernel::SH_KERNEL_TOLERANCE`],
-//! [`crate::kernel::KERNEL_TOLERANCE`]). A frame takes one path for every tile and thread,
-//! so images stay bit-identical across thread counts and tile sizes.
+//! one rule on all. Wide vectors never change a per-pixel sum's order: they compute per-lane
+//! values (one light's or one pixel's), and every sum across lights stays on eight lanes in
+//! light order (16 lanes are split into two halves, [`Isa::half`], accumulated one after
+//! the other), so a pixel's arithmetic is the same at any width. `tests/golden.rs` renders
+//! every golden entry on every path and requires identical bits; the scalar oracle, another
+//! summation order, is held within the kernel tolerances
+//! ([`crate::kernel::SH_KERNEL_TOLERANCE`], [`crate::kernel::KERNEL_TOLERANCE`]). A frame
+//! takes one path for every tile and thread, so images stay bit-identical across thread
+//! counts and tile sizes.
 
 // The portable path's per-lane loops index two or three arrays by the lane number, which
 // reads as the lane arithmetic it is.
@@ -31,14 +41,30 @@ use std::ops::{Add, AddAssign, Mul, Sub};
 /// Number of lanes.
 pub const LANES: usize = 8;
 
-/// Eight f32 lanes. Lane order is memory order (`load(s)` puts `s[i]` in lane `i`).
-pub trait F32x8:
+/// Lane arithmetic at any width (the eight lanes of [`F32x8`], the sixteen of a wide
+/// vector, [`Width`]): the IEEE operation per lane, so a lane's result never depends on
+/// the width it was computed at.
+pub trait Arith:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + AddAssign + Send + Sync
 {
     /// `self * b + c` with one rounding, on every path (see the module doc).
-    fn mul_add(self, b: Self, c: Self) -> Self;
+    fn fma(self, b: Self, c: Self) -> Self;
     /// `c - self * b` with one rounding, on every path.
-    fn neg_mul_add(self, b: Self, c: Self) -> Self;
+    fn neg_fma(self, b: Self, c: Self) -> Self;
+}
+
+/// Eight f32 lanes. Lane order is memory order (`load(s)` puts `s[i]` in lane `i`).
+pub trait F32x8: Arith {
+    /// `self * b + c` with one rounding, on every path: [`Arith::fma`].
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        self.fma(b, c)
+    }
+    /// `c - self * b` with one rounding, on every path: [`Arith::neg_fma`].
+    #[inline(always)]
+    fn neg_mul_add(self, b: Self, c: Self) -> Self {
+        self.neg_fma(b, c)
+    }
     fn div(self, o: Self) -> Self;
     fn sqrt(self) -> Self;
     fn min(self, o: Self) -> Self;
@@ -87,7 +113,77 @@ pub trait Isa: Copy + Send + Sync {
     }
     /// Name, for benches and `--stats`.
     fn name(self) -> &'static str;
+    /// The widest vectors of this instruction set ([`Width::N`] lanes, a multiple of
+    /// [`LANES`]): 16 on AVX-512, else the eight lanes of [`Self::V`] ([`Narrow`]).
+    type Wide: Width;
+    fn wide(self) -> Self::Wide;
+    /// Lanes `8 h .. 8 h + 8` of a wide vector (`h < N / 8`).
+    fn half(self, w: <Self::Wide as Width>::V, h: usize) -> Self::V;
 }
+
+/// Vectors of one width on one instruction set, for the code that is the same at any
+/// width: per-lane work with no cross-lane step (the SH recurrence, [`crate::kernel::sh`];
+/// pixels in lanes). Lane `i` of a result depends only on lane `i` of the operands, so a
+/// light's or a pixel's value has the same bits at 8 and at 16 lanes.
+pub trait Width: Copy + Send + Sync {
+    type V: Arith;
+    /// Number of lanes (8 or 16).
+    const N: usize;
+    fn splat(self, v: f32) -> Self::V;
+    /// Lanes `s[0..N]` (panics if `s` is shorter).
+    fn load(self, s: &[f32]) -> Self::V;
+    /// Writes the lanes to `out[..N]`.
+    fn store(self, v: Self::V, out: &mut [f32]);
+    #[inline(always)]
+    fn zero(self) -> Self::V {
+        self.splat(0.0)
+    }
+    /// Lanes `8 h .. 8 h + 8` from `s[at[h]..at[h] + 8]`, for the `N / 8` first entries of
+    /// `at` (two groups of eight from anywhere in `s`, e.g. two chunks of lights).
+    fn load_groups(self, s: &[f32], at: [usize; 2]) -> Self::V;
+    /// Bit `i` set where lane `i` of `v` is `> o` (false for NaN), as [`F32x8::gt_mask`].
+    fn gt_mask(self, v: Self::V, o: Self::V) -> u32;
+    /// Writes the lanes whose bit is set in `mask`, in lane order, to `out[at..]`, and
+    /// returns how many, as [`F32x8::compress_store`]; `out` must hold `at + N` values.
+    fn compress_store(self, v: Self::V, mask: u32, out: &mut [f32], at: usize) -> usize;
+}
+
+/// The eight lanes of an instruction set as a [`Width`] (the wide vectors of AVX2 and
+/// portable, whose widest is eight).
+#[derive(Clone, Copy, Debug)]
+pub struct Narrow<S>(pub S);
+
+impl<S: Isa> Width for Narrow<S> {
+    type V = S::V;
+    const N: usize = LANES;
+    #[inline(always)]
+    fn splat(self, v: f32) -> S::V {
+        self.0.splat(v)
+    }
+    #[inline(always)]
+    fn load(self, s: &[f32]) -> S::V {
+        self.0.load(s)
+    }
+    #[inline(always)]
+    fn store(self, v: S::V, out: &mut [f32]) {
+        v.store(out)
+    }
+    #[inline(always)]
+    fn load_groups(self, s: &[f32], at: [usize; 2]) -> S::V {
+        self.0.load(&s[at[0]..])
+    }
+    #[inline(always)]
+    fn gt_mask(self, v: S::V, o: S::V) -> u32 {
+        v.gt_mask(o)
+    }
+    #[inline(always)]
+    fn compress_store(self, v: S::V, mask: u32, out: &mut [f32], at: usize) -> usize {
+        v.compress_store(mask, out, at)
+    }
+}
+
+/// The most lanes any [`Width`] has (room for scratch arrays laid out by width).
+pub const MAX_LANES: usize = 16;
 
 /// Work to run on the instruction set [`Dispatch`] picked: `run` must be
 /// `#[inline(always)]` (and so must everything it calls in its hot loops), so that it is
@@ -113,18 +209,23 @@ pub trait Kernel {
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum KernelPath {
-    /// The best path this CPU runs: AVX2 + FMA where detected, else portable.
+    /// The widest path this CPU runs: AVX-512 where detected, else AVX2 + FMA, else
+    /// portable.
     #[default]
     Auto,
     /// `[f32; 8]` per-lane loops, on any CPU.
     Portable,
     /// AVX2 + FMA intrinsics (x86_64 CPUs that have both).
     Avx2,
+    /// AVX-512 (F + VL) with AVX2 + FMA: 16 lanes where the work is per lane, mask
+    /// registers for compress and tails (x86_64 CPUs that have all four).
+    Avx512,
 }
 
 impl KernelPath {
     /// Every explicit path, in order.
-    pub const EXPLICIT: [KernelPath; 2] = [KernelPath::Portable, KernelPath::Avx2];
+    pub const EXPLICIT: [KernelPath; 3] =
+        [KernelPath::Portable, KernelPath::Avx2, KernelPath::Avx512];
 
     /// The name used in scene files, on the command line and in golden manifests.
     pub fn name(self) -> &'static str {
@@ -132,6 +233,7 @@ impl KernelPath {
             KernelPath::Auto => "auto",
             KernelPath::Portable => "portable",
             KernelPath::Avx2 => "avx2",
+            KernelPath::Avx512 => "avx512",
         }
     }
 
@@ -149,31 +251,46 @@ impl KernelPath {
 pub enum Dispatch {
     #[cfg(target_arch = "x86_64")]
     Avx2Fma(Avx2Fma),
+    #[cfg(target_arch = "x86_64")]
+    Avx512(Avx512),
     Portable(Portable),
 }
 
 impl Dispatch {
-    /// The best instruction set of this CPU (AVX2 + FMA, else portable):
+    /// The widest instruction set of this CPU (AVX-512, else AVX2 + FMA, else portable):
     /// `choose(KernelPath::Auto)`. Cheap, but call it once per frame, not per pixel.
     pub fn detect() -> Dispatch {
         Dispatch::choose(KernelPath::Auto).expect("auto always has a path")
     }
 
     /// The instruction set of `path`; `None` when this CPU cannot run it (AVX2 without
-    /// AVX2 and FMA detected, or on another architecture). Never `None` for
-    /// [`KernelPath::Auto`] or [`KernelPath::Portable`].
+    /// AVX2 and FMA detected, AVX-512 without AVX-512F and VL besides, or on another
+    /// architecture). Never `None` for [`KernelPath::Auto`] or [`KernelPath::Portable`].
     pub fn choose(path: KernelPath) -> Option<Dispatch> {
         #[cfg(target_arch = "x86_64")]
-        let avx2 = || {
-            (is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"))
-                .then_some(Dispatch::Avx2Fma(Avx2Fma(())))
+        let (avx2, avx512) = {
+            let has_avx2 = || is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma");
+            (
+                move || has_avx2().then_some(Dispatch::Avx2Fma(Avx2Fma(()))),
+                move || {
+                    (has_avx2()
+                        && is_x86_feature_detected!("avx512f")
+                        && is_x86_feature_detected!("avx512vl"))
+                    .then_some(Dispatch::Avx512(Avx512(())))
+                },
+            )
         };
         #[cfg(not(target_arch = "x86_64"))]
-        let avx2 = || None;
+        let (avx2, avx512) = (|| None, || None);
         match path {
-            KernelPath::Auto => Some(avx2().unwrap_or(Dispatch::Portable(Portable))),
+            KernelPath::Auto => Some(
+                avx512()
+                    .or_else(avx2)
+                    .unwrap_or(Dispatch::Portable(Portable)),
+            ),
             KernelPath::Portable => Some(Dispatch::Portable(Portable)),
             KernelPath::Avx2 => avx2(),
+            KernelPath::Avx512 => avx512(),
         }
     }
 
@@ -187,6 +304,8 @@ impl Dispatch {
         match self {
             #[cfg(target_arch = "x86_64")]
             Dispatch::Avx2Fma(_) => KernelPath::Avx2,
+            #[cfg(target_arch = "x86_64")]
+            Dispatch::Avx512(_) => KernelPath::Avx512,
             Dispatch::Portable(_) => KernelPath::Portable,
         }
     }
@@ -195,6 +314,8 @@ impl Dispatch {
         match self {
             #[cfg(target_arch = "x86_64")]
             Dispatch::Avx2Fma(s) => s.name(),
+            #[cfg(target_arch = "x86_64")]
+            Dispatch::Avx512(s) => s.name(),
             Dispatch::Portable(s) => s.name(),
         }
     }
@@ -206,6 +327,10 @@ impl Dispatch {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: an `Avx2Fma` token exists only where AVX2 and FMA were detected.
             Dispatch::Avx2Fma(s) => unsafe { run_avx2(s, k) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: an `Avx512` token exists only where AVX-512F, VL, AVX2 and FMA were
+            // detected.
+            Dispatch::Avx512(s) => unsafe { run_avx512(s, k) },
             Dispatch::Portable(s) => k.run(s),
         }
     }
@@ -214,6 +339,12 @@ impl Dispatch {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,avx2,fma")]
 unsafe fn run_avx2<K: Kernel>(s: Avx2Fma, k: K) -> K::Out {
+    k.run(s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,avx2,fma,avx512f,avx512vl")]
+unsafe fn run_avx512<K: Kernel>(s: Avx512, k: K) -> K::Out {
     k.run(s)
 }
 
@@ -243,6 +374,11 @@ pub use portable::{Portable, P8};
 mod avx2;
 #[cfg(target_arch = "x86_64")]
 pub use avx2::{Avx2Fma, A8};
+
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+#[cfg(target_arch = "x86_64")]
+pub use avx512::{Avx512, Avx512Wide, V16, V8};
 
 #[cfg(test)]
 mod tests;

@@ -36,6 +36,16 @@ impl Isa for Portable {
     fn name(self) -> &'static str {
         "portable"
     }
+    type Wide = Narrow<Portable>;
+    #[inline(always)]
+    fn wide(self) -> Narrow<Portable> {
+        Narrow(self)
+    }
+    #[inline(always)]
+    fn half(self, w: P8, h: usize) -> P8 {
+        debug_assert_eq!(h, 0);
+        w
+    }
 }
 
 impl Add for P8 {
@@ -66,6 +76,26 @@ impl AddAssign for P8 {
     }
 }
 
+impl Arith for P8 {
+    #[inline(always)]
+    fn fma(self, b: P8, c: P8) -> P8 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = self.0[i].mul_add(b.0[i], c.0[i]);
+        }
+        P8(r)
+    }
+    #[inline(always)]
+    fn neg_fma(self, b: P8, c: P8) -> P8 {
+        // `-(a b) + c` with one rounding, as `vfnmadd`: negating `a` is exact.
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = (-self.0[i]).mul_add(b.0[i], c.0[i]);
+        }
+        P8(r)
+    }
+}
+
 impl F32x8 for P8 {
     #[inline(always)]
     fn floor(self) -> P8 {
@@ -93,23 +123,6 @@ impl F32x8 for P8 {
             let k = if self.0[i] > 0.0 { self.0[i] } else { 0.0 };
             let k = if k < hi { k } else { hi };
             r[i] = table[k as usize];
-        }
-        P8(r)
-    }
-    #[inline(always)]
-    fn mul_add(self, b: P8, c: P8) -> P8 {
-        let mut r = [0.0; LANES];
-        for i in 0..LANES {
-            r[i] = self.0[i].mul_add(b.0[i], c.0[i]);
-        }
-        P8(r)
-    }
-    #[inline(always)]
-    fn neg_mul_add(self, b: P8, c: P8) -> P8 {
-        // `-(a b) + c` with one rounding, as `vfnmadd`: negating `a` is exact.
-        let mut r = [0.0; LANES];
-        for i in 0..LANES {
-            r[i] = (-self.0[i]).mul_add(b.0[i], c.0[i]);
         }
         P8(r)
     }

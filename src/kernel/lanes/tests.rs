@@ -29,8 +29,12 @@ fn every_dispatch_path_computes_the_same_lanes() {
     let a = vec![1.0, -2.0, 3.0, -4.0, 5.0, 0.0, 7.0, -0.5];
     let b = vec![0.5, 1.0, -1.0, 2.0, 2.0, 3.0, 0.25, 1.0];
     let want = Dispatch::portable().run(Probe(a.clone(), b.clone()));
-    let got = Dispatch::detect().run(Probe(a.clone(), b.clone()));
-    assert_eq!(want, got);
+    for path in KernelPath::available() {
+        let got = Dispatch::choose(path)
+            .unwrap()
+            .run(Probe(a.clone(), b.clone()));
+        assert_eq!(want, got, "{}", path.name());
+    }
     let lanes: Vec<f32> = (0..8)
         .map(|i| (a[i] * b[i] + a[i] - b[i]).clamp(-1.0, 10.0))
         .collect();
@@ -75,4 +79,112 @@ fn auto_and_portable_always_have_a_path() {
         Some(KernelPath::Portable)
     );
     assert!(KernelPath::available().contains(&KernelPath::Portable));
+}
+
+/// The same per-lane chain at the path's widest width ([`Isa::wide`]), split into halves
+/// ([`Isa::half`]), and on eight lanes.
+struct WideProbe(Vec<f32>, Vec<f32>);
+impl Kernel for WideProbe {
+    type Out = (usize, Vec<f32>, Vec<f32>, Vec<f32>);
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> Self::Out {
+        let w = s.wide();
+        let n = <S::Wide as Width>::N;
+        let (mut wide, mut halves, mut narrow) = (vec![0.0; 16], vec![0.0; 16], vec![0.0; 16]);
+        for o in (0..16).step_by(n) {
+            let (a, b) = (w.load(&self.0[o..]), w.load(&self.1[o..]));
+            let r = (a * b + a - b).fma(a, b).neg_fma(b, a);
+            w.store(r, &mut wide[o..]);
+            for h in 0..n / LANES {
+                s.half(r, h).store(&mut halves[o + h * LANES..]);
+            }
+        }
+        for o in (0..16).step_by(LANES) {
+            let (a, b) = (s.load(&self.0[o..]), s.load(&self.1[o..]));
+            let r = (a * b + a - b).mul_add(a, b).neg_mul_add(b, a);
+            r.store(&mut narrow[o..]);
+        }
+        (n, wide, halves, narrow)
+    }
+}
+
+#[test]
+fn wide_vectors_compute_the_eight_lane_values_in_lane_order() {
+    // Distinct lanes, so a swapped or repeated half shows; values whose products round.
+    let a: Vec<f32> = (0..16).map(|i| 1.0 + i as f32 / 3.0).collect();
+    let b: Vec<f32> = (0..16).map(|i| 0.7 - i as f32 / 7.0).collect();
+    let want: Vec<f32> = (0..16)
+        .map(|i| {
+            let r = (a[i] * b[i] + a[i] - b[i]).mul_add(a[i], b[i]);
+            (-r).mul_add(b[i], a[i])
+        })
+        .collect();
+    let mut widths = Vec::new();
+    for path in KernelPath::available() {
+        let (n, wide, halves, narrow) = Dispatch::choose(path)
+            .unwrap()
+            .run(WideProbe(a.clone(), b.clone()));
+        assert_eq!(wide, want, "{}: wide", path.name());
+        assert_eq!(halves, want, "{}: halves", path.name());
+        assert_eq!(narrow, want, "{}: eight lanes", path.name());
+        widths.push((path, n));
+    }
+    for (path, n) in widths {
+        let expected = if path == KernelPath::Avx512 { 16 } else { 8 };
+        assert_eq!(n, expected, "{}", path.name());
+    }
+}
+
+/// Two groups of eight loaded from anywhere ([`Width::load_groups`]), masked by sign and
+/// compressed ([`Width::gt_mask`], [`Width::compress_store`]) at the path's widest width.
+struct WideCompress(Vec<f32>, [usize; 2]);
+impl Kernel for WideCompress {
+    type Out = Vec<f32>;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> Vec<f32> {
+        let w = s.wide();
+        let n = <S::Wide as Width>::N;
+        let mut out = vec![f32::NAN; 40];
+        let mut at = 3;
+        for h in 0..2 / (n / LANES) {
+            // Eight lanes: one group per pass, as the gather's remainder loop.
+            let groups = [self.1[h], self.1[h]];
+            let v = w.load_groups(&self.0, if n == LANES { groups } else { self.1 });
+            at += w.compress_store(v, w.gt_mask(v, w.zero()), &mut out, at);
+        }
+        out.truncate(at);
+        out
+    }
+}
+
+#[test]
+fn wide_groups_load_mask_and_compress_in_lane_order() {
+    // Signs vary per lane, NaN is never kept, and the second group comes before the first
+    // in memory (as two culled chunks may).
+    let v: Vec<f32> = (0..32)
+        .map(|i| match i % 5 {
+            0 => f32::NAN,
+            1 | 3 => -(i as f32),
+            _ => i as f32 + 0.5,
+        })
+        .collect();
+    let at = [20, 4];
+    let want: Vec<f32> = [at[0]..at[0] + 8, at[1]..at[1] + 8]
+        .into_iter()
+        .flatten()
+        .map(|i| v[i])
+        .filter(|x| *x > 0.0)
+        .collect();
+    assert!(want.len() > 4);
+    for path in KernelPath::available() {
+        let got = Dispatch::choose(path)
+            .unwrap()
+            .run(WideCompress(v.clone(), at));
+        assert!(
+            got[..3].iter().all(|x| x.is_nan()),
+            "{}: wrote before `at`",
+            path.name()
+        );
+        assert_eq!(got[3..], want[..], "{}", path.name());
+    }
 }
