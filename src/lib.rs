@@ -107,6 +107,8 @@ pub mod conventions;
 pub mod env;
 pub mod error;
 pub mod golden;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod hash;
 pub mod image_io;
 pub mod kernel;
