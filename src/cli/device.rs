@@ -2,7 +2,7 @@
 //!
 //! `cpu` (the default) is the oracle itself. `gpu` is the wgpu renderer ([`crate::gpu`],
 //! cargo feature `gpu`): without the feature, without an adapter, or for what it does not
-//! render (a debug output, `--reference`, `--turntable`, a material or environment method
+//! render (the `coverage` debug output, `--reference`, `--turntable`, a material or environment method
 //! [`crate::gpu::unsupported`] names) it is a one-line error. `auto` takes the GPU when it
 //! can and otherwise says in one line why it renders on the CPU.
 
@@ -91,15 +91,15 @@ pub fn open(device: Device, scene: &Scene, r: &Request) -> Result<Option<OpenGpu
     unreachable!("refused without the gpu feature")
 }
 
-/// Renders `scene`'s beauty image on the open GPU.
-pub fn render(gpu: &OpenGpu, scene: &Scene) -> Result<Image> {
+/// Renders `scene`'s beauty image, or the debug output `aov`, on the open GPU.
+pub fn render(gpu: &OpenGpu, scene: &Scene, aov: Option<Aov>) -> Result<Image> {
     #[cfg(feature = "gpu")]
     {
-        gpu.0.render(scene, crate::gpu::Faults::NONE)
+        gpu.0.render_aov(scene, aov, crate::gpu::Faults::NONE)
     }
     #[cfg(not(feature = "gpu"))]
     {
-        let _ = scene;
+        let _ = (scene, aov);
         match *gpu {}
     }
 }

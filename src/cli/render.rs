@@ -306,7 +306,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let rendered = match &gpu {
         Some(g) => render::Rendered {
-            image: super::device::render(g, &scene)?,
+            image: super::device::render(g, &scene, a.aov)?,
             stats: None,
         },
         None => render::render(&scene, &opts),

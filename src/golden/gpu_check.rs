@@ -49,10 +49,11 @@ pub fn load_gpu_bounds(dir: &Path, manifest: &Manifest) -> Result<BTreeMap<Strin
                 format!("[{name}]: no such golden entry"),
             ));
         }
-        if !(0.0..=1.0).contains(&b.mean)
-            || !(b.percentile > 0.0 && b.percentile < 1.0)
-            || !(0.0..=1.0).contains(&b.at_percentile)
-        {
+        let in_range = (0.0..=1.0).contains(&b.mean)
+            && b.percentile > 0.0
+            && b.percentile < 1.0
+            && (0.0..=1.0).contains(&b.at_percentile);
+        if !in_range {
             return Err(Error::format(
                 &path,
                 format!("[{name}]: bounds out of range (mean, at_percentile in [0, 1]; percentile in (0, 1))"),
@@ -129,7 +130,7 @@ pub fn check_gpu(
             continue;
         }
         let expected = image_io::read_exr(&dir.join(format!("{}.exr", entry.name)))?;
-        let actual = gpu.render(&scene, faults)?;
+        let actual = gpu.render_aov(&scene, entry.aov, faults)?;
         let (e, a) = (Loaded::from_linear(expected), Loaded::from_linear(actual));
         let (m, flip) = compare::compare(&e, &a, &bounds)?;
         let passed = m.passes(&bounds);

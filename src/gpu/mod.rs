@@ -25,9 +25,10 @@
 //!
 //! What it renders: Lambert, Phong, Blinn-Phong, SH data sets (nearest and bilinear
 //! coefficient lookup), D-BRDF and Lambert + D-BRDF, under point and directional lights and
-//! delta-light sets from probes (`[env] method = "lights"`), on the f32 path. Not (yet):
-//! Ashikhmin-Shirley, MERL tables, `[env] method = "transfer"` and `"lightcuts"`, debug
-//! outputs; [`unsupported`] names the reason, which callers report.
+//! delta-light sets from probes (`[env] method = "lights"`), on the f32 path. It also
+//! writes the debug outputs of [`crate::aov`] but `coverage`. Not (yet):
+//! Ashikhmin-Shirley, MERL tables, `[env] method = "transfer"` and `"lightcuts"`;
+//! [`unsupported`] names the reason, which callers report.
 
 mod adapter;
 mod fault;
@@ -47,10 +48,12 @@ use crate::scene::Scene;
 /// Why the GPU renderer cannot render `scene` (with debug output `aov`), or `None` when it
 /// can.
 pub fn unsupported(scene: &Scene, aov: Option<Aov>) -> Option<String> {
-    if let Some(a) = aov {
-        return Some(format!(
-            "debug output {a:?} is not rendered by the GPU build"
-        ));
+    if aov == Some(Aov::Coverage) {
+        return Some(
+            "debug output 'coverage' counts every triangle over a pixel before the depth test, \
+             which the GPU's depth-tested draw does not"
+                .into(),
+        );
     }
     if scene.transfer.is_some() {
         return Some("[env] method = \"transfer\" is not implemented on the GPU".into());
@@ -72,10 +75,16 @@ impl Gpu {
     /// seeded `faults` (none for a real render). Errors: a scene [`unsupported`] names, a
     /// scene that needs more than the adapter's limits, a device error.
     pub fn render(&self, scene: &Scene, faults: Faults) -> Result<Image> {
-        if let Some(why) = unsupported(scene, None) {
+        self.render_aov(scene, None, faults)
+    }
+
+    /// [`Gpu::render`], or with `aov` that debug output ([`crate::aov`]: the same values,
+    /// computed by the fragment shader; `coverage` is [`unsupported`]).
+    pub fn render_aov(&self, scene: &Scene, aov: Option<Aov>, faults: Faults) -> Result<Image> {
+        if let Some(why) = unsupported(scene, aov) {
             return Err(crate::error::Error::Message(format!("--device gpu: {why}")));
         }
-        let up = upload::Uploads::new(self, scene, faults)?;
+        let up = upload::Uploads::new(self, scene, aov, faults)?;
         let target = pipeline::draw(self, &up)?;
         readback::read_image(self, &target, scene.render.width, scene.render.height)
     }

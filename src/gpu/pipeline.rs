@@ -4,10 +4,17 @@
 //! mesh into an `Rgba32Float` target (linear radiance; alpha 1 where covered, 0 elsewhere).
 //! Triangles are counter-clockwise seen from the front ([`crate::mesh::Mesh`]); back faces
 //! are drawn (two-sided) unless the scene culls them.
+//!
+//! The lights are split over passes ([`Uploads::light_passes`]): each pass rasterizes the
+//! mesh again (the same visibility: same triangles, same order, same depth test) and writes
+//! the sum of what the previous pass wrote and its own lights' radiance into the other of
+//! two targets. No blending is needed, so no optional feature (`Rgba32Float` blending is
+//! one) is assumed.
 
 use super::upload::Uploads;
 use super::Gpu;
 use crate::error::{Error, Result};
+use wgpu::util::DeviceExt;
 
 /// The colour target's format: 32-bit float RGBA, renderable on every WebGPU adapter.
 pub(super) const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -38,23 +45,16 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
             entry(0, wgpu::BufferBindingType::Uniform),
             entry(1, wgpu::BufferBindingType::Storage { read_only: true }),
             entry(2, wgpu::BufferBindingType::Storage { read_only: true }),
-        ],
-    });
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("frame"),
-        layout: &layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: up.frame.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: up.lights.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: up.table.as_entire_binding(),
+            entry(3, wgpu::BufferBindingType::Uniform),
+            wgpu::BindGroupLayoutEntry {
+                binding: 4,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
             },
         ],
     });
@@ -120,24 +120,64 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
             view_formats: &[],
         })
     };
-    let color = texture(
-        "radiance",
-        TARGET_FORMAT,
-        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-    );
+    // Two radiance targets, ping-ponged: pass k adds its lights to what pass k - 1 wrote.
+    let targets = [0, 1].map(|_| {
+        texture(
+            "radiance",
+            TARGET_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        )
+    });
+    let views = targets
+        .each_ref()
+        .map(|t| t.create_view(&Default::default()));
     let depth = texture(
         "depth",
         wgpu::TextureFormat::Depth32Float,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
     );
-    let color_view = color.create_view(&Default::default());
     let depth_view = depth.create_view(&Default::default());
+    let passes = up.light_passes();
     let mut encoder = device.create_command_encoder(&Default::default());
-    {
+    for (k, &(begin, end)) in passes.iter().enumerate() {
+        let info = [begin, end, (k == 0) as u32, (k + 1 == passes.len()) as u32];
+        let info = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("pass"),
+            contents: bytemuck::cast_slice(&info),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: up.frame.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: up.lights.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: up.table.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: info.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&views[(k + 1) % 2]),
+                },
+            ],
+        });
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("frame"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &color_view,
+                view: &views[k % 2],
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
@@ -169,7 +209,8 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
         let first = first.lines().next().unwrap_or("").to_string();
         return Err(Error::Message(format!("--device gpu: {first}")));
     }
-    Ok(color)
+    let [a, b] = targets;
+    Ok(if passes.len() % 2 == 1 { a } else { b })
 }
 
 fn entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {

@@ -7,6 +7,7 @@
 //! the data set's own layout `coeffs[((j nu + i) 3 + c) T + k]` ([`crate::sh::dataset`]).
 
 use super::{Faults, Gpu};
+use crate::aov::Aov;
 use crate::error::Result;
 use crate::light::Light;
 use crate::material::Material;
@@ -31,6 +32,7 @@ pub(super) struct FrameUniform {
     ks: [f32; 4],
     ints: [u32; 4],
     table: [u32; 4],
+    aov: [u32; 4],
 }
 
 /// The `Light` of `shaders/frame.wgsl`.
@@ -55,6 +57,61 @@ pub(super) struct Uploads {
     pub width: u32,
     pub height: u32,
     pub cull_back: bool,
+    /// Lights in the scene.
+    pub light_count: u32,
+    /// SH bands (0 for other materials).
+    pub sh_bands: u32,
+    /// Whether the draw writes a debug output (one pass, no lights summed).
+    pub aov: bool,
+}
+
+/// Loop iterations one fragment may run, all loops together, in one pass. Mesa's llvmpipe
+/// (lavapipe) ends a fragment's loops after 65535 iterations of its own counting (measured
+/// here: a flat loop over 20000 lights passed, over 30000 it stopped early, so it counts
+/// about three per iteration); a quarter of that keeps any such driver safe and costs a
+/// real GPU nothing but a few more passes over a full probe. WebGPU has no limit to query
+/// for this.
+pub(super) const LOOP_ITERATIONS_PER_PASS: u32 = 16_000;
+
+impl Uploads {
+    /// The light ranges `[begin, end)` of the passes: each pass's loop iterations (the SH
+    /// coefficient lookup per pixel, then per light the light loop and the SH recurrence's
+    /// `bands + bands (bands + 1) / 2`) within [`LOOP_ITERATIONS_PER_PASS`]; one empty pass
+    /// for no lights.
+    pub fn light_passes(&self) -> Vec<(u32, u32)> {
+        if self.aov {
+            return vec![(0, 0)];
+        }
+        let b = self.sh_bands;
+        let per_light = 1 + b + b * (b + 1) / 2;
+        let per_pixel = if b > 0 { self.sh_terms } else { 0 };
+        let per_pass = (LOOP_ITERATIONS_PER_PASS.saturating_sub(per_pixel) / per_light).max(1);
+        let mut out = Vec::new();
+        let mut begin = 0;
+        while begin < self.light_count {
+            let end = (begin + per_pass).min(self.light_count);
+            out.push((begin, end));
+            begin = end;
+        }
+        if out.is_empty() {
+            out.push((0, 0));
+        }
+        out
+    }
+}
+
+/// The shader's code of a debug output (`AOV_*` in `shaders/frame.wgsl`; 0: radiance).
+fn aov_code(aov: Option<Aov>) -> u32 {
+    match aov {
+        None => 0,
+        Some(Aov::Normal) => 1,
+        Some(Aov::Depth) => 2,
+        Some(Aov::ViewPolar) => 3,
+        Some(Aov::ViewAzimuth) => 4,
+        Some(Aov::LightPolar) => 5,
+        Some(Aov::LightAzimuth) => 6,
+        Some(Aov::Coverage) => unreachable!("refused by gpu::unsupported"),
+    }
 }
 
 fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
@@ -64,7 +121,7 @@ fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
 impl Uploads {
     /// Packs `scene` (checked by [`Gpu::render`] to be supported) with the seeded `faults`.
     /// Error: a size over the adapter's limits, named.
-    pub fn new(gpu: &Gpu, scene: &Scene, faults: Faults) -> Result<Uploads> {
+    pub fn new(gpu: &Gpu, scene: &Scene, aov: Option<Aov>, faults: Faults) -> Result<Uploads> {
         let lim = &gpu.limits;
         let (width, height) = (scene.render.width, scene.render.height);
         let side = lim.max_texture_dimension_2d;
@@ -191,6 +248,7 @@ impl Uploads {
             ks,
             ints: [kind, light_count, faults.0, lookup],
             table: table_info,
+            aov: [aov_code(aov), 0, 0, 0],
         };
 
         let mesh = &scene.mesh;
@@ -202,7 +260,7 @@ impl Uploads {
             .collect();
         let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
 
-        let storage = lim.max_storage_buffer_binding_size as u64;
+        let storage = lim.max_storage_buffer_binding_size;
         for (what, bytes) in [
             (
                 "the light buffer",
@@ -257,6 +315,9 @@ impl Uploads {
             width,
             height,
             cull_back: scene.render.cull == crate::raster::Cull::Back,
+            light_count,
+            sh_bands: table_info[2],
+            aov: aov.is_some(),
         })
     }
 }

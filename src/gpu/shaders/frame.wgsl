@@ -23,7 +23,19 @@ struct Frame {
     ints: vec4<u32>,
     // table nu (azimuth texels), nv (polar texels), SH bands, whether f includes the cosine.
     table: vec4<u32>,
+    // x: the debug output instead of radiance (AOV_* below; 0: radiance).
+    aov: vec4<u32>,
 }
+
+// Debug outputs (thesis Figs. 3.1-3.3; src/aov.rs documents each): the shading normal, the
+// view-axis distance, and the view's and the first light's polar angle over pi/2 and
+// azimuth over 2 pi in the shading frame.
+const AOV_NORMAL: u32 = 1u;
+const AOV_DEPTH: u32 = 2u;
+const AOV_VIEW_POLAR: u32 = 3u;
+const AOV_VIEW_AZIMUTH: u32 = 4u;
+const AOV_LIGHT_POLAR: u32 = 5u;
+const AOV_LIGHT_AZIMUTH: u32 = 6u;
 
 // A delta light: w of `where_` is 0 for a directional light (xyz: unit direction towards
 // the light, `value` its irradiance at normal incidence, W/m^2) and 1 for a point light
@@ -40,15 +52,18 @@ const MAT_SH: u32 = 3u;
 const MAT_DBRDF: u32 = 4u;
 const MAT_LAMBERT_DBRDF: u32 = 5u;
 
-// Lights per inner loop (see fs_main).
-const LIGHT_CHUNK: u32 = 4096u;
-
 // Smallest squared distance at which a point light's 1/d^2 applies (src/light.rs).
 const MIN_POINT_DISTANCE2: f32 = 1e-12;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> lights: array<Light>;
 @group(0) @binding(2) var<storage, read> table: array<f32>;
+
+// The pass: first light, end of its lights, whether it is the first pass (1: nothing to
+// add), whether it is the last (1).
+@group(0) @binding(3) var<uniform> pass_info: vec4<u32>;
+// The radiance summed by the earlier passes (ignored by the first).
+@group(0) @binding(4) var previous: texture_2d<f32>;
 
 var<private> sh_c: array<vec3<f32>, SH_TERMS>;
 
@@ -93,6 +108,19 @@ fn brdf_cos(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     return f * wi.z;
 }
 
+// The unit direction from p towards the light (w unused); a point light at p gives +y.
+fn light_at(light: Light, p: vec3<f32>) -> vec4<f32> {
+    if light.where_.w > 0.5 {
+        let dv = light.where_.xyz - p;
+        let d2 = dot(dv, dv);
+        if d2 > 0.0 {
+            return vec4<f32>(dv / sqrt(d2), 0.0);
+        }
+        return vec4<f32>(0.0, 1.0, 0.0, 0.0);
+    }
+    return vec4<f32>(light.where_.xyz, 0.0);
+}
+
 // sRGB's encoding (IEC 61966-2-1), used only by the seeded fault FAULT_SRGB_TWICE.
 fn srgb_encode(c: vec3<f32>) -> vec3<f32> {
     let x = max(c, vec3<f32>(0.0));
@@ -129,37 +157,45 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     }
     let sf = shading_frame(n);
     let wo = lift_above_horizon(to_local(sf, normalize(eye - p)));
+    let aov = frame.aov.x;
+    if aov != 0u {
+        var v = vec3<f32>(0.0);
+        if aov == AOV_NORMAL {
+            v = n;
+        } else if aov == AOV_DEPTH {
+            v = vec3<f32>(dot(p - eye, -frame.cam_back.xyz));
+        } else if aov == AOV_VIEW_POLAR || aov == AOV_VIEW_AZIMUTH {
+            let st = hemi_texcoord(wo);
+            v = vec3<f32>(select(st.x, st.y, aov == AOV_VIEW_POLAR));
+        } else if frame.ints.y > 0u {
+            let st = hemi_texcoord(to_local(sf, light_at(lights[0], p).xyz));
+            v = vec3<f32>(select(st.x, st.y, aov == AOV_LIGHT_POLAR));
+        }
+        return vec4<f32>(v, 1.0);
+    }
     if frame.ints.x == MAT_SH {
         sh_lookup(wo);
     }
     var radiance = vec3<f32>(0.0);
-    let count = frame.ints.y;
-    // Lights in chunks of LIGHT_CHUNK, so that no loop runs long: Mesa's llvmpipe (lavapipe)
-    // ends any loop after 65535 iterations of its own counting, which a flat loop over the
-    // 130519 lights of a full probe exceeded (the sum came out a small fraction of the CPU's).
-    for (var c0 = 0u; c0 < count; c0 = c0 + LIGHT_CHUNK) {
-    let c1 = min(count, c0 + LIGHT_CHUNK);
-    for (var i = c0; i < c1; i = i + 1u) {
+    // This pass's lights (src/gpu/pipeline.rs splits the light set over passes).
+    for (var i = pass_info.x; i < pass_info.y; i = i + 1u) {
         let light = lights[i];
-        var l = light.where_.xyz;
+        let wi = to_local(sf, light_at(light, p).xyz);
         var e = light.value.xyz;
         if light.where_.w > 0.5 {
             let dv = light.where_.xyz - p;
             let d2 = dot(dv, dv);
-            if d2 > 0.0 {
-                l = dv / sqrt(d2);
-                e = light.value.xyz / max(d2, MIN_POINT_DISTANCE2);
-            } else {
-                e = vec3<f32>(0.0);
-            }
+            e = select(vec3<f32>(0.0), light.value.xyz / max(d2, MIN_POINT_DISTANCE2), d2 > 0.0);
         }
-        let wi = to_local(sf, l);
         if wi.z > 0.0 {
             radiance = radiance + brdf_cos(wi, wo) * e;
         }
     }
+    if pass_info.z == 0u {
+        // The sum of the earlier passes at this pixel.
+        radiance = radiance + textureLoad(previous, vec2<i32>(floor(in.clip.xy)), 0).rgb;
     }
-    if has_fault(FAULT_SRGB_TWICE) {
+    if pass_info.w == 1u && has_fault(FAULT_SRGB_TWICE) {
         radiance = srgb_encode(radiance);
     }
     return vec4<f32>(radiance, 1.0);
