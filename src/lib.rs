@@ -56,6 +56,11 @@
 //! against error, Pareto front); [`turntable`] renders animated sequences; [`shard`] splits
 //! either over machines.
 //!
+//! Behind the cargo feature `gpu`: `gpu`, a wgpu renderer of the same resolved scene (WGSL
+//! written from the thesis and [`conventions`], not from the kernels), which `brdfkit render
+//! --device gpu` and `brdfkit golden check --device gpu` use (docs/gpu.md); it sits beside
+//! [`render`] in the layering and imports no tool.
+//!
 //! ## Layering
 //! Dependencies point one way, leaf first, with no import cycle between modules:
 //! [`conventions`] -> [`brdf`] -> [`sh`] -> [`material`] -> [`kernel`] -> [`shade`] ->

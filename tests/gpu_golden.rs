@@ -25,7 +25,11 @@ fn check(extra: &[&str]) -> common::Run {
         dir.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    common::brdfkit(tmp.path()).timeout(600).run(&args)
+    // XDG_RUNTIME_DIR for the child only: Mesa's Vulkan drivers print a line when it is unset.
+    common::brdfkit(tmp.path())
+        .env("XDG_RUNTIME_DIR", tmp.path())
+        .timeout(600)
+        .run(&args)
 }
 
 /// Entry lines of a check's output: (name, status, rest).
