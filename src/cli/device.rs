@@ -1,9 +1,9 @@
 //! `brdfkit render --device auto|cpu|gpu`: which renderer draws a single frame.
 //!
-//! `cpu` (the default) is the oracle itself. `gpu` is the wgpu renderer ([`crate::gpu`],
+//! `cpu` (the default) is the oracle itself. `gpu` is the wgpu renderer (`crate::gpu`,
 //! cargo feature `gpu`): without the feature, without an adapter, or for what it does not
 //! render (the `coverage` debug output, `--reference`, `--turntable`, a material or environment method
-//! [`crate::gpu::unsupported`] names) it is a one-line error. `auto` takes the GPU when it
+//! `crate::gpu::unsupported` names) it is a one-line error. `auto` takes the GPU when it
 //! can and otherwise says in one line why it renders on the CPU.
 
 use crate::aov::Aov;
