@@ -21,10 +21,6 @@ fn lambert_sphere_under_a_directional_light_matches_the_closed_form() {
     )
     .unwrap();
     let scene = Scene::resolve(&file, Path::new(".")).unwrap();
-    let sphere = scene
-        .mesh
-        .exact_sphere
-        .expect("a UV sphere names its sphere");
     let gpu = Gpu::new().expect("a GPU adapter (lavapipe: mesa-vulkan-drivers)");
     // The check itself: the correct render passes it, the seeded missing-cosine fault fails.
     let img = gpu.render(&scene, Faults::NONE).unwrap();
