@@ -59,6 +59,11 @@
 //! viewer (`brdfkit view`: a window, winit + softbuffer, each frame [`render::render`] of a
 //! scene file it can write out).
 //!
+//! Behind the cargo feature `gpu`: `gpu`, a wgpu renderer of the same resolved scene (WGSL
+//! written from the thesis and [`conventions`], not from the kernels), which `brdfkit render
+//! --device gpu` and `brdfkit golden check --device gpu` use (docs/gpu.md); it sits beside
+//! [`render`] in the layering and imports no tool.
+//!
 //! ## Layering
 //! Dependencies point one way, leaf first, with no import cycle between modules:
 //! [`conventions`] -> [`brdf`] -> [`sh`] -> [`material`] -> [`kernel`] -> [`shade`] ->
@@ -112,6 +117,8 @@ pub mod env;
 pub mod error;
 pub mod export;
 pub mod golden;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod hash;
 pub mod image_io;
 pub mod kernel;

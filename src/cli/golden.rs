@@ -1,6 +1,6 @@
 //! `brdfkit golden check|bless`.
 
-use super::GoldenAction;
+use super::{GoldenAction, GoldenDevice};
 use crate::error::{Error, Result};
 use crate::golden::CheckOptions;
 use crate::kernel::lanes::Dispatch;
@@ -13,7 +13,21 @@ pub fn run(action: GoldenAction) -> Result<bool> {
             dir,
             kernel,
             bounds,
+            device,
+            gpu_fault,
         } => {
+            if device == GoldenDevice::Gpu {
+                if bounds {
+                    return Err(Error::field(
+                        "--bounds",
+                        "measures the CPU's fast path: not with --device gpu",
+                    ));
+                }
+                return check_gpu(&names, &dir, gpu_fault.as_deref());
+            }
+            if gpu_fault.is_some() {
+                return Err(Error::field("--gpu-fault", "needs --device gpu"));
+            }
             let report = PathBuf::from("target/golden-failures");
             if Dispatch::choose(kernel).is_none() {
                 return Err(Error::field(
@@ -87,4 +101,52 @@ pub fn run(action: GoldenAction) -> Result<bool> {
             Ok(true)
         }
     }
+}
+
+/// `golden check --device gpu`: one line per entry (pass, FAIL or skip with the reason) and
+/// a summary; `Ok(false)` when an entry fails.
+#[cfg(feature = "gpu")]
+fn check_gpu(names: &[String], dir: &std::path::Path, fault: Option<&str>) -> Result<bool> {
+    let faults = match fault {
+        Some(f) => crate::gpu::Faults::parse(f)?,
+        None => crate::gpu::Faults::NONE,
+    };
+    let gpu = crate::gpu::Gpu::new()?;
+    let report = PathBuf::from("target/golden-failures/gpu");
+    let outcomes = crate::golden::check_gpu(&gpu, dir, &report, names, faults)?;
+    for o in &outcomes {
+        match o.passed {
+            None => println!("{:<40} skip  {}", o.name, o.message),
+            Some(p) => println!(
+                "{:<40} {}  max abs {:.3e}  {}",
+                o.name,
+                if p { "pass" } else { "FAIL" },
+                o.max_abs,
+                o.message
+            ),
+        }
+    }
+    let failed = outcomes.iter().filter(|o| o.passed == Some(false)).count();
+    let passed = outcomes.iter().filter(|o| o.passed == Some(true)).count();
+    println!(
+        "golden check --device gpu ({}, {:?}{}): {} entries, {passed} passed, {failed} failed, {} skipped",
+        gpu.info.name,
+        gpu.info.backend,
+        fault.map(|f| format!(", seeded fault {f}")).unwrap_or_default(),
+        outcomes.len(),
+        outcomes.len() - passed - failed
+    );
+    if failed > 0 {
+        println!("expected | FLIP | actual images: {}", report.display());
+    }
+    Ok(failed == 0)
+}
+
+/// `golden check --device gpu` without the `gpu` feature: a one-line error.
+#[cfg(not(feature = "gpu"))]
+fn check_gpu(_: &[String], _: &std::path::Path, _: Option<&str>) -> Result<bool> {
+    Err(Error::Message(
+        "--device gpu: this brdfkit was built without the `gpu` feature (cargo build --features gpu)"
+            .into(),
+    ))
 }

@@ -5,6 +5,7 @@
 mod acquire;
 pub mod cache;
 pub mod compare;
+pub mod device;
 pub mod export;
 mod golden;
 pub mod lights;
@@ -360,6 +361,9 @@ pub struct RenderArgs {
     /// Neither read nor write the light-set cache: compute the environment's light set (see the cache note below).
     #[arg(long)]
     pub no_cache: bool,
+    /// Renderer: cpu (the oracle, default), gpu (the wgpu renderer: needs the `gpu` cargo feature and an adapter), auto (gpu when it can, else cpu with one line saying why).
+    #[arg(long, value_enum, default_value = "cpu")]
+    pub device: device::Device,
 }
 
 /// `acquire --method`: how the hemisphere data is extended to the sphere
@@ -375,6 +379,13 @@ pub enum MethodArg {
 pub enum CullArg {
     None,
     Back,
+}
+
+/// `golden check --device`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GoldenDevice {
+    Cpu,
+    Gpu,
 }
 
 #[derive(Subcommand, Debug)]
@@ -395,6 +406,12 @@ pub enum GoldenAction {
         /// Also re-measure each shaded entry's fast-vs-reference bound at 1/4 of its size (f64 reference with every probe texel a light: seconds per environment entry) and hold it to the stored bound (10% + 1e-6 margin).
         #[arg(long)]
         bounds: bool,
+        /// cpu: re-render on the CPU (exact bits on the blessing path); gpu: render every entry the wgpu renderer supports and compare at the entry's FLIP bounds (golden/gpu-bounds.toml may tighten or loosen them per entry), listing the others as skipped.
+        #[arg(long, value_enum, default_value = "cpu")]
+        device: GoldenDevice,
+        /// Seeded GPU fault (half-texel, no-cosine, mirrored-azimuth, srgb-twice), to show that the check fails on it.
+        #[arg(long, hide = true)]
+        gpu_fault: Option<String>,
     },
     /// Re-render and overwrite golden images (all, or the named entries), their hashes, configuration summaries and measured fast-vs-reference bounds (the reference render with the full probe is slow), and the table in golden/README.md. The only command that writes golden/. Reads and writes no cache.
     Bless {

@@ -172,6 +172,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
             if e.cache_hit { " (cached)" } else { "" }
         );
     }
+    let gpu = super::device::open(
+        a.device,
+        &scene,
+        &super::device::Request {
+            aov: a.aov,
+            reference: a.reference,
+            turntable: a.turntable.is_some(),
+        },
+    )?;
     if let Some(n) = a.turntable {
         return super::turntable::run_turntable(
             &a,
@@ -205,13 +214,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if let Some(what) = what {
         opts.shading.progress = Progress::bar(render::tile_count(&scene), what, "tiles");
     }
-    let rendered = render::render(&scene, &opts);
+    let rendered = match &gpu {
+        Some(g) => render::Rendered {
+            image: super::device::render(g, &scene, a.aov)?,
+            stats: None,
+        },
+        None => render::render(&scene, &opts),
+    };
     opts.shading.progress.finish();
     let (img, stats) = (rendered.image, rendered.stats);
     let elapsed = start.elapsed();
     if a.stats {
         match &stats {
             Some(s) => eprintln!("{s}"),
+            None if gpu.is_some() => eprintln!("stats: gpu frame (upload, draw, read-back)"),
             None => eprintln!("stats: none for --reference (every light, every band, no skips)"),
         }
     }

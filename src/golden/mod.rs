@@ -41,12 +41,16 @@
 //! set that makes the fast path drift from the converged reference is caught in CI.
 
 mod bounds;
+#[cfg(feature = "gpu")]
+mod gpu_check;
 mod manifest;
 mod report;
 mod summary;
 mod tolerance;
 
 pub use bounds::*;
+#[cfg(feature = "gpu")]
+pub use gpu_check::*;
 pub use manifest::*;
 pub use report::*;
 pub use summary::*;

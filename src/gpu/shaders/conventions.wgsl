@@ -1,0 +1,117 @@
+// Coordinate conventions on the GPU, written from src/conventions/mod.rs (the "Departures
+// from the thesis" list) and thesis 3.1.2-3.1.4. Nothing here is shared with the CPU kernel.
+
+const PI: f32 = 3.14159265358979;
+const TAU: f32 = 6.28318530717959;
+// Smallest cosine of the view direction above the horizon (conventions item 8).
+const MIN_VIEW_COS: f32 = 1e-3;
+
+// Seeded faults (bit flags in frame.ints.z), injected only by the hidden option of
+// `brdfkit golden check --device gpu` to show that the check catches them.
+const FAULT_HALF_TEXEL: u32 = 1u;
+const FAULT_NO_COSINE: u32 = 2u;
+const FAULT_MIRROR_AZIMUTH: u32 = 4u;
+const FAULT_SRGB_TWICE: u32 = 8u;
+
+fn has_fault(bit: u32) -> bool {
+    return (frame.ints.z & bit) != 0u;
+}
+
+// Shading frame (t, b, n): t = world up (+y) projected onto the tangent plane, b = n x t,
+// right-handed; at n = +-y, t = (0, 0, -n.y) (conventions items 1-2).
+struct ShadingFrame {
+    t: vec3<f32>,
+    b: vec3<f32>,
+    n: vec3<f32>,
+}
+
+fn shading_frame(n: vec3<f32>) -> ShadingFrame {
+    let s2 = n.x * n.x + n.z * n.z;
+    var t: vec3<f32>;
+    if s2 > 0.0 {
+        let s = sqrt(s2);
+        t = vec3<f32>(-n.x * n.y / s, s, -n.z * n.y / s);
+    } else {
+        t = vec3<f32>(0.0, 0.0, -sign(n.y));
+    }
+    var b = cross(n, t);
+    if has_fault(FAULT_MIRROR_AZIMUTH) {
+        // A left-handed frame: every azimuth turns into its mirror image 2 pi - azimuth.
+        b = -b;
+    }
+    return ShadingFrame(t, b, n);
+}
+
+fn to_local(f: ShadingFrame, d: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(d, f.t), dot(d, f.b), dot(d, f.n));
+}
+
+// View direction lifted to at least MIN_VIEW_COS above the horizon, azimuth kept.
+fn lift_above_horizon(w: vec3<f32>) -> vec3<f32> {
+    if w.z >= MIN_VIEW_COS {
+        return w;
+    }
+    let h = sqrt(w.x * w.x + w.y * w.y);
+    if h <= 0.0 {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    let s = sqrt(1.0 - MIN_VIEW_COS * MIN_VIEW_COS);
+    return vec3<f32>(w.x / h * s, w.y / h * s, MIN_VIEW_COS);
+}
+
+// Texture coordinates (s, t) of a hemispherical table for a local direction:
+// s = azimuth / 2 pi with azimuth = atan2(y, x) in [0, 2 pi), t = polar / (pi / 2).
+fn hemi_texcoord(w: vec3<f32>) -> vec2<f32> {
+    let polar = acos(clamp(w.z, -1.0, 1.0));
+    var az = atan2(w.y, w.x);
+    if az < 0.0 {
+        az = az + TAU;
+    }
+    if az >= TAU {
+        az = 0.0;
+    }
+    return vec2<f32>(az / TAU, polar / (0.5 * PI));
+}
+
+// GL_NEAREST on an nu x nv table (OpenGL 4.6 core, 8.14.1, with the wrap modes of 8.14.2):
+// azimuth GL_REPEAT, polar GL_CLAMP_TO_EDGE. Returns texel (i, j).
+fn nearest_texel(st: vec2<f32>, nu: u32, nv: u32) -> vec2<u32> {
+    var u = fract(st.x) * f32(nu);
+    var v = st.y * f32(nv);
+    if has_fault(FAULT_HALF_TEXEL) {
+        // Texel values taken to sit on texel corners instead of centres.
+        u = u + 0.5;
+        v = v + 0.5;
+    }
+    let i = u32(floor(u)) % nu;
+    let j = u32(clamp(floor(v), 0.0, f32(nv - 1u)));
+    return vec2<u32>(i, j);
+}
+
+// GL_LINEAR on an nu x nv table: u = s nu - 1/2, v = t nv - 1/2 (the texel centres),
+// i0 = floor(u), alpha = fract(u); azimuth indices wrap, polar indices clamp.
+struct Bilinear {
+    i0: u32,
+    i1: u32,
+    j0: u32,
+    j1: u32,
+    a: f32,
+    b: f32,
+}
+
+fn bilinear_texels(st: vec2<f32>, nu: u32, nv: u32) -> Bilinear {
+    var u = st.x * f32(nu) - 0.5;
+    var v = st.y * f32(nv) - 0.5;
+    if has_fault(FAULT_HALF_TEXEL) {
+        u = u + 0.5;
+        v = v + 0.5;
+    }
+    let uf = floor(u);
+    let vf = floor(v);
+    let ni = i32(nu);
+    let i0 = ((i32(uf) % ni) + ni) % ni;
+    let i1 = (i0 + 1) % ni;
+    let j0 = clamp(i32(vf), 0, i32(nv) - 1);
+    let j1 = clamp(i32(vf) + 1, 0, i32(nv) - 1);
+    return Bilinear(u32(i0), u32(i1), u32(j0), u32(j1), u - uf, v - vf);
+}

@@ -1,0 +1,323 @@
+//! The scene packed for the GPU: one uniform block (camera, exact sphere, material
+//! parameters, counts, faults), the interleaved vertices and the indices, the delta lights
+//! and the material's table (SH coefficients or the D-BRDF's `p(h)`), each checked against
+//! the adapter's limits before anything is allocated.
+//!
+//! The layouts match `shaders/frame.wgsl` (`Frame`, `Light`); the SH coefficient table keeps
+//! the data set's own layout `coeffs[((j nu + i) 3 + c) T + k]` ([`crate::sh::dataset`]).
+
+use super::{Faults, Gpu};
+use crate::aov::Aov;
+use crate::error::Result;
+use crate::light::Light;
+use crate::material::Material;
+use crate::scene::Scene;
+use crate::sh::dataset::Lookup;
+use bytemuck::{Pod, Zeroable};
+use glam::Mat3;
+use wgpu::util::DeviceExt;
+
+/// The uniform block `Frame` of `shaders/frame.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(super) struct FrameUniform {
+    clip_from_world: [[f32; 4]; 4],
+    eye: [f32; 4],
+    cam_right: [f32; 4],
+    cam_up: [f32; 4],
+    cam_back: [f32; 4],
+    viewport: [f32; 4],
+    sphere: [f32; 4],
+    kd: [f32; 4],
+    ks: [f32; 4],
+    ints: [u32; 4],
+    table: [u32; 4],
+    aov: [u32; 4],
+}
+
+/// The `Light` of `shaders/frame.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct GpuLight {
+    where_: [f32; 4],
+    value: [f32; 4],
+}
+
+/// Everything one draw reads, on the device.
+pub(super) struct Uploads {
+    pub frame: wgpu::Buffer,
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub index_count: u32,
+    pub lights: wgpu::Buffer,
+    pub table: wgpu::Buffer,
+    /// Terms per colour of the SH data set (bands^2), 1 for other materials: the size of the
+    /// shader's per-pixel coefficient array.
+    pub sh_terms: u32,
+    pub width: u32,
+    pub height: u32,
+    pub cull_back: bool,
+    /// Lights in the scene.
+    pub light_count: u32,
+    /// SH bands (0 for other materials).
+    pub sh_bands: u32,
+    /// Whether the draw writes a debug output (one pass, no lights summed).
+    pub aov: bool,
+}
+
+/// Loop iterations one fragment may run, all loops together, in one pass. Mesa's llvmpipe
+/// (lavapipe) ends a fragment's loops after 65535 iterations of its own counting (measured
+/// here: a flat loop over 20000 lights passed, over 30000 it stopped early, so it counts
+/// about three per iteration); a quarter of that keeps any such driver safe and costs a
+/// real GPU nothing but a few more passes over a full probe. WebGPU has no limit to query
+/// for this.
+pub(super) const LOOP_ITERATIONS_PER_PASS: u32 = 16_000;
+
+impl Uploads {
+    /// The light ranges `[begin, end)` of the passes: each pass's loop iterations (the SH
+    /// coefficient lookup per pixel, then per light the light loop and the SH recurrence's
+    /// `bands + bands (bands + 1) / 2`) within [`LOOP_ITERATIONS_PER_PASS`]; one empty pass
+    /// for no lights.
+    pub fn light_passes(&self) -> Vec<(u32, u32)> {
+        if self.aov {
+            return vec![(0, 0)];
+        }
+        let b = self.sh_bands;
+        let per_light = 1 + b + b * (b + 1) / 2;
+        let per_pixel = if b > 0 { self.sh_terms } else { 0 };
+        let per_pass = (LOOP_ITERATIONS_PER_PASS.saturating_sub(per_pixel) / per_light).max(1);
+        let mut out = Vec::new();
+        let mut begin = 0;
+        while begin < self.light_count {
+            let end = (begin + per_pass).min(self.light_count);
+            out.push((begin, end));
+            begin = end;
+        }
+        if out.is_empty() {
+            out.push((0, 0));
+        }
+        out
+    }
+}
+
+/// The shader's code of a debug output (`AOV_*` in `shaders/frame.wgsl`; 0: radiance).
+fn aov_code(aov: Option<Aov>) -> u32 {
+    match aov {
+        None => 0,
+        Some(Aov::Normal) => 1,
+        Some(Aov::Depth) => 2,
+        Some(Aov::ViewPolar) => 3,
+        Some(Aov::ViewAzimuth) => 4,
+        Some(Aov::LightPolar) => 5,
+        Some(Aov::LightAzimuth) => 6,
+        Some(Aov::Coverage) => unreachable!("refused by gpu::unsupported"),
+    }
+}
+
+fn v4(v: glam::Vec3, w: f32) -> [f32; 4] {
+    [v.x, v.y, v.z, w]
+}
+
+impl Uploads {
+    /// Packs `scene` (checked by [`Gpu::render`] to be supported) with the seeded `faults`.
+    /// Error: a size over the adapter's limits, named.
+    pub fn new(gpu: &Gpu, scene: &Scene, aov: Option<Aov>, faults: Faults) -> Result<Uploads> {
+        let lim = &gpu.limits;
+        let (width, height) = (scene.render.width, scene.render.height);
+        let side = lim.max_texture_dimension_2d;
+        if width > side || height > side {
+            return Err(gpu.over_limit(
+                "the image side",
+                "max_texture_dimension_2d",
+                width.max(height) as u64,
+                side as u64,
+            ));
+        }
+        if lim.max_storage_buffers_per_shader_stage < 2 {
+            return Err(gpu.over_limit(
+                "the fragment shader",
+                "max_storage_buffers_per_shader_stage",
+                2,
+                lim.max_storage_buffers_per_shader_stage as u64,
+            ));
+        }
+
+        let cam = &scene.camera;
+        let aspect = width as f32 / height as f32;
+        let view = cam.view_from_world();
+        let clip_from_world = cam.clip_from_view(aspect) * view;
+        // The inverse of the view rotation is its transpose: columns right, up, backward.
+        let world_from_view = Mat3::from_mat4(view).transpose();
+        let tan_y = (0.5 * cam.fov_y_deg).to_radians().tan();
+        let sphere = scene
+            .mesh
+            .exact_sphere
+            .map_or([0.0; 4], |s| v4(s.center, s.radius));
+
+        let (mut kd, mut ks) = ([0.0f32; 4], [0.0f32; 4]);
+        let mut table_info = [0u32; 4];
+        let mut table: Vec<f32> = Vec::new();
+        let mut sh_terms = 1;
+        let mut lookup = 0;
+        let kind = match &scene.material {
+            Material::Lambert(m) => {
+                kd = v4(m.albedo, 0.0);
+                0
+            }
+            Material::Phong(m) => {
+                (kd, ks) = (v4(m.kd, m.exponent), v4(m.ks, 0.0));
+                1
+            }
+            Material::BlinnPhong(m) => {
+                (kd, ks) = (v4(m.kd, m.exponent), v4(m.ks, 0.0));
+                2
+            }
+            Material::Sh(ds) => {
+                let (nu, nv) = ds.grid();
+                table.extend_from_slice(ds.coeffs());
+                sh_terms = (ds.bands() * ds.bands()) as u32;
+                table_info = [
+                    nu as u32,
+                    nv as u32,
+                    ds.bands() as u32,
+                    ds.cosine_included() as u32,
+                ];
+                lookup = match ds.coeff_lookup {
+                    Lookup::Nearest => 0,
+                    Lookup::Bilinear => 1,
+                };
+                3
+            }
+            Material::DBrdf(d) => {
+                let (nu, nv) = d.grid();
+                table.extend_from_slice(d.table());
+                table_info = [nu as u32, nv as u32, 0, 0];
+                ks = v4(d.rs, d.c);
+                4
+            }
+            Material::LambertDbrdf(m) => {
+                let (nu, nv) = m.lobe.grid();
+                table.extend_from_slice(m.lobe.table());
+                table_info = [nu as u32, nv as u32, 0, 0];
+                kd = v4(m.rd, 0.0);
+                ks = v4(m.lobe.rs, m.lobe.c);
+                5
+            }
+            Material::AshikhminShirley(_) | Material::Merl(_) => {
+                unreachable!("refused by gpu::unsupported")
+            }
+        };
+        if table.is_empty() {
+            table.push(0.0);
+        }
+
+        let mut lights: Vec<GpuLight> = scene
+            .lights
+            .iter()
+            .map(|l| match *l {
+                Light::Directional {
+                    to_light,
+                    irradiance,
+                } => GpuLight {
+                    where_: v4(to_light, 0.0),
+                    value: v4(irradiance, 0.0),
+                },
+                Light::Point {
+                    position,
+                    intensity,
+                } => GpuLight {
+                    where_: v4(position, 1.0),
+                    value: v4(intensity, 0.0),
+                },
+            })
+            .collect();
+        let light_count = lights.len() as u32;
+        if lights.is_empty() {
+            lights.push(GpuLight::zeroed());
+        }
+
+        let frame = FrameUniform {
+            clip_from_world: clip_from_world.to_cols_array_2d(),
+            eye: v4(cam.position, 1.0),
+            cam_right: v4(world_from_view.x_axis, 0.0),
+            cam_up: v4(world_from_view.y_axis, 0.0),
+            cam_back: v4(world_from_view.z_axis, 0.0),
+            viewport: [width as f32, height as f32, tan_y * aspect, tan_y],
+            sphere,
+            kd,
+            ks,
+            ints: [kind, light_count, faults.0, lookup],
+            table: table_info,
+            aov: [aov_code(aov), 0, 0, 0],
+        };
+
+        let mesh = &scene.mesh;
+        let vertices: Vec<[f32; 6]> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(p, n)| [p.x, p.y, p.z, n.x, n.y, n.z])
+            .collect();
+        let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+
+        let storage = lim.max_storage_buffer_binding_size;
+        for (what, bytes) in [
+            (
+                "the light buffer",
+                std::mem::size_of_val(lights.as_slice()) as u64,
+            ),
+            (
+                "the material table",
+                std::mem::size_of_val(table.as_slice()) as u64,
+            ),
+        ] {
+            if bytes > storage {
+                return Err(gpu.over_limit(
+                    what,
+                    "max_storage_buffer_binding_size",
+                    bytes,
+                    storage,
+                ));
+            }
+        }
+        for (what, bytes) in [
+            (
+                "the vertex buffer",
+                std::mem::size_of_val(vertices.as_slice()) as u64,
+            ),
+            (
+                "the index buffer",
+                std::mem::size_of_val(indices.as_slice()) as u64,
+            ),
+        ] {
+            if bytes > lim.max_buffer_size {
+                return Err(gpu.over_limit(what, "max_buffer_size", bytes, lim.max_buffer_size));
+            }
+        }
+
+        let buffer = |label: &str, contents: &[u8], usage| {
+            gpu.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                })
+        };
+        use wgpu::BufferUsages as U;
+        Ok(Uploads {
+            frame: buffer("frame", bytemuck::bytes_of(&frame), U::UNIFORM),
+            vertices: buffer("vertices", bytemuck::cast_slice(&vertices), U::VERTEX),
+            indices: buffer("indices", bytemuck::cast_slice(&indices), U::INDEX),
+            index_count: indices.len() as u32,
+            lights: buffer("lights", bytemuck::cast_slice(&lights), U::STORAGE),
+            table: buffer("table", bytemuck::cast_slice(&table), U::STORAGE),
+            sh_terms,
+            width,
+            height,
+            cull_back: scene.render.cull == crate::raster::Cull::Back,
+            light_count,
+            sh_bands: table_info[2],
+            aov: aov.is_some(),
+        })
+    }
+}
