@@ -203,7 +203,10 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
     let mut file = SceneFile::parse(&text).map_err(|m| Error::format(scene_path, m))?;
     let base = scene_path.parent().unwrap_or(Path::new("."));
     // `auto` made concrete: it may stand for a transfer table or light cuts.
-    let auto = file.env.as_ref().is_some_and(|e| e.method == EnvMethod::Auto);
+    let auto = file
+        .env
+        .as_ref()
+        .is_some_and(|e| e.method == EnvMethod::Auto);
     file.resolve_env_method();
     if let Some(env) = &file.env {
         if matches!(env.method, EnvMethod::Transfer | EnvMethod::Lightcuts) {

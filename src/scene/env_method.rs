@@ -14,9 +14,9 @@
 //!   its 99th percentile is tens of percent: the highlight shows the lights as spots. The
 //!   cuts bound every pixel's error instead.
 //!
-//! A table that states `sampler` or `count` asks for a delta light set: `auto` is then
-//! `lights` ([`super::SceneFile::parse`]); so do `--sampler` and `--lights` on the command
-//! line.
+//! A table that states `sampler` or `count` and no `method` asks for a delta light set:
+//! its method is then `lights` ([`super::SceneFile::parse`]; a stated `method = "auto"`
+//! stays auto); so do `--sampler` and `--lights` on the command line.
 
 use super::MaterialSpec;
 use crate::env::prepare::{EnvMethod, EnvSpec};
@@ -93,8 +93,9 @@ mod tests {
         // An explicit method wins over the rule.
         let text = "[material]\nkind = \"lambert\"\n[env]\nfile = \"p.exr\"\ncount = 64\nmethod = \"transfer\"\n";
         assert_eq!(method_of(text), EnvMethod::Transfer);
+        // A stated `auto` stays auto (a written-out scene file states every field).
         let text = "[env]\nfile = \"p.exr\"\nmethod = \"auto\"\ncount = 64\n";
-        assert_eq!(method_of(text), EnvMethod::Lights);
+        assert_eq!(method_of(text), EnvMethod::Lightcuts);
         // A light set file is delta lights.
         let text = "[material]\nkind = \"lambert\"\n[env]\nlights = \"set.json\"\n";
         assert_eq!(method_of(text), EnvMethod::Lights);

@@ -178,8 +178,8 @@ impl SceneFile {
     }
 
     /// Parses scene TOML text; the error is one line. An `[env]` table that states
-    /// `sampler` or `count` with `method` unset or `"auto"` asks for a delta light set: its
-    /// method becomes `lights` ([`super::env_method`]).
+    /// `sampler` or `count` and no `method` asks for a delta light set: its method becomes
+    /// `lights` ([`super::env_method`]); a stated `method = "auto"` stays `auto`.
     pub fn parse(text: &str) -> std::result::Result<SceneFile, String> {
         let mut file: SceneFile =
             toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))?;
@@ -193,7 +193,7 @@ impl SceneFile {
                         .and_then(toml::Value::as_table)
                         .is_some_and(|t| t.contains_key(key))
                 };
-                if stated("sampler") || stated("count") {
+                if !stated("method") && (stated("sampler") || stated("count")) {
                     env.method = EnvMethod::Lights;
                 }
             }

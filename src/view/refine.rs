@@ -65,8 +65,11 @@ mod tests {
 
     #[test]
     fn steps_raise_the_light_count_and_the_last_drops_no_light() {
+        // A delta light set (`auto` is left as it is: its method has no light count).
+        let mut env = EnvSpec::new("p.exr".into());
+        env.method = crate::env::prepare::EnvMethod::Lights;
         let f = SceneFile {
-            env: Some(EnvSpec::new("p.exr".into())),
+            env: Some(env),
             ..SceneFile::default()
         };
         let counts: Vec<usize> = (0..=3)
