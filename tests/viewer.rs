@@ -12,11 +12,16 @@ use std::time::{Duration, Instant};
 
 const BIN: &str = env!("CARGO_BIN_EXE_brdfkit");
 
-/// A running Xvfb server, killed on drop.
+/// A running Xvfb server, killed on drop. One at a time in this process: the tests run on
+/// threads, and two of them starting a server on the same free display number at once
+/// would both see its socket appear and share one server, which the first to finish kills.
 struct Xvfb {
     child: Child,
     display: String,
+    _one_at_a_time: std::sync::MutexGuard<'static, ()>,
 }
+
+static ONE_SERVER: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 impl Drop for Xvfb {
     /// SIGTERM, so the server removes its socket and lock file (SIGKILL would leave them,
@@ -41,6 +46,7 @@ fn xvfb_path() -> Option<PathBuf> {
 
 /// Starts Xvfb on the first display number in 90..400 whose socket and lock are free.
 fn start_xvfb(exe: &Path) -> Xvfb {
+    let guard = ONE_SERVER.lock().unwrap_or_else(|e| e.into_inner());
     for n in 90..400 {
         let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
         let lock = PathBuf::from(format!("/tmp/.X{n}-lock"));
@@ -66,6 +72,7 @@ fn start_xvfb(exe: &Path) -> Xvfb {
                 return Xvfb {
                     child,
                     display: format!(":{n}"),
+                    _one_at_a_time: guard,
                 };
             }
             if let Ok(Some(_)) = child.try_wait() {
