@@ -1,8 +1,9 @@
 //! Progressive refinement: while the view is still, the image is re-rendered in steps
 //! towards the converged reference, each step a scene file `brdfkit render` renders too.
 //!
-//! Step 0 is the document itself (the fast configuration shown while the view changes).
-//! Step `k` of `steps` (1 <= k <= steps) shades the environment with `count * 4^k` lights
+//! Step 0 is the document itself (the fast configuration shown while the view changes;
+//! under `[env] method = "auto"` its delta light set, and from step 1 the method `auto`
+//! stands for, refined from step 2 as below). Step `k` of `steps` (1 <= k <= steps) shades the environment with `count * 4^k` lights
 //! (at most [`MAX_REFINED_LIGHTS`]) of the same sampler — median cut for Lloyd, whose
 //! relaxation costs texels x lights per iteration (4096 lights from a 512 x 256 probe: 15 s
 //! on this project's 2-core machine, median cut 0.1 s) — a transfer table with 4^k times the
@@ -25,10 +26,19 @@ pub const DEFAULT_STEPS: usize = 3;
 /// The scene file of refinement step `k` of `steps` for document `file` (module doc).
 pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
     let mut f = file.clone();
+    // `[env] method = "auto"`: while the view changes, the document's delta light set (its
+    // sampler and count: milliseconds per frame); when still, the method `auto` stands for
+    // (a transfer table or light cuts: accurate, up to seconds per frame for light cuts)
+    // from step 1, refined from step 2 on.
+    let auto = f.env.as_ref().is_some_and(|e| e.method == EnvMethod::Auto);
     if k == 0 {
+        if let Some(env) = f.env.as_mut().filter(|_| auto) {
+            env.method = EnvMethod::Lights;
+        }
         return f;
     }
-    let factor = 4usize.saturating_pow(k as u32);
+    f.resolve_env_method();
+    let factor = 4usize.saturating_pow(if auto { k - 1 } else { k } as u32);
     if let Some(env) = f.env.as_mut() {
         match env.method {
             EnvMethod::Lights => {
@@ -62,6 +72,22 @@ pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
 mod tests {
     use super::*;
     use crate::env::prepare::EnvSpec;
+
+    #[test]
+    fn under_auto_the_moving_frame_is_the_light_set_and_the_still_ones_the_auto_method() {
+        // The default material (Blinn-Phong): `auto` is light cuts.
+        let f = SceneFile {
+            env: Some(EnvSpec::new("p.exr".into())),
+            ..SceneFile::default()
+        };
+        let method = |k| step_file(&f, k, 3).env.unwrap().method;
+        assert_eq!(method(0), EnvMethod::Lights);
+        assert_eq!(method(1), EnvMethod::Lightcuts);
+        let cut = |k| step_file(&f, k, 3).env.unwrap().cut_error;
+        assert_eq!(cut(1), crate::env::prepare::DEFAULT_CUT_ERROR);
+        assert_eq!(cut(2), crate::env::prepare::DEFAULT_CUT_ERROR / 4.0);
+        assert_eq!(step_file(&f, 0, 3).env.unwrap().count, 128);
+    }
 
     #[test]
     fn steps_raise_the_light_count_and_the_last_drops_no_light() {
