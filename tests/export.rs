@@ -10,17 +10,7 @@ use std::path::Path;
 
 mod common;
 
-fn run(dir: &Path, args: &[&str]) -> (i32, String, String) {
-    let r = common::brdfkit(dir).timeout(120).run(args);
-    (r.code.unwrap_or(-1), r.stdout, r.stderr)
-}
-
-fn probe() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/probes/city.exr")
-        .display()
-        .to_string()
-}
+use common::{city_probe as probe, run_120s as run};
 
 fn teapot_scene(dir: &Path) {
     std::fs::write(

@@ -115,3 +115,18 @@ pub fn run_in(cwd: &Path, args: &[&str]) -> (bool, String) {
     let r = brdfkit(cwd).run(args);
     (r.success(), r.stderr)
 }
+
+/// One run of the binary in `dir` with a 120 s limit: (exit code, -1 for a signal; stdout;
+/// stderr).
+pub fn run_120s(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let r = brdfkit(dir).timeout(120).run(args);
+    (r.code.unwrap_or(-1), r.stdout, r.stderr)
+}
+
+/// The shipped city probe's absolute path, as a string for command lines and scene files.
+pub fn city_probe() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/probes/city.exr")
+        .display()
+        .to_string()
+}
