@@ -278,6 +278,47 @@ fn a_still_view_refines_to_the_frame_render_gives_for_its_last_step() {
 }
 
 #[test]
+fn under_method_auto_the_moving_frame_is_the_delta_light_set() {
+    let Some(exe) = xvfb_path() else {
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "tests/viewer.rs: the auto-method test did not run: Xvfb is not installed (Debian package xvfb)"
+        );
+        return;
+    };
+    let x = start_xvfb(&exe);
+    let tmp = tempfile::tempdir().unwrap();
+    let cache = tmp.path().join("cache");
+    let script = tmp.path().join("script.txt");
+    std::fs::write(&script, "0 drag 10 0\n").unwrap();
+    let scene = tmp.path().join("shot.toml");
+    // The default material (Blinn-Phong) under a probe with no method: `auto`, which is
+    // light cuts (seconds per frame at window sizes) when still. With no refinement step
+    // the frame shown is the one shown while the view moves.
+    let o = Command::new(BIN)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(["view", "--width", "64", "--height", "48"])
+        .args(["--refine-steps", "0", "--env", "assets/probes/city.exr"])
+        .args(["--script".as_ref(), script.as_os_str()])
+        .args(["--write-scene".as_ref(), scene.as_os_str()])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("BRDFKIT_CACHE_DIR", &cache)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "view failed: {err}");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let file = brdfkit::scene::SceneFile::parse(&text).unwrap();
+    assert_eq!(
+        file.env.as_ref().unwrap().method,
+        brdfkit::env::prepare::EnvMethod::Lights,
+        "the moving frame was not the delta light set:\n{text}"
+    );
+}
+
+#[test]
 fn without_a_display_view_fails_with_one_line() {
     let o = Command::new(BIN)
         .args(["view", "--width", "32", "--height", "24"])

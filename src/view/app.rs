@@ -108,14 +108,16 @@ impl App {
         }
     }
 
-    /// A new view: the next generation, rendered by the fast worker.
+    /// A new view: the next generation, rendered by the fast worker as refinement step 0
+    /// ([`super::refine::step_file`]: under `[env] method = "auto"` the document's delta
+    /// light set, not the seconds-per-frame light cuts `auto` stands for when still).
     fn changed(&mut self) {
         self.generation += 1;
         self.last_change = Instant::now();
         let _ = self.fast.send(Job {
             generation: self.generation,
             step: 0,
-            file: self.state.file.clone(),
+            file: super::refine::step_file(&self.state.file, 0, self.cfg.refine_steps),
             aov: self.state.aov,
             preview: true,
             refine: false,

@@ -2,8 +2,9 @@
 //! towards the converged reference, each step a scene file `brdfkit render` renders too.
 //!
 //! Step 0 is the document itself (the fast configuration shown while the view changes;
-//! under `[env] method = "auto"` its delta light set, and from step 1 the method `auto`
-//! stands for, refined from step 2 as below). Step `k` of `steps` (1 <= k <= steps) shades the environment with `count * 4^k` lights
+//! where `[env] method = "auto"` stands for light cuts, which take up to seconds per frame,
+//! the document's delta light set instead, then light cuts from step 1, refined from step 2
+//! as below; where it stands for a transfer table, the table at every step). Step `k` of `steps` (1 <= k <= steps) shades the environment with `count * 4^k` lights
 //! (at most [`MAX_REFINED_LIGHTS`]) of the same sampler — median cut for Lloyd, whose
 //! relaxation costs texels x lights per iteration (4096 lights from a 512 x 256 probe: 15 s
 //! on this project's 2-core machine, median cut 0.1 s) — a transfer table with 4^k times the
@@ -26,19 +27,24 @@ pub const DEFAULT_STEPS: usize = 3;
 /// The scene file of refinement step `k` of `steps` for document `file` (module doc).
 pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
     let mut f = file.clone();
-    // `[env] method = "auto"`: while the view changes, the document's delta light set (its
-    // sampler and count: milliseconds per frame); when still, the method `auto` stands for
-    // (a transfer table or light cuts: accurate, up to seconds per frame for light cuts)
-    // from step 1, refined from step 2 on.
-    let auto = f.env.as_ref().is_some_and(|e| e.method == EnvMethod::Auto);
+    // `[env] method = "auto"` where it stands for light cuts (Blinn-Phong, D-BRDFs: up to
+    // seconds per frame): while the view changes, the document's delta light set (its
+    // sampler and count: milliseconds per frame); when still, light cuts from step 1,
+    // refined from step 2 on. Where it stands for a transfer table (Lambert, SH data sets:
+    // as fast as the light set and more accurate), every step is the table.
+    let auto_cuts = f.env.as_ref().is_some_and(|e| {
+        e.method == EnvMethod::Auto
+            && crate::scene::env_method::concrete_method(e, &f.material) == EnvMethod::Lightcuts
+    });
     if k == 0 {
-        if let Some(env) = f.env.as_mut().filter(|_| auto) {
-            env.method = EnvMethod::Lights;
+        match f.env.as_mut() {
+            Some(env) if auto_cuts => env.method = EnvMethod::Lights,
+            _ => f.resolve_env_method(),
         }
         return f;
     }
     f.resolve_env_method();
-    let factor = 4usize.saturating_pow(if auto { k - 1 } else { k } as u32);
+    let factor = 4usize.saturating_pow(if auto_cuts { k - 1 } else { k } as u32);
     if let Some(env) = f.env.as_mut() {
         match env.method {
             EnvMethod::Lights => {
@@ -87,6 +93,19 @@ mod tests {
         assert_eq!(cut(1), crate::env::prepare::DEFAULT_CUT_ERROR);
         assert_eq!(cut(2), crate::env::prepare::DEFAULT_CUT_ERROR / 4.0);
         assert_eq!(step_file(&f, 0, 3).env.unwrap().count, 128);
+    }
+
+    #[test]
+    fn under_auto_for_an_sh_data_set_every_step_is_the_transfer_table() {
+        let f = SceneFile::parse(
+            "[material]\nkind = \"library\"\nname = \"teal-paint\"\n[env]\nfile = \"p.exr\"\n",
+        )
+        .unwrap();
+        let env = |k| step_file(&f, k, 3).env.unwrap();
+        assert_eq!(env(0).method, EnvMethod::Transfer);
+        assert_eq!(env(3).method, EnvMethod::Transfer);
+        let k0 = env(0).exact_lights;
+        assert_eq!(env(1).exact_lights, 4 * k0);
     }
 
     #[test]
