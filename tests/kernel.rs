@@ -256,3 +256,59 @@ fn pixel_packed_point_light_path_matches_oracle_and_tile_size() {
         assert!(ia == ib, "{na}: tile size 16 and 13 differ");
     }
 }
+
+#[test]
+fn pixel_packed_analytic_path_matches_oracle_and_tile_size() {
+    // Lambert and Blinn-Phong under at most PACKED_MAX_LIGHTS lights take the
+    // pixel-per-lane path (one key light: the default scene); with more, the per-pixel one.
+    let dir = |x: f32, y: f32, z: f32| {
+        format!("[[light]]\nkind = \"directional\"\nto_light = [{x}, {y}, {z}]\nintensity = 2.0\n")
+    };
+    let point = |x: f32, y: f32, z: f32| {
+        format!("[[light]]\nkind = \"point\"\nposition = [{x}, {y}, {z}]\nintensity = 12.0\n")
+    };
+    let one_dir = dir(0.3, 0.8, 0.5);
+    let one_point = point(3.0, 5.0, 4.0);
+    let five = [
+        dir(0.3, 0.8, 0.5),
+        dir(-0.7, 0.2, 0.4),
+        dir(0.0, -1.0, 0.1),
+        point(3.0, 5.0, 4.0),
+        point(-4.0, -1.0, 2.0),
+    ]
+    .concat();
+    let nine: String = (0..9).map(|k| dir(k as f32 - 4.0, 1.0, 0.5)).collect();
+    let mut images = Vec::new();
+    for tile in [16, 13] {
+        for m in [
+            "[material]\nkind = \"lambert\"\n",
+            "[material]\nkind = \"blinn-phong\"\nexponent = 200.0\n",
+        ] {
+            for (lights, packed) in [
+                (&one_dir, true),
+                (&one_point, true),
+                (&five, true),
+                (&nine, false),
+            ] {
+                let mut f = SceneFile::parse(m).unwrap();
+                f.render.width = 96;
+                f.render.height = 72;
+                f.render.tile_size = tile;
+                f.lights = Some(SceneFile::parse(lights).unwrap().lights.unwrap());
+                let s = Scene::resolve(&f, Path::new("/")).unwrap();
+                assert_eq!(FramePrep::new(&s).packs_analytic(), packed, "{m} {lights}");
+                let vis = render::rasterize(&s, false);
+                let oracle = scalar_oracle(&s, &vis);
+                for (path, img) in every_path(&s, &vis) {
+                    let what = format!("{} {} lights tile {tile} {path}", m.trim(), s.lights.len());
+                    assert_close(&img, &oracle, KERNEL_TOLERANCE, &what);
+                    images.push((what, img));
+                }
+            }
+        }
+    }
+    let (a, b) = images.split_at(images.len() / 2);
+    for ((na, ia), (_, ib)) in a.iter().zip(b) {
+        assert!(ia == ib, "{na}: tile size 16 and 13 differ");
+    }
+}

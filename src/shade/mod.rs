@@ -38,6 +38,8 @@
 //! - `view.rs`: the view direction in the shading frame lifted above the horizon
 //!   ([`local_view`], [`MIN_VIEW_COS`]); one body for f32 ([`lift_above_horizon`]) and f64
 //!   ([`lift_above_horizon_f64`]).
+//! - `pixel_lanes.rs`: the shading frames and view directions of a group of pixels in
+//!   lanes, with the scalar definitions' bits (`PixelLanes`), for the packed paths.
 //! - `options.rs`: what the caller chooses ([`ShadeOptions`], [`ShadingPath`]).
 //! - `entry.rs`: the one entry point ([`shade`]) and its result ([`Shaded`]).
 //! - `prep.rs`: what is decided once per frame ([`FramePrep`]).
@@ -46,7 +48,9 @@
 //!   - `pixel.rs`: the per-pixel kernel path ([`FramePrep::shade_surface`]), lights
 //!     across the lanes;
 //!   - `packed.rs`: the pixel-packed path, pixels across the lanes (SH data sets under
-//!     point lights only).
+//!     point lights only);
+//!   - `packed_analytic.rs`: the pixel-packed path of Lambert and Blinn-Phong under at
+//!     most [`PACKED_MAX_LIGHTS`] lights (the default scene's one key light).
 //!
 //!   and the per-pixel one that the scalar oracle and the f64 path share.
 //! - `transfer.rs`: the transfer-table term of an environment (`[env] method =
@@ -72,7 +76,9 @@ mod gbuffer;
 mod lightcuts;
 mod options;
 mod packed;
+mod packed_analytic;
 mod pixel;
+mod pixel_lanes;
 mod prep;
 mod scalar_oracle;
 mod tile;
@@ -87,6 +93,7 @@ pub use {
     gbuffer::{surface_at, surface_at_index, tile_pixels, Surface},
     lightcuts::CutStats,
     options::{ShadeOptions, ShadingPath},
+    packed_analytic::PACKED_MAX_LIGHTS,
     prep::FramePrep,
     scalar_oracle::shade_point,
     view::{lift_above_horizon, lift_above_horizon_f64, local_view, MIN_VIEW_COS},

@@ -8,9 +8,10 @@
 //! Empty lanes and lights below a pixel's horizon get weight 0, which adds an exact 0.
 
 use super::fault::drop_last_band;
-use super::{local_view, FramePrep, KernelFault, Surface};
-use crate::conventions::{hemi_texcoord, ShadingFrame};
-use crate::kernel::lanes::{Isa, Width, MAX_LANES};
+use super::pixel_lanes::PixelLanes;
+use super::{FramePrep, KernelFault, Surface};
+use crate::conventions::hemi_texcoord;
+use crate::kernel::lanes::{F32x8, Isa, Width, LANES, MAX_LANES};
 use crate::kernel::{self, sh::ShRecurrence};
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
@@ -40,6 +41,15 @@ impl FramePrep<'_> {
         let includes_cosine = self.brdf.includes_cosine();
         let np = self.points.len();
         let mut table_basis = [None; MAX_LANES];
+        // Frames, view directions and view angles of the whole batch in lanes (the
+        // per-pixel path's bits: `pixel_lanes.rs`, `kernel::approx::view_angles`).
+        let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye);
+        let (mut polar, mut azimuth) = ([0.0f32; MAX_LANES], [0.0f32; MAX_LANES]);
+        for o in (0..batch.len()).step_by(LANES) {
+            let [x, y, z] = px.wo.map(|a| s.load(&a[o..]));
+            kernel::approx::acos_01(s, z).store(&mut polar[o..]);
+            kernel::approx::azimuth(s, y, x).store(&mut azimuth[o..]);
+        }
         for p in 0..lanes {
             let Some((_, surf)) = batch.get(p) else {
                 for k in 0..t3 {
@@ -52,10 +62,8 @@ impl FramePrep<'_> {
                 }
                 continue;
             };
-            let frame = ShadingFrame::from_normal(surf.normal);
-            let wo = local_view(&frame, surf, self.eye);
-            let (pa, az) = kernel::approx::view_angles(s, wo);
-            let (ts, tt) = hemi_texcoord(pa, az);
+            let (frame, wo) = (px.frame(p), px.view(p));
+            let (ts, tt) = hemi_texcoord(polar[p], azimuth[p]);
             kernel::sh::lookup_coeffs(s, ds, ts, tt, one);
             if self.fault == Some(KernelFault::DropLastBand) {
                 drop_last_band(one, ds.bands());

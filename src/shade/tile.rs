@@ -14,7 +14,7 @@
 
 use super::{surface_at_index, tile_pixels, FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
-use crate::kernel::lanes::{Isa, Kernel, MAX_LANES};
+use crate::kernel::lanes::{Isa, Kernel, LANES, MAX_LANES};
 use crate::kernel::{self, cluster::Cone, skip::needs_restore};
 use crate::progress::Progress;
 use crate::raster::VisBuffer;
@@ -155,6 +155,14 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             Some((ds, rec)) if prep.dir.is_empty() && !prep.has_transfer() => {
                 for batch in surfaces.chunks(super::packed::packed_width(s)) {
                     let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
+                    for (k, (at, _)) in batch.iter().enumerate() {
+                        band[*at] = rgb[k];
+                    }
+                }
+            }
+            _ if prep.packs_analytic() => {
+                for batch in surfaces.chunks(LANES) {
+                    let rgb = prep.shade_packed_analytic(s, batch);
                     for (k, (at, _)) in batch.iter().enumerate() {
                         band[*at] = rgb[k];
                     }
