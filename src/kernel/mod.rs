@@ -16,7 +16,10 @@
 //!   the rescaled associated-Legendre recurrence with a fused multiply-add per term and
 //!   colour ([`sh`], monomorphised per band count 1..=10), the analytic models and the
 //!   D-BRDF by their lane forms ([`models`], chosen by matching on the scene's
-//!   [`crate::material::Material`]).
+//!   [`crate::material::Material`]). Where a frame has only a few lights, the lanes are
+//!   pixels instead (`crate::shade`'s pixel-packed paths: SH data sets under point lights,
+//!   Lambert and Blinn-Phong under at most [`crate::shade::PACKED_MAX_LIGHTS`] lights), with
+//!   each pixel's frame, view direction and view angles computed eight at a time.
 //! - **Dispatch.** SIMD lives only in [`lanes`]: [`lanes::F32x8`] on AVX-512 (F + VL:
 //!   mask registers; 16-lane vectors, [`lanes::Width`], for the SH basis sums of 16 lights
 //!   and for 16 pixels of the pixel-packed path), AVX2 + FMA (`core::arch`) or portable

@@ -46,7 +46,11 @@ impl FramePrep<'_> {
         let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye);
         let (mut polar, mut azimuth) = ([0.0f32; MAX_LANES], [0.0f32; MAX_LANES]);
         for o in (0..batch.len()).step_by(LANES) {
-            let [x, y, z] = px.wo.map(|a| s.load(&a[o..]));
+            let (x, y, z) = (
+                s.load(&px.wo[0][o..]),
+                s.load(&px.wo[1][o..]),
+                s.load(&px.wo[2][o..]),
+            );
             kernel::approx::acos_01(s, z).store(&mut polar[o..]);
             kernel::approx::azimuth(s, y, x).store(&mut azimuth[o..]);
         }

@@ -63,10 +63,10 @@ impl FramePrep<'_> {
         let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye);
         let includes_cosine = self.brdf.includes_cosine();
         let zero = s.zero();
-        let [tx, ty, tz] = px.t.map(|a| s.load(&a[..LANES]));
-        let [bx, by, bz] = px.b.map(|a| s.load(&a[..LANES]));
-        let [nx, ny, nz] = px.n.map(|a| s.load(&a[..LANES]));
-        let [wox, woy, woz] = px.wo.map(|a| s.load(&a[..LANES]));
+        let [tx, ty, tz] = [s.load(&px.t[0]), s.load(&px.t[1]), s.load(&px.t[2])];
+        let [bx, by, bz] = [s.load(&px.b[0]), s.load(&px.b[1]), s.load(&px.b[2])];
+        let [nx, ny, nz] = [s.load(&px.n[0]), s.load(&px.n[1]), s.load(&px.n[2])];
+        let [wox, woy, woz] = [s.load(&px.wo[0]), s.load(&px.wo[1]), s.load(&px.wo[2])];
         let mut acc = (zero, zero, zero);
         // Directional lights with irradiance, in order: local direction as gather_dir
         // computes it (the light's components against the pixel's frame, fused).
@@ -113,7 +113,8 @@ impl FramePrep<'_> {
             if mask == 0 {
                 continue;
             }
-            let [x, y, z, wr, wg, wb] = a.map(|v| s.load(&v));
+            let (x, y, z) = (s.load(&a[0]), s.load(&a[1]), s.load(&a[2]));
+            let (wr, wg, wb) = (s.load(&a[3]), s.load(&a[4]), s.load(&a[5]));
             self.add_light(s, (x, y, z), (wr, wg, wb), mask, (wox, woy, woz), &mut acc);
         }
         let (mut r, mut g, mut b) = ([0.0f32; LANES], [0.0f32; LANES], [0.0f32; LANES]);

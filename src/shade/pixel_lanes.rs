@@ -52,8 +52,17 @@ impl PixelLanes {
             present: (1u32 << count) - 1,
         };
         for o in (0..count.max(1)).step_by(LANES) {
-            let ld = |v: &[[f32; MAX_LANES]; 3]| [0, 1, 2].map(|a| s.load(&v[a][o..]));
-            let (t, b, n, wo) = frame_and_view(s, ld(&nrm), ld(&pos), eye);
+            let nrm = [
+                s.load(&nrm[0][o..]),
+                s.load(&nrm[1][o..]),
+                s.load(&nrm[2][o..]),
+            ];
+            let pos = [
+                s.load(&pos[0][o..]),
+                s.load(&pos[1][o..]),
+                s.load(&pos[2][o..]),
+            ];
+            let (t, b, n, wo) = frame_and_view(s, nrm, pos, eye);
             for a in 0..3 {
                 t[a].store(&mut out.t[a][o..]);
                 b[a].store(&mut out.b[a][o..]);
@@ -107,10 +116,13 @@ fn normalize_or<S: Isa>(s: S, v: V3<S::V>, fallback: V3<S::V>) -> V3<S::V> {
     let zero = s.zero();
     let inf = s.splat(f32::INFINITY);
     // ok where 0 < rcp < inf (false for NaN).
-    [0, 1, 2].map(|a| {
-        let scaled = v[a] * rcp;
-        inf.select_gt(rcp, rcp.select_gt(zero, scaled, fallback[a]), fallback[a])
-    })
+    let [x, y, z] = v;
+    let [fx, fy, fz] = fallback;
+    [
+        inf.select_gt(rcp, rcp.select_gt(zero, x * rcp, fx), fx),
+        inf.select_gt(rcp, rcp.select_gt(zero, y * rcp, fy), fy),
+        inf.select_gt(rcp, rcp.select_gt(zero, z * rcp, fz), fz),
+    ]
 }
 
 /// [`ShadingFrame::from_normal`] of normals `nrm` and [`super::local_view`] from `eye` at
@@ -132,7 +144,11 @@ fn frame_and_view<S: Isa>(
     let inv = one.div(sq);
     let t_reg = [(n[0] * minus) * n[1] * inv, sq, (n[2] * minus) * n[1] * inv];
     let t_pole = [zero, zero, zero.select_gt(n[1], one, minus)];
-    let t = [0, 1, 2].map(|a| s2.select_gt(zero, t_reg[a], t_pole[a]));
+    let t = [
+        s2.select_gt(zero, t_reg[0], t_pole[0]),
+        s2.select_gt(zero, t_reg[1], t_pole[1]),
+        s2.select_gt(zero, t_reg[2], t_pole[2]),
+    ];
     // b = n x t (glam's cross).
     let b = [
         n[1] * t[2] - t[1] * n[2],
@@ -155,7 +171,11 @@ fn frame_and_view<S: Isa>(
         h.select_gt(zero, wo[1].div(h) * sin, zero),
         h.select_gt(zero, c, one),
     ];
-    let wo = [0, 1, 2].map(|a| c.select_gt(wo[2], lifted[a], wo[a]));
+    let wo = [
+        c.select_gt(wo[2], lifted[0], wo[0]),
+        c.select_gt(wo[2], lifted[1], wo[1]),
+        c.select_gt(wo[2], lifted[2], wo[2]),
+    ];
     (t, b, n, wo)
 }
 
