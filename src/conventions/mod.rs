@@ -42,6 +42,23 @@
 //! corner at spherical (0,0); its centre is half a texel in). Azimuth wraps (GL_REPEAT),
 //! polar clamps (GL_CLAMP_TO_EDGE).
 //!
+//! # Octahedral hemisphere tables (derived lookups)
+//! A square `n x n` table over the upper hemisphere, addressed by the hemispherical
+//! octahedral map of a direction `d` (any positive multiple: no normalisation needed):
+//! `(u, v) = (d.x + d.y, d.x - d.y) / (|d.x| + |d.y| + d.z)`, in `[-1, 1]^2`
+//! ([`hemi_oct_encode`]). It projects `d` centrally onto the octahedron
+//! `|x| + |y| + z = 1` and turns the diamond `|x| + |y| <= 1` by 45 degrees onto the
+//! square, so the normal is the centre, the horizon the square's boundary and `u = +-v`
+//! the planes `y = 0`, `x = 0`. Inverse ([`hemi_oct_decode_f64`]): `x = (u + v)/2`,
+//! `y = (u - v)/2`, `z = 1 - |x| - |y|`, normalised. Texel `(i, j)` (i along `u`) is
+//! centred at `u = -1 + (2 i + 1)/n`, `v = -1 + (2 j + 1)/n`, values `[j n + i]`, looked
+//! up with `GL_LINEAR` semantics and `GL_CLAMP_TO_EDGE` on both axes
+//! ([`hemi_oct_bilinear_texels`]): continuous texel coordinates
+//! `U = u n/2 + (n - 1)/2` clamped to `[0, n - 1]`, `i0 = min(floor(U), n - 2)`,
+//! `a = U - i0`, `i1 = i0 + 1` (the same value as GL's clamp-to-edge blend; `n >= 2`).
+//! The map is continuous and needs one reciprocal and no trigonometry, which is why the
+//! D-BRDF's lane kernel looks up its `p(h)` this way ([`crate::brdf::dbrdf`]).
+//!
 //! # Light probes (equirectangular, latitude-longitude)
 //! Image `u = (col + 1/2) / width`, `v = (row + 1/2) / height` at texel centres. Row 0 is
 //! the top of the image, the +y pole: `polar = pi v` measured from +y. The probe azimuth is
@@ -74,8 +91,9 @@
 //!    (Defs. 3, 4; [`crate::brdf::phong`], [`crate::brdf::blinn_phong`]).
 //! 7. **D-BRDF normalisation**, which the thesis does not state: read as a microfacet BRDF
 //!    with shadowing `G = ab / (a + b - ab)`, the model has `c = 1/4` and `p(h)` normalised
-//!    over projected area, `integral p(h) (h.n) dω_h = 1`, enforced exactly for the bilinear
-//!    lookup the renderer evaluates (derivation in [`crate::brdf::dbrdf`]).
+//!    over projected area, `integral p(h) (h.n) dω_h = 1`, enforced exactly for the file
+//!    table's bilinear lookup and kept (to 1e-5) by the octahedral table the renderer
+//!    derives from it and evaluates (derivation in [`crate::brdf::dbrdf`]).
 //! 8. **View direction lifted above the horizon**: a view direction less than
 //!    [`crate::shade::MIN_VIEW_COS`] above the tangent plane (interpolated normals at
 //!    silhouettes) is moved to that height at the same azimuth before any lookup.
@@ -256,6 +274,137 @@ pub fn hemi_bilinear_texels(s: f32, t: f32, nu: usize, nv: usize) -> [(usize, us
         (i1, j0, a * (1.0 - b)),
         (i0, j1, (1.0 - a) * b),
         (i1, j1, a * b),
+    ]
+}
+
+/// f64 twin of [`local_angles`] for a unit local direction: `(polar, azimuth)`, polar by
+/// `acos` of the clamped z, azimuth `atan2(y, x)` wrapped into [0, 2 pi).
+#[inline]
+pub fn local_angles_f64(l: DVec3) -> (f64, f64) {
+    let polar = l.z.clamp(-1.0, 1.0).acos();
+    let mut az = l.y.atan2(l.x);
+    if az < 0.0 {
+        az += std::f64::consts::TAU;
+    }
+    if az >= std::f64::consts::TAU {
+        az = 0.0;
+    }
+    (polar, az)
+}
+
+/// f64 twin of [`hemi_bilinear_texels`] for the texture coordinates `(s, t)` of f64 angles
+/// (`s = azimuth / 2 pi`, `t = polar / (pi/2)`): the same texels, weights in f64.
+#[inline]
+pub fn hemi_bilinear_texels_f64(s: f64, t: f64, nu: usize, nv: usize) -> [(usize, usize, f64); 4] {
+    assert!(nu > 0 && nv > 0, "empty table");
+    let s = if s.is_finite() { s } else { 0.0 };
+    let t = if t.is_finite() { t } else { 0.0 };
+    let u = s * nu as f64 - 0.5;
+    let v = t * nv as f64 - 0.5;
+    let (uf, vf) = (u.floor(), v.floor());
+    let (a, b) = (u - uf, v - vf);
+    let i0 = (uf as i64).rem_euclid(nu as i64) as usize;
+    let i1 = (i0 + 1) % nu;
+    let j0 = (vf as i64).clamp(0, nv as i64 - 1) as usize;
+    let j1 = (vf as i64 + 1).clamp(0, nv as i64 - 1) as usize;
+    [
+        (i0, j0, (1.0 - a) * (1.0 - b)),
+        (i1, j0, a * (1.0 - b)),
+        (i0, j1, (1.0 - a) * b),
+        (i1, j1, a * b),
+    ]
+}
+
+/// Hemispherical octahedral coordinates `(u, v)` in `[-1, 1]^2` of a local direction `d`
+/// with `d.z >= 0`, any length (module doc, "Octahedral hemisphere tables"):
+/// `(d.x + d.y, d.x - d.y) / (|d.x| + |d.y| + d.z)`. A negative `z` is taken as 0 (the
+/// horizon); a zero or non-finite `d` maps to the centre `(0, 0)` (documented fallback).
+#[inline]
+pub fn hemi_oct_encode(d: Vec3) -> (f32, f32) {
+    let r = 1.0 / (d.x.abs() + d.y.abs() + d.z.max(0.0));
+    if !r.is_finite() || r <= 0.0 {
+        return (0.0, 0.0);
+    }
+    ((d.x + d.y) * r, (d.x - d.y) * r)
+}
+
+/// f64 twin of [`hemi_oct_encode`].
+#[inline]
+pub fn hemi_oct_encode_f64(d: DVec3) -> (f64, f64) {
+    let r = 1.0 / (d.x.abs() + d.y.abs() + d.z.max(0.0));
+    if !r.is_finite() || r <= 0.0 {
+        return (0.0, 0.0);
+    }
+    ((d.x + d.y) * r, (d.x - d.y) * r)
+}
+
+/// The unit local direction (z >= 0) of octahedral coordinates `(u, v)` (clamped to
+/// `[-1, 1]`), the inverse of [`hemi_oct_encode_f64`] (module doc).
+#[inline]
+pub fn hemi_oct_decode_f64(u: f64, v: f64) -> DVec3 {
+    let (u, v) = (u.clamp(-1.0, 1.0), v.clamp(-1.0, 1.0));
+    let x = 0.5 * (u + v);
+    let y = 0.5 * (u - v);
+    let z = (1.0 - x.abs() - y.abs()).max(0.0);
+    DVec3::new(x, y, z).normalize()
+}
+
+/// Octahedral coordinate (`u` or `v`) of the centre of texel `i` of `n`: `-1 + (2 i + 1)/n`.
+#[inline]
+pub fn hemi_oct_texel_center_f64(i: usize, n: usize) -> f64 {
+    -1.0 + (2 * i + 1) as f64 / n as f64
+}
+
+/// Continuous texel coordinate of octahedral coordinate `u` in an `n`-texel axis, clamped
+/// to the first and last centres: `clamp(u n/2 + (n - 1)/2, 0, n - 1)` (module doc). The
+/// D-BRDF's lane kernel computes the same expression per lane, with `u n/2` as
+/// `(d.x + d.y) ((n/2) / (|d.x| + |d.y| + d.z))`.
+#[inline]
+pub fn hemi_oct_texel_coord(u: f32, n: usize) -> f32 {
+    let c = u * (0.5 * n as f32) + 0.5 * (n as f32 - 1.0);
+    if c.is_finite() {
+        c.max(0.0).min(n as f32 - 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// The four texels and weights of the `GL_LINEAR` lookup (clamp to edge on both axes) of an
+/// `n x n` octahedral hemisphere table at the texel coordinates `(cu, cv)` of
+/// [`hemi_oct_texel_coord`]: `i0 = min(floor(cu), n - 2)`, `a = cu - i0`, likewise `j0`,
+/// `b`. Returns `[(i0, j0, (1-a)(1-b)), (i0+1, j0, a(1-b)), (i0, j0+1, (1-a)b),
+/// (i0+1, j0+1, a b)]`. Panics if `n < 2`.
+#[inline]
+pub fn hemi_oct_bilinear_texels(cu: f32, cv: f32, n: usize) -> [(usize, usize, f32); 4] {
+    assert!(n >= 2, "an octahedral table needs n >= 2");
+    let last = n as f32 - 2.0;
+    let (fu, fv) = (cu.floor().min(last), cv.floor().min(last));
+    let (a, b) = (cu - fu, cv - fv);
+    let (i0, j0) = (fu as usize, fv as usize);
+    [
+        (i0, j0, (1.0 - a) * (1.0 - b)),
+        (i0 + 1, j0, a * (1.0 - b)),
+        (i0, j0 + 1, (1.0 - a) * b),
+        (i0 + 1, j0 + 1, a * b),
+    ]
+}
+
+/// f64 twin of [`hemi_oct_texel_coord`] and [`hemi_oct_bilinear_texels`] together, for
+/// reference computations (quadratures over the table).
+#[inline]
+pub fn hemi_oct_bilinear_texels_f64(u: f64, v: f64, n: usize) -> [(usize, usize, f64); 4] {
+    assert!(n >= 2, "an octahedral table needs n >= 2");
+    let coord = |u: f64| (u * (0.5 * n as f64) + 0.5 * (n as f64 - 1.0)).clamp(0.0, n as f64 - 1.0);
+    let (cu, cv) = (coord(u), coord(v));
+    let last = n as f64 - 2.0;
+    let (fu, fv) = (cu.floor().min(last), cv.floor().min(last));
+    let (a, b) = (cu - fu, cv - fv);
+    let (i0, j0) = (fu as usize, fv as usize);
+    [
+        (i0, j0, (1.0 - a) * (1.0 - b)),
+        (i0 + 1, j0, a * (1.0 - b)),
+        (i0, j0 + 1, (1.0 - a) * b),
+        (i0 + 1, j0 + 1, a * b),
     ]
 }
 

@@ -80,3 +80,98 @@ fn local_angles_at_the_pole() {
         }
     }
 }
+
+/// The octahedral hemisphere map: decode then encode is the identity on the square, encode
+/// then decode on the hemisphere, and encode ignores the length of its input.
+#[test]
+fn octahedral_map_round_trips() {
+    let n = 97;
+    for b in 0..=n {
+        for a in 0..=n {
+            let u = -1.0 + 2.0 * a as f64 / n as f64;
+            let v = -1.0 + 2.0 * b as f64 / n as f64;
+            let d = hemi_oct_decode_f64(u, v);
+            assert!(
+                (d.length() - 1.0).abs() < 1e-12 && d.z >= 0.0,
+                "{u} {v}: {d}"
+            );
+            let (u2, v2) = hemi_oct_encode_f64(d * 3.7);
+            assert!((u2 - u).abs() < 1e-12 && (v2 - v).abs() < 1e-12, "{u} {v}");
+            let (u3, v3) = hemi_oct_encode(d.as_vec3() * 0.25);
+            assert!((u3 as f64 - u).abs() < 1e-6 && (v3 as f64 - v).abs() < 1e-6);
+        }
+    }
+    for k in 0..2000 {
+        let polar = (k as f64 * 0.618_034).fract() * std::f64::consts::FRAC_PI_2;
+        let az = (k as f64 * 0.414_214).fract() * std::f64::consts::TAU;
+        let d = local_direction_f64(polar, az);
+        let (u, v) = hemi_oct_encode_f64(d);
+        assert!(u.abs() <= 1.0 && v.abs() <= 1.0);
+        assert!((hemi_oct_decode_f64(u, v) - d).length() < 1e-12, "{d}");
+    }
+    // Centre and fallbacks.
+    assert_eq!(hemi_oct_encode(Vec3::Z), (0.0, 0.0));
+    assert_eq!(hemi_oct_encode(Vec3::ZERO), (0.0, 0.0));
+}
+
+/// Coverage and continuity: the horizon is the square's boundary (max(|u|, |v|) = 1 exactly
+/// at z = 0) and the normal its centre; a small step on the hemisphere is a small step in
+/// the square and back (the map is Lipschitz both ways: the cone bound of the D-BRDF uses
+/// `|dh| <= sqrt(9/2) |d(u, v)|`, checked here by finite differences).
+#[test]
+fn octahedral_map_covers_the_hemisphere_continuously() {
+    for k in 0..360 {
+        let az = k as f64 * std::f64::consts::TAU / 360.0;
+        let (u, v) = hemi_oct_encode_f64(local_direction_f64(std::f64::consts::FRAC_PI_2, az));
+        assert!((u.abs().max(v.abs()) - 1.0).abs() < 1e-12, "{az}: {u} {v}");
+    }
+    let mut worst = 0.0f64;
+    let n = 400;
+    let step = 1e-4;
+    for b in 0..n {
+        for a in 0..n {
+            let u = -1.0 + (a as f64 + 0.37) * 2.0 / n as f64;
+            let v = -1.0 + (b as f64 + 0.61) * 2.0 / n as f64;
+            let d0 = hemi_oct_decode_f64(u, v);
+            for (du, dv) in [(step, 0.0), (0.0, step), (step, step), (step, -step)] {
+                let d1 = hemi_oct_decode_f64(u + du, v + dv);
+                let ratio = (d1 - d0).length() / (du * du + dv * dv).sqrt();
+                worst = worst.max(ratio);
+            }
+        }
+    }
+    assert!(worst <= 4.5f64.sqrt(), "stretch {worst}");
+    assert!(worst > 1.0, "stretch {worst}");
+}
+
+/// The octahedral `GL_LINEAR` texels: weights sum to 1, texel centres give their texel
+/// alone, coordinates beyond the edge centres clamp (the edge texels' values), and the f32
+/// and f64 forms agree.
+#[test]
+fn octahedral_texels_follow_gl_linear_clamp_to_edge() {
+    let n = 8;
+    for i in 0..n {
+        let c = hemi_oct_texel_center_f64(i, n) as f32;
+        let cu = hemi_oct_texel_coord(c, n);
+        assert!((cu - i as f32).abs() < 1e-6, "{i}: {cu}");
+        let t = hemi_oct_bilinear_texels(cu, cu, n);
+        let w: f32 = t.iter().filter(|x| x.0 == i && x.1 == i).map(|x| x.2).sum();
+        assert!((w - 1.0).abs() < 1e-6, "{i}: {t:?}");
+    }
+    assert_eq!(hemi_oct_texel_coord(-1.0, n), 0.0);
+    assert_eq!(hemi_oct_texel_coord(1.0, n), 7.0);
+    assert_eq!(hemi_oct_texel_coord(f32::NAN, n), 0.0);
+    for k in 0..500 {
+        let u = -1.0 + 2.0 * (k as f32 * 0.618_034).fract();
+        let v = -1.0 + 2.0 * (k as f32 * 0.754_877).fract();
+        let t = hemi_oct_bilinear_texels(hemi_oct_texel_coord(u, n), hemi_oct_texel_coord(v, n), n);
+        let t64 = hemi_oct_bilinear_texels_f64(u as f64, v as f64, n);
+        let s: f32 = t.iter().map(|x| x.2).sum();
+        assert!((s - 1.0).abs() < 1e-6);
+        for (a, b) in t.iter().zip(&t64) {
+            assert!(a.0 < n && a.1 < n);
+            assert_eq!((a.0, a.1), (b.0, b.1));
+            assert!((a.2 as f64 - b.2).abs() < 1e-5);
+        }
+    }
+}

@@ -9,13 +9,12 @@
 //! [`Material`] variants ([`LaneModel::of`]); the BRDF models themselves know nothing of
 //! the kernel.
 
-use super::approx;
 use super::gather::Scratch;
 use super::lanes::{F32x8, Isa, LANES};
 use crate::brdf::{Brdf, DBrdf};
 use crate::material::Material;
 use glam::Vec3;
-use std::f32::consts::{FRAC_PI_2, PI, TAU};
+use std::f32::consts::PI;
 
 /// How the kernel evaluates a frame's material for the lights of one pixel. Built once per
 /// frame ([`LaneModel::of`]).
@@ -152,7 +151,7 @@ fn dbrdf_sum<S: Isa>(s: S, m: &DBrdf, wo: Vec3, sc: &mut Scratch) -> Vec3 {
         let sy = s.load(&sc.y[o..]) + woy;
         let sz = z + woz;
         let len = sz.mul_add(sz, sy.mul_add(sy, sx * sx)).sqrt();
-        let p = half_vector_p(s, m, sx, sy, sz.div(len));
+        let p = half_vector_p(s, m, sx, sy, sz);
         let a = z.min(one);
         let denom = a + b - a * b;
         let kh = (s.splat(0.5) * len).min(one).max(s.zero());
@@ -180,35 +179,35 @@ fn dbrdf_sum<S: Isa>(s: S, m: &DBrdf, wo: Vec3, sc: &mut Scratch) -> Vec3 {
     rs * a + (Vec3::ONE - rs) * f
 }
 
-/// `p(h)` per lane ([`DBrdf::p`]): the half vector's polar angle `acos(cos_polar)` and
-/// azimuth `atan2(y, x)` (of any positive multiple `(x, y)` of its tangent part) by the
-/// approximations of [`super::approx`], then the table's `GL_LINEAR` lookup
-/// ([`crate::conventions::hemi_bilinear_texels`]) with four gathers.
+/// `p(h)` per lane ([`DBrdf::p`]) from the unnormalised half vector `(x, y, z) = wi + wo`
+/// (`z > 0`): its octahedral coordinates `(x + y, x - y) / (|x| + |y| + z)` by one
+/// division, texel coordinates clamped to the edge centres, and the derived table's
+/// `GL_LINEAR` blend with four gathers: the texel arithmetic of
+/// [`crate::conventions::hemi_oct_texel_coord`] and
+/// [`crate::conventions::hemi_oct_bilinear_texels`], operation for operation, so the lanes
+/// give the oracle's bits. No trigonometry.
 #[inline(always)]
-fn half_vector_p<S: Isa>(s: S, m: &DBrdf, x: S::V, y: S::V, cos_polar: S::V) -> S::V {
-    let (nu, nv) = m.grid();
-    let table = m.table();
-    let (nuf, nvf) = (nu as f32, nv as f32);
+fn half_vector_p<S: Isa>(s: S, m: &DBrdf, x: S::V, y: S::V, z: S::V) -> S::V {
+    let n = m.octahedral_grid();
+    let table = m.octahedral_table();
+    let nf = n as f32;
     let zero = s.zero();
     let one = s.splat(1.0);
-    let half = s.splat(0.5);
-    let polar = approx::acos_01(s, cos_polar);
-    let az = approx::azimuth(s, y, x);
-    let u = (az * s.splat(1.0 / TAU)) * s.splat(nuf) - half;
-    let v = (polar * s.splat(1.0 / FRAC_PI_2)) * s.splat(nvf) - half;
-    let (uf, vf) = (u.floor(), v.floor());
-    let (a, b) = (u - uf, v - vf);
-    let nuv = s.splat(nuf);
-    let i0 = zero.select_gt(uf, uf + nuv, uf);
-    let i1 = i0 + one;
-    let i1 = i1.select_gt(s.splat(nuf - 0.5), i1 - nuv, i1);
-    let jmax = s.splat(nvf - 1.0);
-    let j0 = vf.max(zero).min(jmax) * nuv;
-    let j1 = (vf + one).max(zero).min(jmax) * nuv;
-    let p00 = (j0 + i0).gather(table);
-    let p10 = (j0 + i1).gather(table);
-    let p01 = (j1 + i0).gather(table);
-    let p11 = (j1 + i1).gather(table);
+    let r = one.div(x.abs() + y.abs() + z.max(zero));
+    let (u, v) = ((x + y) * r, (x - y) * r);
+    let (scale, offset) = (s.splat(0.5 * nf), s.splat(0.5 * (nf - 1.0)));
+    let last = s.splat(nf - 1.0);
+    let cu = (u * scale + offset).max(zero).min(last);
+    let cv = (v * scale + offset).max(zero).min(last);
+    let last0 = s.splat(nf - 2.0);
+    let (fu, fv) = (cu.floor().min(last0), cv.floor().min(last0));
+    let (a, b) = (cu - fu, cv - fv);
+    let nv = s.splat(nf);
+    let base = fv.mul_add(nv, fu);
+    let p00 = base.gather(table);
+    let p10 = (base + one).gather(table);
+    let p01 = (base + nv).gather(table);
+    let p11 = (base + nv + one).gather(table);
     let (ia, ib) = (one - a, one - b);
     ((ia * ib) * p00 + (a * ib) * p10) + ((ia * b) * p01 + (a * b) * p11)
 }

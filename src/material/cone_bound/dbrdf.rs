@@ -1,22 +1,21 @@
-//! The D-BRDF's share of the cone bounds: the largest `p(h)` of its half-vector table over
-//! a cone of half vectors, and its `f cos` bound (derivation in the parent module doc,
-//! "D-BRDF").
+//! The D-BRDF's share of the cone bounds: the largest `p(h)` the renderer evaluates (the
+//! derived octahedral table's `GL_LINEAR` lookup, [`crate::brdf::dbrdf`]) over a cone of
+//! half vectors, and its `f cos` bound (derivation in the parent module doc, "D-BRDF").
 
 use super::{schlick_max, Cone, ConeAngles};
 use crate::brdf::DBrdf;
+use crate::conventions::{hemi_oct_encode, hemi_oct_texel_coord};
 use glam::Vec3;
-use std::f32::consts::{FRAC_PI_2, TAU};
 
-/// What a D-BRDF's bound needs: its table, the per-row maxima and the largest value.
+/// What a D-BRDF's bound needs: its derived octahedral table and a pyramid of block maxima.
 #[derive(Clone, Debug)]
 pub struct DbrdfBound {
-    nu: usize,
-    nv: usize,
-    p: Vec<f32>,
-    row_max: Vec<f32>,
-    /// `runs[k][j nu + i]`: the largest of row `j`'s texels `i .. i + 2^k` (azimuth
-    /// wrapped), for `2^k <= nu`: any run of a row in two reads (a sparse table).
-    runs: Vec<Vec<f32>>,
+    /// Side of the octahedral table (a power of two).
+    n: usize,
+    /// `levels[k][J (n >> k) + I]`: the largest texel of the aligned `2^k x 2^k` block
+    /// `(I, J)`; level 0 is the table. Any texel range is covered by at most 2 x 2 blocks of
+    /// the first level whose blocks are at least as long as the range.
+    levels: Vec<Vec<f32>>,
     max: f32,
     c: f32,
     rs: Vec3,
@@ -26,104 +25,89 @@ pub struct DbrdfBound {
 /// computes; a larger one takes the largest texel of its footprint.
 const BOX_TEXELS: f32 = 3.0;
 
+/// Lipschitz constant of the octahedral map from the sphere (angle) to `(u, v)` (parent
+/// module doc): `sqrt 6`.
+const OCT_LIPSCHITZ: f32 = 2.449_49;
+
 impl DbrdfBound {
-    /// Precomputes the per-row maxima of `d`'s table.
+    /// Precomputes the block maxima of `d`'s derived table.
     pub fn new(d: &DBrdf) -> DbrdfBound {
-        let (nu, nv) = d.grid();
-        let p = d.table().to_vec();
-        let row_max: Vec<f32> = p
-            .chunks(nu)
-            .map(|r| r.iter().copied().fold(0.0f32, f32::max))
-            .collect();
-        let max = row_max.iter().copied().fold(0.0f32, f32::max);
-        let mut runs = vec![p.clone()];
-        while 2usize << (runs.len() - 1) <= nu {
-            let half = 1usize << (runs.len() - 1);
-            let prev = runs.last().expect("level 0");
-            let next: Vec<f32> = (0..nu * nv)
+        let n = d.octahedral_grid();
+        let mut levels = vec![d.octahedral_table().to_vec()];
+        let mut side = n;
+        while side > 1 {
+            let prev = levels.last().expect("level 0");
+            let half = side / 2;
+            let next: Vec<f32> = (0..half * half)
                 .map(|k| {
-                    let (j, i) = (k / nu, k % nu);
-                    prev[k].max(prev[j * nu + (i + half) % nu])
+                    let (j, i) = (k / half, k % half);
+                    let at = |a: usize, b: usize| prev[(2 * j + b) * side + 2 * i + a];
+                    at(0, 0).max(at(1, 0)).max(at(0, 1)).max(at(1, 1))
                 })
                 .collect();
-            runs.push(next);
+            levels.push(next);
+            side = half;
         }
+        let max = levels.last().expect("top")[0];
         DbrdfBound {
-            nu,
-            nv,
-            p,
-            row_max,
-            runs,
+            n,
+            levels,
             max,
             c: d.c,
             rs: d.rs,
         }
     }
 
-    /// The largest `p(h)` over the half vectors in `h` (`None`: every half vector), module
-    /// doc.
+    /// The largest `p(h)` over the half vectors in `h` (`None`: every half vector), parent
+    /// module doc: the octahedral box `(u, v) +- sqrt(6) beta` around the axis's
+    /// coordinates, its exact bilinear maximum when small, else its footprint's largest
+    /// texel.
     pub fn p_max(&self, h: Option<&Cone>) -> f32 {
         let Some(h) = h else { return self.max };
-        let ConeAngles {
-            theta,
-            phi,
-            beta,
-            azimuth_half_width,
-        } = ConeAngles::of(h);
-        let lo = (theta - beta).clamp(0.0, FRAC_PI_2);
-        let hi = (theta + beta).clamp(0.0, FRAC_PI_2);
-        // Rows whose bilinear footprint meets [lo, hi]: v = t nv - 1/2, rows floor(v) and
-        // floor(v) + 1, clamped.
-        let row = |a: f32| (a / FRAC_PI_2) * self.nv as f32 - 0.5;
-        let j0 = (row(lo).floor() as i64).clamp(0, self.nv as i64 - 1) as usize;
-        let j1 = (row(hi).floor() as i64 + 1).clamp(0, self.nv as i64 - 1) as usize;
-        let Some(delta) = azimuth_half_width else {
-            return self.row_max[j0..=j1].iter().copied().fold(0.0f32, f32::max);
-        };
-        let col = |a: f32| (a / TAU) * self.nu as f32 - 0.5;
-        let (u0, u1) = (col(phi - delta), col(phi + delta));
-        let (v0, v1) = (row(lo), row(hi));
+        if h.axis.z <= 0.0 {
+            return self.max;
+        }
+        let beta = ConeAngles::of(h).beta;
+        let r = OCT_LIPSCHITZ * beta * (1.0 + 1e-5) + 1e-5;
+        if r >= 2.0 {
+            return self.max;
+        }
+        let (u, v) = hemi_oct_encode(h.axis);
+        let c = |x: f32| hemi_oct_texel_coord(x, self.n);
+        let (u0, u1, v0, v1) = (c(u - r), c(u + r), c(v - r), c(v + r));
         if u1 - u0 <= BOX_TEXELS && v1 - v0 <= BOX_TEXELS {
-            return self.box_max(u0, u1, v0, v1) * (1.0 + 1e-6);
+            return (self.box_max(u0, u1, v0, v1) * (1.0 + 1e-6)).min(self.max);
         }
-        let i0 = u0.floor() as i64;
-        let i1 = u1.floor() as i64 + 1;
-        let len = (i1 - i0 + 1) as usize;
-        if len >= self.nu {
-            return self.row_max[j0..=j1].iter().copied().fold(0.0f32, f32::max);
-        }
-        (j0..=j1)
-            .map(|j| self.run_max(j, i0, len))
-            .fold(0.0f32, f32::max)
+        let last = self.n - 1;
+        let lo = |x: f32| (x.floor() as usize).min(last);
+        let hi = |x: f32| (x.ceil() as usize).min(last);
+        self.range_max(lo(u0), hi(u1), lo(v0), hi(v1))
     }
 
-    /// The largest of row `j`'s texels `start .. start + len` (wrapped; `1 <= len <= nu`):
-    /// two overlapping runs of `2^k` texels from the sparse table.
-    #[inline]
-    pub(super) fn run_max(&self, j: usize, start: i64, len: usize) -> f32 {
-        let k = (usize::BITS - 1 - len.leading_zeros()) as usize;
-        let a = start.rem_euclid(self.nu as i64) as usize;
-        let b = (a + len - (1 << k)) % self.nu;
-        let runs = &self.runs[k];
-        runs[j * self.nu + a].max(runs[j * self.nu + b])
+    /// The largest texel of columns `i0..=i1`, rows `j0..=j1`: at most four blocks of the
+    /// pyramid.
+    pub(super) fn range_max(&self, i0: usize, i1: usize, j0: usize, j1: usize) -> f32 {
+        let len = (i1 - i0 + 1).max(j1 - j0 + 1);
+        let k = len.next_power_of_two().trailing_zeros() as usize;
+        let k = k.min(self.levels.len() - 1);
+        let side = self.n >> k;
+        let level = &self.levels[k];
+        let mut best = 0.0f32;
+        for bj in (j0 >> k)..=(j1 >> k) {
+            for bi in (i0 >> k)..=(i1 >> k) {
+                best = best.max(level[bj * side + bi]);
+            }
+        }
+        best
     }
 
-    /// The bilinear `p` at continuous texel coordinates `(u, v)` (`u = s nu - 1/2`,
-    /// `v = t nv - 1/2`: [`crate::conventions::hemi_bilinear_texels`]'s arithmetic, azimuth
-    /// wrapped, rows clamped).
+    /// The bilinear `p` at clamped texel coordinates `(u, v)` in `[0, n - 1]^2`
+    /// ([`crate::conventions::hemi_oct_bilinear_texels`]'s arithmetic).
     #[inline]
     fn bilinear(&self, u: f32, v: f32) -> f32 {
-        let (uf, vf) = (u.floor(), v.floor());
-        let (a, b) = (u - uf, v - vf);
-        let i0 = (uf as i64).rem_euclid(self.nu as i64) as usize;
-        let i1 = (i0 + 1) % self.nu;
-        let j0 = (vf as i64).clamp(0, self.nv as i64 - 1) as usize;
-        let j1 = (vf as i64 + 1).clamp(0, self.nv as i64 - 1) as usize;
-        let p = |i: usize, j: usize| self.p[j * self.nu + i];
-        (1.0 - a) * (1.0 - b) * p(i0, j0)
-            + a * (1.0 - b) * p(i1, j0)
-            + (1.0 - a) * b * p(i0, j1)
-            + a * b * p(i1, j1)
+        let t = crate::conventions::hemi_oct_bilinear_texels(u, v, self.n);
+        let p = |k: usize| self.levels[0][t[k].1 * self.n + t[k].0];
+        (t[0].2 * p(0) + t[1].2 * p(1)) + (t[2].2 * p(2) + t[3].2 * p(3))
     }
 
     /// The exact largest bilinear `p` over the box `[u0, u1] x [v0, v1]` of texel
