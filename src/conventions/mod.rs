@@ -42,7 +42,7 @@
 //! corner at spherical (0,0); its centre is half a texel in). Azimuth wraps (GL_REPEAT),
 //! polar clamps (GL_CLAMP_TO_EDGE).
 //!
-//! # Octahedral hemisphere tables (derived lookups)
+//! # Octahedral hemisphere tables (derived lookups; the functions are in `octahedral.rs`)
 //! A square `n x n` table over the upper hemisphere, addressed by the hemispherical
 //! octahedral map of a direction `d` (any positive multiple: no normalisation needed):
 //! `(u, v) = (d.x + d.y, d.x - d.y) / (|d.x| + |d.y| + d.z)`, in `[-1, 1]^2`
@@ -103,6 +103,10 @@
 //!    thesis's factorials (Def. 11), which overflow f32 near l = 17. Coefficient tables are
 //!    sampled like GL textures (texel centres, azimuth `GL_REPEAT`, polar
 //!    `GL_CLAMP_TO_EDGE`; see above).
+
+mod octahedral;
+
+pub use octahedral::*;
 
 use glam::{DVec3, Vec3};
 use std::f32::consts::{PI, TAU};
@@ -312,99 +316,6 @@ pub fn hemi_bilinear_texels_f64(s: f64, t: f64, nu: usize, nv: usize) -> [(usize
         (i1, j0, a * (1.0 - b)),
         (i0, j1, (1.0 - a) * b),
         (i1, j1, a * b),
-    ]
-}
-
-/// Hemispherical octahedral coordinates `(u, v)` in `[-1, 1]^2` of a local direction `d`
-/// with `d.z >= 0`, any length (module doc, "Octahedral hemisphere tables"):
-/// `(d.x + d.y, d.x - d.y) / (|d.x| + |d.y| + d.z)`. A negative `z` is taken as 0 (the
-/// horizon); a zero or non-finite `d` maps to the centre `(0, 0)` (documented fallback).
-#[inline]
-pub fn hemi_oct_encode(d: Vec3) -> (f32, f32) {
-    let r = 1.0 / (d.x.abs() + d.y.abs() + d.z.max(0.0));
-    if !r.is_finite() || r <= 0.0 {
-        return (0.0, 0.0);
-    }
-    ((d.x + d.y) * r, (d.x - d.y) * r)
-}
-
-/// f64 twin of [`hemi_oct_encode`].
-#[inline]
-pub fn hemi_oct_encode_f64(d: DVec3) -> (f64, f64) {
-    let r = 1.0 / (d.x.abs() + d.y.abs() + d.z.max(0.0));
-    if !r.is_finite() || r <= 0.0 {
-        return (0.0, 0.0);
-    }
-    ((d.x + d.y) * r, (d.x - d.y) * r)
-}
-
-/// The unit local direction (z >= 0) of octahedral coordinates `(u, v)` (clamped to
-/// `[-1, 1]`), the inverse of [`hemi_oct_encode_f64`] (module doc).
-#[inline]
-pub fn hemi_oct_decode_f64(u: f64, v: f64) -> DVec3 {
-    let (u, v) = (u.clamp(-1.0, 1.0), v.clamp(-1.0, 1.0));
-    let x = 0.5 * (u + v);
-    let y = 0.5 * (u - v);
-    let z = (1.0 - x.abs() - y.abs()).max(0.0);
-    DVec3::new(x, y, z).normalize()
-}
-
-/// Octahedral coordinate (`u` or `v`) of the centre of texel `i` of `n`: `-1 + (2 i + 1)/n`.
-#[inline]
-pub fn hemi_oct_texel_center_f64(i: usize, n: usize) -> f64 {
-    -1.0 + (2 * i + 1) as f64 / n as f64
-}
-
-/// Continuous texel coordinate of octahedral coordinate `u` in an `n`-texel axis, clamped
-/// to the first and last centres: `clamp(u n/2 + (n - 1)/2, 0, n - 1)` (module doc). The
-/// D-BRDF's lane kernel computes the same expression per lane, with `u n/2` as
-/// `(d.x + d.y) ((n/2) / (|d.x| + |d.y| + d.z))`.
-#[inline]
-pub fn hemi_oct_texel_coord(u: f32, n: usize) -> f32 {
-    let c = u * (0.5 * n as f32) + 0.5 * (n as f32 - 1.0);
-    if c.is_finite() {
-        c.max(0.0).min(n as f32 - 1.0)
-    } else {
-        0.0
-    }
-}
-
-/// The four texels and weights of the `GL_LINEAR` lookup (clamp to edge on both axes) of an
-/// `n x n` octahedral hemisphere table at the texel coordinates `(cu, cv)` of
-/// [`hemi_oct_texel_coord`]: `i0 = min(floor(cu), n - 2)`, `a = cu - i0`, likewise `j0`,
-/// `b`. Returns `[(i0, j0, (1-a)(1-b)), (i0+1, j0, a(1-b)), (i0, j0+1, (1-a)b),
-/// (i0+1, j0+1, a b)]`. Panics if `n < 2`.
-#[inline]
-pub fn hemi_oct_bilinear_texels(cu: f32, cv: f32, n: usize) -> [(usize, usize, f32); 4] {
-    assert!(n >= 2, "an octahedral table needs n >= 2");
-    let last = n as f32 - 2.0;
-    let (fu, fv) = (cu.floor().min(last), cv.floor().min(last));
-    let (a, b) = (cu - fu, cv - fv);
-    let (i0, j0) = (fu as usize, fv as usize);
-    [
-        (i0, j0, (1.0 - a) * (1.0 - b)),
-        (i0 + 1, j0, a * (1.0 - b)),
-        (i0, j0 + 1, (1.0 - a) * b),
-        (i0 + 1, j0 + 1, a * b),
-    ]
-}
-
-/// f64 twin of [`hemi_oct_texel_coord`] and [`hemi_oct_bilinear_texels`] together, for
-/// reference computations (quadratures over the table).
-#[inline]
-pub fn hemi_oct_bilinear_texels_f64(u: f64, v: f64, n: usize) -> [(usize, usize, f64); 4] {
-    assert!(n >= 2, "an octahedral table needs n >= 2");
-    let coord = |u: f64| (u * (0.5 * n as f64) + 0.5 * (n as f64 - 1.0)).clamp(0.0, n as f64 - 1.0);
-    let (cu, cv) = (coord(u), coord(v));
-    let last = n as f64 - 2.0;
-    let (fu, fv) = (cu.floor().min(last), cv.floor().min(last));
-    let (a, b) = (cu - fu, cv - fv);
-    let (i0, j0) = (fu as usize, fv as usize);
-    [
-        (i0, j0, (1.0 - a) * (1.0 - b)),
-        (i0 + 1, j0, a * (1.0 - b)),
-        (i0, j0 + 1, (1.0 - a) * b),
-        (i0 + 1, j0 + 1, a * b),
     ]
 }
 
