@@ -47,25 +47,22 @@
 //!   coordinates, up to 3 texels a side, the bilinear blend's exact maximum (at a corner,
 //!   an edge's crossing of a grid line, or a texel centre inside: a bilinear cell has no
 //!   interior maximum); a larger box takes its footprint's largest texel, two reads per
-//!   row from a sparse table of runs. That was the bound of the *file* table's lookup;
-//!   the renderer evaluates the table derived from it ([`crate::brdf::dbrdf`], "The lookup
-//!   the renderer evaluates"), a `GL_LINEAR` blend of an `n x n` table over the half
-//!   vector's hemispherical octahedral coordinates `(u, v)` ([`crate::conventions`]), and
-//!   [`DbrdfBound`] bounds that directly: the octahedral map is `sqrt 6`-Lipschitz from
-//!   angle on the sphere to `(u, v)` (on each face it is the gnomonic projection onto the
-//!   plane `|x| + |y| + z = 1`, at distance `1/sqrt 3` and seen at most `acos(1/sqrt 3)`
-//!   off its normal, which stretches by at most `(1/sqrt 3) / cos^2 = sqrt 3`, then the
-//!   orthogonal projection to `(x, y)`, at most 1, then `(x + y, x - y)`, `sqrt 2`), so
-//!   every half vector of the cone (above the horizon; a cone whose axis is not takes the
-//!   table's largest value) has `(u, v)` within `sqrt(6) beta` of the axis's. Over that
-//!   box of texel coordinates (clamped like the lookup), up to 3 texels a side, the exact
-//!   bilinear maximum as above; a larger box takes the largest texel of its footprint,
-//!   at most four reads of a pyramid of 2^k x 2^k block maxima.
+//!   row from a sparse table of runs ([`DbrdfBound`]; the all-azimuth case reads a
+//!   per-row maximum). That is the bound of the *file* table's lookup; the renderer
+//!   evaluates the table derived from it ([`crate::brdf::dbrdf`], "The lookup the renderer
+//!   evaluates"), so the file bound is taken over the cone widened by the derived lookup's
+//!   reach and scaled by the derivation's `max(k, 1)` (`dbrdf.rs`), and the derived
+//!   table's own bound (the octahedral map is `sqrt 6`-Lipschitz from angle to `(u, v)`:
+//!   on each face the gnomonic projection onto `|x| + |y| + z = 1` stretches by at most
+//!   `sqrt 3`, the projection to `(x, y)` by at most 1, `(x + y, x - y)` by `sqrt 2`; so the
+//!   cone lies in the box `(u, v) +- sqrt(6) beta`, `dbrdf_derived.rs`) replaces it where it
+//!   is smaller, for small cones.
 //! * Lambert + D-BRDF lobe: the sum of the two bounds.
 //! * SH data sets and MERL tables have no cone bound here: [`ConeBound::new`] refuses them.
 //!
 //! Layout: this file holds the geometry and the per-model dispatch; `dbrdf.rs` the D-BRDF
-//! table's bound ([`DbrdfBound`]); `tests.rs` the checks over random cones.
+//! file table's bound over the widened cone ([`DbrdfBound`]), `dbrdf_derived.rs` the
+//! derived table's own; `tests.rs` the checks over random cones.
 
 use super::Material;
 use crate::conventions::local_angles;
@@ -376,6 +373,7 @@ impl ConeBound {
 }
 
 mod dbrdf;
+mod dbrdf_derived;
 pub use dbrdf::DbrdfBound;
 
 #[cfg(test)]
