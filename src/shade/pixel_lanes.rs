@@ -102,6 +102,9 @@ impl PixelLanes {
 
 type V3<V> = [V; 3];
 
+/// A frame (`t`, `b`, `n`) and a view direction, per lane.
+type FrameAndView<V> = (V3<V>, V3<V>, V3<V>, V3<V>);
+
 /// glam's `Vec3::dot`: `(a.x b.x + a.y b.y) + a.z b.z`, unfused.
 #[inline(always)]
 fn dot<V: F32x8>(a: &V3<V>, b: &V3<V>) -> V {
@@ -128,12 +131,7 @@ fn normalize_or<S: Isa>(s: S, v: V3<S::V>, fallback: V3<S::V>) -> V3<S::V> {
 /// [`ShadingFrame::from_normal`] of normals `nrm` and [`super::local_view`] from `eye` at
 /// positions `pos`, per lane.
 #[inline(always)]
-fn frame_and_view<S: Isa>(
-    s: S,
-    nrm: V3<S::V>,
-    pos: V3<S::V>,
-    eye: Vec3,
-) -> (V3<S::V>, V3<S::V>, V3<S::V>, V3<S::V>) {
+fn frame_and_view<S: Isa>(s: S, nrm: V3<S::V>, pos: V3<S::V>, eye: Vec3) -> FrameAndView<S::V> {
     let (zero, one) = (s.zero(), s.splat(1.0));
     let minus = s.splat(-1.0);
     let n = normalize_or(s, nrm, [zero, zero, one]);
