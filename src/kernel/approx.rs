@@ -1,4 +1,5 @@
-//! Polynomial approximations of the transcendental functions of the lane models, each with
+//! Polynomial approximations of the transcendental functions of the kernels (the view
+//! angles of the SH coefficient lookup, [`view_angles`] and the packed paths), each with
 //! its maximum error against `std` stated here and tested below on a dense grid. Fast path
 //! only: the scalar oracle and the f64 path use `std` (no approximation there).
 //!
@@ -11,8 +12,9 @@
 //!   polynomial; max error against `f64::atan2` [`AZIMUTH_MAX_ERROR`] = 1e-6 rad (for
 //!   azimuths near 2 pi most of it is the f32 rounding of `2 pi - r`).
 //!
-//! On a 32 x 32 half-vector table 1e-6 rad moves a texture coordinate by 6e-7, a change of
-//! the bilinear weights ~1000x below [`super::KERNEL_TOLERANCE`].
+//! On a 32 x 32 coefficient table 1e-6 rad moves a texture coordinate by 6e-7, a change of
+//! the bilinear weights ~1000x below [`super::KERNEL_TOLERANCE`]. (The D-BRDF's half-vector
+//! lookup needs no angle: [`crate::brdf::dbrdf`], octahedral coordinates.)
 
 use super::lanes::{F32x8, Isa};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};

@@ -31,7 +31,7 @@
 //!   count nor on the path.
 //! - **Tolerance.** The kernel paths sum in another order than the scalar oracle
 //!   ([`crate::shade::ShadingPath::ScalarOracle`], and the f64 path, neither of which uses
-//!   any of this), use FMA, and the D-BRDF's `acos`/`atan2` are polynomials with stated,
+//!   any of this), use FMA, and the view angles' `acos`/`atan2` are polynomials with stated,
 //!   tested maximum errors ([`approx`]). Each path is held within [`KERNEL_TOLERANCE`]
 //!   (analytic, D-BRDF) or [`SH_KERNEL_TOLERANCE`] (SH) of the oracle (tests/kernel.rs, both
 //!   paths), which the golden check's `kernel-dispatch` tolerance builds on.
