@@ -40,7 +40,7 @@ pub struct DbrdfBound {
     derived: DerivedTableBound,
 }
 
-/// Largest box (texels per side) whose exact bilinear maximum [`DbrdfBound::box_max`]
+/// Largest box (texels per side) whose exact bilinear maximum [`box_max`]
 /// computes; a larger one takes the largest texel of its footprint.
 const BOX_TEXELS: f32 = 3.0;
 
@@ -122,7 +122,7 @@ impl DbrdfBound {
         let (u0, u1) = (col(phi - delta), col(phi + delta));
         let (v0, v1) = (row(lo), row(hi));
         if u1 - u0 <= BOX_TEXELS && v1 - v0 <= BOX_TEXELS {
-            return self.box_max(u0, u1, v0, v1) * (1.0 + 1e-6);
+            return box_max(u0, u1, v0, v1, |u, v| self.bilinear(u, v)) * (1.0 + 1e-6);
         }
         let i0 = u0.floor() as i64;
         let i1 = u1.floor() as i64 + 1;
@@ -164,28 +164,6 @@ impl DbrdfBound {
             + a * b * p(i1, j1)
     }
 
-    /// The exact largest bilinear `p` over the box `[u0, u1] x [v0, v1]` of texel
-    /// coordinates: inside a cell the blend is bilinear, with no interior maximum, and on
-    /// a cell edge it is linear, so the maximum is at a box corner, where a box edge
-    /// crosses a grid line, or at a texel centre inside; every such point is a pair of
-    /// candidates `{u0, integers in (u0, u1), u1} x {v0, integers in (v0, v1), v1}`.
-    fn box_max(&self, u0: f32, u1: f32, v0: f32, v1: f32) -> f32 {
-        let axis = |a: f32, b: f32| {
-            let first = a.floor() as i64 + 1;
-            let last = b.ceil() as i64 - 1;
-            std::iter::once(a)
-                .chain((first..=last).map(|k| k as f32))
-                .chain(std::iter::once(b))
-        };
-        let mut best = 0.0f32;
-        for v in axis(v0, v1) {
-            for u in axis(u0, u1) {
-                best = best.max(self.bilinear(u, v));
-            }
-        }
-        best
-    }
-
     /// The bound of the D-BRDF's `f cos` (module doc) given `c_i`, `wo` and the half vectors.
     #[inline]
     pub(super) fn f_cos_max(&self, ci: f32, wo: Vec3, h: Option<&Cone>, kh_min: f32) -> Vec3 {
@@ -193,4 +171,32 @@ impl DbrdfBound {
         let ratio = ci / (ci + b - ci * b);
         self.c * self.p_max(h) * ratio * schlick_max(self.rs, kh_min)
     }
+}
+
+/// The exact largest bilinear `p` over the box `[u0, u1] x [v0, v1]` of texel
+/// coordinates: inside a cell the blend is bilinear, with no interior maximum, and on
+/// a cell edge it is linear, so the maximum is at a box corner, where a box edge
+/// crosses a grid line, or at a texel centre inside; every such point is a pair of
+/// candidates `{u0, integers in (u0, u1), u1} x {v0, integers in (v0, v1), v1}`.
+pub(super) fn box_max(
+    u0: f32,
+    u1: f32,
+    v0: f32,
+    v1: f32,
+    bilinear: impl Fn(f32, f32) -> f32,
+) -> f32 {
+    let axis = |a: f32, b: f32| {
+        let first = a.floor() as i64 + 1;
+        let last = b.ceil() as i64 - 1;
+        std::iter::once(a)
+            .chain((first..=last).map(|k| k as f32))
+            .chain(std::iter::once(b))
+    };
+    let mut best = 0.0f32;
+    for v in axis(v0, v1) {
+        for u in axis(u0, u1) {
+            best = best.max(bilinear(u, v));
+        }
+    }
+    best
 }

@@ -21,7 +21,7 @@ pub struct DerivedTableBound {
     max: f32,
 }
 
-/// Largest box (texels per side) whose exact bilinear maximum [`DbrdfBound::box_max`]
+/// Largest box (texels per side) whose exact bilinear maximum [`super::dbrdf::box_max`]
 /// computes; a larger one takes the largest texel of its footprint.
 const BOX_TEXELS: f32 = 3.0;
 
@@ -70,7 +70,9 @@ impl DerivedTableBound {
         let c = |x: f32| hemi_oct_texel_coord(x, self.n);
         let (u0, u1, v0, v1) = (c(u - r), c(u + r), c(v - r), c(v + r));
         if u1 - u0 <= BOX_TEXELS && v1 - v0 <= BOX_TEXELS {
-            return (self.box_max(u0, u1, v0, v1) * (1.0 + 1e-6)).min(self.max);
+            return (super::dbrdf::box_max(u0, u1, v0, v1, |u, v| self.bilinear(u, v))
+                * (1.0 + 1e-6))
+                .min(self.max);
         }
         let last = self.n - 1;
         let lo = |x: f32| (x.floor() as usize).min(last);
@@ -102,27 +104,5 @@ impl DerivedTableBound {
         let t = crate::conventions::hemi_oct_bilinear_texels(u, v, self.n);
         let p = |k: usize| self.levels[0][t[k].1 * self.n + t[k].0];
         (t[0].2 * p(0) + t[1].2 * p(1)) + (t[2].2 * p(2) + t[3].2 * p(3))
-    }
-
-    /// The exact largest bilinear `p` over the box `[u0, u1] x [v0, v1]` of texel
-    /// coordinates: inside a cell the blend is bilinear, with no interior maximum, and on
-    /// a cell edge it is linear, so the maximum is at a box corner, where a box edge
-    /// crosses a grid line, or at a texel centre inside; every such point is a pair of
-    /// candidates `{u0, integers in (u0, u1), u1} x {v0, integers in (v0, v1), v1}`.
-    fn box_max(&self, u0: f32, u1: f32, v0: f32, v1: f32) -> f32 {
-        let axis = |a: f32, b: f32| {
-            let first = a.floor() as i64 + 1;
-            let last = b.ceil() as i64 - 1;
-            std::iter::once(a)
-                .chain((first..=last).map(|k| k as f32))
-                .chain(std::iter::once(b))
-        };
-        let mut best = 0.0f32;
-        for v in axis(v0, v1) {
-            for u in axis(u0, u1) {
-                best = best.max(self.bilinear(u, v));
-            }
-        }
-        best
     }
 }
