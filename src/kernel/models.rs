@@ -51,6 +51,17 @@ impl<'a> LaneModel<'a> {
         }
     }
 
+    /// Lanes [`LaneModel::sum`] occupies for `n` gathered lights: whole groups of
+    /// [`LANES`] (the last one padded), or one per light where it evaluates in scalar (the
+    /// one-light cases, the scalar model). For the work counters only.
+    pub fn lane_slots(&self, n: usize) -> usize {
+        match *self {
+            LaneModel::Scalar(_) => n,
+            LaneModel::Lambert { .. } | LaneModel::BlinnPhong { .. } if n == 1 => 1,
+            _ => n.div_ceil(LANES) * LANES,
+        }
+    }
+
     /// `sum_k f(l_k, wo) w_k` (RGB) over the lights of `sc` (weights `w_k = E_k cos`, or
     /// `E_k` if the scalar model includes the cosine), `wo` the unit local view direction.
     /// Pads `sc`.

@@ -116,7 +116,8 @@ fn sh_dot<S: Width>(
             sm = sn;
         }
         let qmm = s.splat(qmm_t[m]);
-        let (fc, fs) = (cm * sqrt2, sm * sqrt2);
+        // The azimuth factors (used for m > 0 only).
+        let (fc, fs) = if m > 0 { (cm * sqrt2, sm * sqrt2) } else { (cm, sm) };
         macro_rules! emit {
             ($l:expr, $q:expr) => {{
                 let (l, q) = ($l, $q);
@@ -337,3 +338,7 @@ fn packed_groups<S: Width>(
     }
     (tr, tg, tb)
 }
+
+#[cfg(test)]
+#[path = "sh_op_count.rs"]
+mod op_count;

@@ -39,6 +39,13 @@ impl std::fmt::Display for RenderStats {
         writeln!(f, "pixel x light pairs: {}", s.light_pairs)?;
         writeln!(
             f,
+            "kernel lanes used: {} of {} ({:.1}%)",
+            s.pairs_summed,
+            s.lane_slots,
+            100.0 * s.pairs_summed as f64 / s.lane_slots.max(1) as f64
+        )?;
+        writeln!(
+            f,
             "lights: {} ({} dropped, {:.3e} of the irradiance)",
             self.lights, self.lights_dropped, self.dropped_fraction
         )?;

@@ -21,6 +21,15 @@ pub struct ShadeCounts {
     /// than `render.drop_lights` of their value ([`crate::kernel::skip::needs_restore`]);
     /// their pairs with those lights are in `light_pairs`.
     pub pixels_restored: u64,
+    /// (pixel x light) pairs the kernels summed: on the per-pixel path the lights above
+    /// each pixel's horizon (what [`crate::kernel::gather`] kept); on the pixel-packed
+    /// paths every pair of a batch's pixels with the frame's lights (a light below a
+    /// pixel's horizon there adds an exact 0 in its lane).
+    pub pairs_summed: u64,
+    /// Lanes those pairs occupied, counting the padding of each pixel's last group (per
+    /// pixel) or of a batch's empty lanes (pixel-packed): `pairs_summed / lane_slots` is
+    /// the kernels' lane utilisation (issue 15). Scalar evaluations count one lane each.
+    pub lane_slots: u64,
 }
 
 impl std::ops::Add for ShadeCounts {
@@ -32,6 +41,8 @@ impl std::ops::Add for ShadeCounts {
             pixels_shaded: self.pixels_shaded + o.pixels_shaded,
             light_pairs: self.light_pairs + o.light_pairs,
             pixels_restored: self.pixels_restored + o.pixels_restored,
+            pairs_summed: self.pairs_summed + o.pairs_summed,
+            lane_slots: self.lane_slots + o.lane_slots,
         }
     }
 }

@@ -73,6 +73,17 @@ impl FramePrep<'_> {
         self.sum_gathered(s, wo, None, coeff_buf, scratch)
     }
 
+    /// Lanes the kernel occupies for a pixel's `n` gathered lights (the work counters'
+    /// [`super::ShadeCounts::lane_slots`]): the SH kernel's groups of eight (16-light
+    /// groups on AVX-512 leave the same padding: the tail is a group of eight), or the lane
+    /// model's ([`kernel::models::LaneModel::lane_slots`]).
+    pub(super) fn lane_slots(&self, n: usize) -> u64 {
+        match &self.sh {
+            Some(_) => (n.div_ceil(kernel::lanes::LANES) * kernel::lanes::LANES) as u64,
+            None => self.model.lane_slots(n) as u64,
+        }
+    }
+
     /// The gathered lights of `scratch` summed by the SH kernel or the material's lane
     /// model, at local view direction `wo`; with `transfer_at` (the world normal) and a
     /// transfer table (`[env] method = "transfer"`), plus the table's term at that normal

@@ -151,30 +151,44 @@ impl Kernel for ShadeTile<'_, '_, '_> {
         };
         let chunks = prep.dir.chunks_for(cone);
         let mut restored = 0u64;
+        // Lane utilisation (`ShadeCounts::pairs_summed` of `lane_slots`).
+        let (mut summed, mut slots) = (0u64, 0u64);
         match &prep.sh {
             Some((ds, rec)) if prep.dir.is_empty() && !prep.has_transfer() => {
-                for batch in surfaces.chunks(super::packed::packed_width(s)) {
+                let width = super::packed::packed_width(s);
+                let np = prep.points.len() as u64;
+                for batch in surfaces.chunks(width) {
                     let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
                     for (k, (at, _)) in batch.iter().enumerate() {
                         band[*at] = rgb[k];
                     }
+                    summed += batch.len() as u64 * np;
+                    slots += width as u64 * np;
                 }
             }
             _ if prep.packs_analytic() => {
+                let live: u64 = prep.chunk_live.iter().map(|&c| c as u64).sum();
+                let nl = live + prep.points.len() as u64;
                 for batch in surfaces.chunks(LANES) {
                     let rgb = prep.shade_packed_analytic(s, batch);
                     for (k, (at, _)) in batch.iter().enumerate() {
                         band[*at] = rgb[k];
                     }
+                    summed += batch.len() as u64 * nl;
+                    slots += LANES as u64 * nl;
                 }
             }
             _ => {
                 for (at, surf) in surfaces.iter() {
                     let mut rgb = prep.shade_surface(s, surf, &chunks, buf, scratch);
+                    summed += scratch.n as u64;
+                    slots += prep.lane_slots(scratch.n);
                     if !prep.dropped.removed.is_empty()
                         && needs_restore(rgb, prep.dropped.restore_below(surf.normal))
                     {
                         rgb += prep.shade_dropped(s, surf, buf, scratch);
+                        summed += scratch.n as u64;
+                        slots += prep.lane_slots(scratch.n);
                         restored += 1;
                     }
                     band[*at] = rgb;
@@ -193,6 +207,8 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             light_pairs: surfaces.len() as u64 * lights
                 + restored * prep.dropped.removed.len() as u64,
             pixels_restored: restored,
+            pairs_summed: summed,
+            lane_slots: slots,
         }
     }
 }
