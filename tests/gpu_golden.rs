@@ -1,7 +1,8 @@
 //! The GPU golden check end to end (cargo feature `gpu`; needs a Vulkan adapter, e.g. Mesa's
 //! lavapipe, which .ci/run installs): `brdfkit golden check --device gpu` passes for the
 //! correct wgpu renderer, and fails for each seeded GPU fault (half-texel offset, missing
-//! cosine, mirrored azimuth, sRGB applied twice) injected through the hidden `--gpu-fault`.
+//! cosine, mirrored azimuth, sRGB applied twice, the transfer table read at the mirrored
+//! probe azimuth) injected through the hidden `--gpu-fault`.
 //! Every entry the GPU does not render must be listed as skipped with its reason.
 #![cfg(feature = "gpu")]
 
@@ -84,7 +85,13 @@ fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
         .filter(|n| *n != "fig3-8-full-studio")
         .collect();
     assert_eq!(names.len(), n_entries - 1);
-    for fault in ["half-texel", "no-cosine", "mirrored-azimuth", "srgb-twice"] {
+    for fault in [
+        "half-texel",
+        "no-cosine",
+        "mirrored-azimuth",
+        "srgb-twice",
+        "transfer-mirrored-azimuth",
+    ] {
         let mut args = vec!["--gpu-fault", fault];
         args.extend(&names);
         let r = check(&args);
@@ -101,6 +108,16 @@ fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
             .map(|l| l.0)
             .collect();
         assert!(!failed.is_empty(), "{fault}: {}", r.stdout);
+        if fault == "transfer-mirrored-azimuth" {
+            // The table fault shows on every entry that has a table, and only there.
+            let transfer: Vec<&str> = names
+                .iter()
+                .copied()
+                .filter(|n| n.starts_with("env-transfer-"))
+                .collect();
+            assert!(transfer.len() >= 2, "{transfer:?}");
+            assert_eq!(failed, transfer, "{fault}: {}", r.stdout);
+        }
         eprintln!(
             "{fault}: {} entries fail: {}",
             failed.len(),

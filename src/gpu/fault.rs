@@ -9,7 +9,10 @@
 //! - `no-cosine`: the `cos(polar_i)` of the lighting sum left out;
 //! - `mirrored-azimuth`: a left-handed shading frame (`b = t x n`), so every azimuth becomes
 //!   `2 pi - azimuth` (an anisotropic BRDF renders mirrored);
-//! - `srgb-twice`: the shader encodes sRGB into a target the display path encodes again.
+//! - `srgb-twice`: the shader encodes sRGB into a target the display path encodes again;
+//! - `transfer-mirrored-azimuth`: the transfer table (`shaders/transfer.wgsl`) read at the
+//!   probe azimuth `2 pi - a` of the normal (the probe direction taken as
+//!   `(sin p sin a, cos p, sin p cos a)`, the sign of the convention's x dropped).
 
 use crate::error::{Error, Result};
 
@@ -21,11 +24,12 @@ impl Faults {
     /// No fault: the correct renderer.
     pub const NONE: Faults = Faults(0);
     /// Every fault by name, with its shader bit.
-    pub const ALL: [(&'static str, u32); 4] = [
+    pub const ALL: [(&'static str, u32); 5] = [
         ("half-texel", 1),
         ("no-cosine", 2),
         ("mirrored-azimuth", 4),
         ("srgb-twice", 8),
+        ("transfer-mirrored-azimuth", 16),
     ];
 
     /// The fault named `name` (one of [`Faults::ALL`]).

@@ -16,19 +16,25 @@
 //! Layout, one concept per file:
 //! - `adapter.rs`: finding an adapter, opening a device with the adapter's own limits;
 //! - `upload.rs`: the scene packed into GPU buffers (uniforms, vertices, lights, the
-//!   material's table) and checked against those limits;
+//!   material's table, the environment's transfer table) and checked against those limits;
 //! - `shaders/*.wgsl`: conventions (frame, angles, GL texel filtering), BRDF models, real
-//!   SH, and the frame (vertex and fragment entry points);
+//!   SH, the frame (vertex and fragment entry points), and the transfer table's term
+//!   (`transfer.wgsl`: `T` bilinear at the pixel's normal on the grid of
+//!   [`crate::env::transfer`], dotted with the coefficients the fragment looked up at its
+//!   view);
 //! - `pipeline.rs`: the shader assembled, the render pipeline, one draw;
 //! - `readback.rs`: the float render target copied back into an [`Image`];
 //! - `fault.rs`: the seeded faults that show the golden check catches a broken port.
 //!
 //! What it renders: Lambert, Phong, Blinn-Phong, SH data sets (nearest and bilinear
 //! coefficient lookup), D-BRDF and Lambert + D-BRDF, under point and directional lights and
-//! delta-light sets from probes (`[env] method = "lights"`), on the f32 path. It also
-//! writes the debug outputs of [`crate::aov`] but `coverage`. Not (yet):
-//! Ashikhmin-Shirley, MERL tables, `[env] method = "transfer"` and `"lightcuts"`;
-//! [`unsupported`] names the reason, which callers report.
+//! delta-light sets from probes (`[env] method = "lights"`), and SH data sets and Lambert
+//! under transfer tables (`[env] method = "transfer"`: the table's term per pixel, once,
+//! plus its brightest texels, which are in the scene's lights), on the f32 path. It also
+//! writes the debug outputs of [`crate::aov`] but `coverage`. Not: Ashikhmin-Shirley, MERL
+//! tables, and `[env] method = "lightcuts"` (an adaptive cut of a light tree refined per
+//! pixel; on a GPU use `transfer` or a light set); [`unsupported`] names the reason, which
+//! callers report.
 
 mod adapter;
 mod fault;
@@ -55,11 +61,13 @@ pub fn unsupported(scene: &Scene, aov: Option<Aov>) -> Option<String> {
                 .into(),
         );
     }
-    if scene.transfer.is_some() {
-        return Some("[env] method = \"transfer\" is not implemented on the GPU".into());
-    }
     if scene.lightcuts.is_some() {
-        return Some("[env] method = \"lightcuts\" is not implemented on the GPU".into());
+        return Some(
+            "[env] method = \"lightcuts\" refines an adaptive cut of a light tree per pixel, \
+             which the GPU path does not do; on a GPU use \"transfer\" or a light set \
+             (\"lights\")"
+                .into(),
+        );
     }
     match &scene.material {
         Material::AshikhminShirley(_) | Material::Merl(_) => Some(format!(

@@ -22,11 +22,12 @@ pub(super) const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba3
 /// The WGSL source for a material with `sh_terms` SH terms per colour.
 pub(super) fn shader_source(sh_terms: u32) -> String {
     format!(
-        "const SH_TERMS: u32 = {sh_terms}u;\n{}\n{}\n{}\n{}",
+        "const SH_TERMS: u32 = {sh_terms}u;\n{}\n{}\n{}\n{}\n{}",
         include_str!("shaders/conventions.wgsl"),
         include_str!("shaders/brdf.wgsl"),
         include_str!("shaders/sh.wgsl"),
         include_str!("shaders/frame.wgsl"),
+        include_str!("shaders/transfer.wgsl"),
     )
 }
 
@@ -53,6 +54,16 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
                     sample_type: wgpu::TextureSampleType::Float { filterable: false },
                     view_dimension: wgpu::TextureViewDimension::D2,
                     multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 5,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
                 },
                 count: None,
             },
@@ -171,6 +182,10 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: wgpu::BindingResource::TextureView(&views[(k + 1) % 2]),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: up.transfer.as_entire_binding(),
                 },
             ],
         });

@@ -1,10 +1,12 @@
 //! The scene packed for the GPU: one uniform block (camera, exact sphere, material
-//! parameters, counts, faults), the interleaved vertices and the indices, the delta lights
-//! and the material's table (SH coefficients or the D-BRDF's `p(h)`), each checked against
-//! the adapter's limits before anything is allocated.
+//! parameters, counts, faults), the interleaved vertices and the indices, the delta lights,
+//! the material's table (SH coefficients or the D-BRDF's `p(h)`) and the environment's
+//! transfer table, each checked against the adapter's limits before anything is allocated.
 //!
 //! The layouts match `shaders/frame.wgsl` (`Frame`, `Light`); the SH coefficient table keeps
-//! the data set's own layout `coeffs[((j nu + i) 3 + c) T + k]` ([`crate::sh::dataset`]).
+//! the data set's own layout `coeffs[((j nu + i) 3 + c) T + k]` ([`crate::sh::dataset`]),
+//! the transfer table its own `values[((j nu + i) 3 + c) terms + k]`
+//! ([`crate::env::transfer::TransferTable`], read by `shaders/transfer.wgsl`).
 
 use super::{Faults, Gpu};
 use crate::aov::Aov;
@@ -33,6 +35,8 @@ pub(super) struct FrameUniform {
     ints: [u32; 4],
     table: [u32; 4],
     aov: [u32; 4],
+    xfer: [u32; 4],
+    xfer_rot: [f32; 4],
 }
 
 /// The `Light` of `shaders/frame.wgsl`.
@@ -51,6 +55,10 @@ pub(super) struct Uploads {
     pub index_count: u32,
     pub lights: wgpu::Buffer,
     pub table: wgpu::Buffer,
+    /// The transfer table's values (one zero when the scene has none).
+    pub transfer: wgpu::Buffer,
+    /// Terms per colour of the transfer table (0: none).
+    pub transfer_terms: u32,
     /// Terms per colour of the SH data set (bands^2), 1 for other materials: the size of the
     /// shader's per-pixel coefficient array.
     pub sh_terms: u32,
@@ -84,7 +92,9 @@ impl Uploads {
         }
         let b = self.sh_bands;
         let per_light = 1 + b + b * (b + 1) / 2;
-        let per_pixel = if b > 0 { self.sh_terms } else { 0 };
+        // The SH coefficient lookup, and the transfer table's dot (first pass only, but
+        // counted for every pass to keep one bound).
+        let per_pixel = if b > 0 { self.sh_terms } else { 0 } + self.transfer_terms;
         let per_pass = (LOOP_ITERATIONS_PER_PASS.saturating_sub(per_pixel) / per_light).max(1);
         let mut out = Vec::new();
         let mut begin = 0;
@@ -133,11 +143,12 @@ impl Uploads {
                 side as u64,
             ));
         }
-        if lim.max_storage_buffers_per_shader_stage < 2 {
+        // Lights, material table, transfer table.
+        if lim.max_storage_buffers_per_shader_stage < 3 {
             return Err(gpu.over_limit(
                 "the fragment shader",
                 "max_storage_buffers_per_shader_stage",
-                2,
+                3,
                 lim.max_storage_buffers_per_shader_stage as u64,
             ));
         }
@@ -236,6 +247,21 @@ impl Uploads {
             lights.push(GpuLight::zeroed());
         }
 
+        let (xfer, xfer_rot, mut transfer) = match scene.transfer.as_deref() {
+            Some(t) => {
+                let (nu, nv) = t.grid();
+                (
+                    [nu as u32, nv as u32, t.terms() as u32, 1],
+                    [t.rotation(), 0.0, 0.0, 0.0],
+                    t.values().to_vec(),
+                )
+            }
+            None => ([0; 4], [0.0; 4], Vec::new()),
+        };
+        if transfer.is_empty() {
+            transfer.push(0.0);
+        }
+
         let frame = FrameUniform {
             clip_from_world: clip_from_world.to_cols_array_2d(),
             eye: v4(cam.position, 1.0),
@@ -249,6 +275,8 @@ impl Uploads {
             ints: [kind, light_count, faults.0, lookup],
             table: table_info,
             aov: [aov_code(aov), 0, 0, 0],
+            xfer,
+            xfer_rot,
         };
 
         let mesh = &scene.mesh;
@@ -269,6 +297,10 @@ impl Uploads {
             (
                 "the material table",
                 std::mem::size_of_val(table.as_slice()) as u64,
+            ),
+            (
+                "the transfer table",
+                std::mem::size_of_val(transfer.as_slice()) as u64,
             ),
         ] {
             if bytes > storage {
@@ -311,6 +343,8 @@ impl Uploads {
             index_count: indices.len() as u32,
             lights: buffer("lights", bytemuck::cast_slice(&lights), U::STORAGE),
             table: buffer("table", bytemuck::cast_slice(&table), U::STORAGE),
+            transfer: buffer("transfer", bytemuck::cast_slice(&transfer), U::STORAGE),
+            transfer_terms: xfer[2],
             sh_terms,
             width,
             height,

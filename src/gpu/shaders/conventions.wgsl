@@ -12,6 +12,7 @@ const FAULT_HALF_TEXEL: u32 = 1u;
 const FAULT_NO_COSINE: u32 = 2u;
 const FAULT_MIRROR_AZIMUTH: u32 = 4u;
 const FAULT_SRGB_TWICE: u32 = 8u;
+const FAULT_TRANSFER_MIRROR: u32 = 16u;
 
 fn has_fault(bit: u32) -> bool {
     return (frame.ints.z & bit) != 0u;

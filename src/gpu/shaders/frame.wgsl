@@ -25,6 +25,10 @@ struct Frame {
     table: vec4<u32>,
     // x: the debug output instead of radiance (AOV_* below; 0: radiance).
     aov: vec4<u32>,
+    // The transfer table (transfer.wgsl): nu, nv, terms per colour, 1 when there is one.
+    xfer: vec4<u32>,
+    // x: the probe rotation about +y, radians.
+    xfer_rot: vec4<f32>,
 }
 
 // Debug outputs (thesis Figs. 3.1-3.3; src/aov.rs documents each): the shading normal, the
@@ -177,6 +181,10 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
         sh_lookup(wo);
     }
     var radiance = vec3<f32>(0.0);
+    if pass_info.z == 1u && frame.xfer.w == 1u {
+        // The environment's transfer term, once per pixel (transfer.wgsl).
+        radiance = transfer_radiance(n);
+    }
     // This pass's lights (src/gpu/pipeline.rs splits the light set over passes).
     for (var i = pass_info.x; i < pass_info.y; i = i + 1u) {
         let light = lights[i];
