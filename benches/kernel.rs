@@ -261,6 +261,8 @@ fn frames_per_path(c: &mut Criterion) {
         ("dbrdf-128", scene(lib("lindt-paper"), Some(128))),
         ("sphere-sh5-point", sphere(lib("magenta-plastic"), None)),
         ("sphere-sh8-128", sphere(lib("gold-dust-paint"), Some(128))),
+        ("sphere-sh8-512", sphere(lib("gold-dust-paint"), Some(512))),
+        ("sphere-dbrdf-128", sphere(lib("lindt-paper"), Some(128))),
     ];
     for (name, s) in &scenes {
         // The work of one frame, to turn times into G FMA/s: SH bands used, pixels shaded,
@@ -275,9 +277,18 @@ fn frames_per_path(c: &mut Criterion) {
         )
         .stats
         .unwrap();
+        // The FMAs the frame needs: SH, 3 bands^2 per (pixel, light) pair the kernels
+        // summed (above the horizon; issue 15 counts these), to set beside madd-peak.
+        let bands = st.sh_bands_used as u64;
         eprintln!(
-            "frame-path {name}: {} pixels shaded, {} pairs, SH bands {}",
-            st.shade.pixels_shaded, st.shade.light_pairs, st.sh_bands_used
+            "frame-path {name}: {} pixels shaded, {} pairs handed to the kernel, {} summed \
+             in {} lane slots, SH bands {}, {:.3} G coefficient FMAs",
+            st.shade.pixels_shaded,
+            st.shade.light_pairs,
+            st.shade.pairs_summed,
+            st.shade.lane_slots,
+            bands,
+            (st.shade.pairs_summed * 3 * bands * bands) as f64 * 1e-9
         );
         let mut paths: Vec<(String, ShadeOptions)> = KernelPath::available()
             .into_iter()
