@@ -117,7 +117,11 @@ fn sh_dot<S: Width>(
         }
         let qmm = s.splat(qmm_t[m]);
         // The azimuth factors (used for m > 0 only).
-        let (fc, fs) = if m > 0 { (cm * sqrt2, sm * sqrt2) } else { (cm, sm) };
+        let (fc, fs) = if m > 0 {
+            (cm * sqrt2, sm * sqrt2)
+        } else {
+            (cm, sm)
+        };
         macro_rules! emit {
             ($l:expr, $q:expr) => {{
                 let (l, q) = ($l, $q);
