@@ -266,8 +266,8 @@ fn frames_per_path(c: &mut Criterion) {
     ];
     for (name, s) in &scenes {
         // The work of one frame, to turn times into G FMA/s: SH bands used, pixels shaded,
-        // (pixel, light) pairs handed to the kernel (an upper bound on those above the
-        // horizon); SH: 3 bands^2 FMAs per pair.
+        // (pixel, light) pairs handed to the kernel (per tile: its pixels times the lights
+        // its normal cone keeps) and those the kernels summed (`ShadeCounts::pairs_summed`).
         let st = render::render(
             s,
             &RenderOptions {
@@ -278,7 +278,9 @@ fn frames_per_path(c: &mut Criterion) {
         .stats
         .unwrap();
         // The FMAs the frame needs: SH, 3 bands^2 per (pixel, light) pair the kernels
-        // summed (above the horizon; issue 15 counts these), to set beside madd-peak.
+        // summed, to set beside madd-peak. On the per-pixel path those are the pairs above
+        // the horizon (issue 15 counts these); on the pixel-packed point-light path every
+        // pixel-light pair, so there it is an upper bound.
         let bands = st.sh_bands_used as u64;
         eprintln!(
             "frame-path {name}: {} pixels shaded, {} pairs handed to the kernel, {} summed \

@@ -46,24 +46,34 @@ fn main() {
             eprintln!("error: {e}");
             std::process::exit(2);
         });
+    // On the scene's `[render] threads`, as `brdfkit render` runs it, in one pool for
+    // every frame (`RenderOptions::threads` would build a pool per frame).
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(scene.render.threads)
+        .build()
+        .expect("thread pool");
     let opts = RenderOptions::default();
-    let counted = render::render(
-        &scene,
-        &RenderOptions {
-            stats: true,
-            ..RenderOptions::default()
-        },
-    );
+    let counted = pool.install(|| {
+        render::render(
+            &scene,
+            &RenderOptions {
+                stats: true,
+                ..RenderOptions::default()
+            },
+        )
+    });
     if let Some(stats) = counted.stats {
         println!("{stats}");
     }
-    let mut times: Vec<f64> = (0..frames)
-        .map(|_| {
-            let t = Instant::now();
-            std::hint::black_box(render::render(&scene, &opts).image);
-            t.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
+    let mut times: Vec<f64> = pool.install(|| {
+        (0..frames)
+            .map(|_| {
+                let t = Instant::now();
+                std::hint::black_box(render::render(&scene, &opts).image);
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect()
+    });
     times.sort_by(f64::total_cmp);
     println!(
         "{}: {frames} frames, median {:.2} ms",

@@ -340,7 +340,7 @@ pub struct RenderArgs {
     /// Kernel path of the f32 shading: auto (the widest this CPU runs), portable, avx2 (an error where the CPU lacks AVX2+FMA) or avx512 (an error without AVX-512F+VL). Every path gives the same bits; only speed differs.
     #[arg(long, value_enum)]
     pub kernel: Option<crate::kernel::lanes::KernelPath>,
-    /// Print the work counters (tiles shaded/skipped, pixels, pixel x light pairs, lights dropped, SH bands used) to stderr.
+    /// Print the work counters (tiles shaded/skipped, pixels, pixel x light pairs, the kernels' lane use, lights dropped, SH bands used) to stderr.
     #[arg(long)]
     pub stats: bool,
     /// Render N frames with the camera orbiting the look-at point about world up (+y), one full turn: OUT_0000.png ... and OUT.gif (OUT from -o, default out).

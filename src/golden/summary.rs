@@ -67,6 +67,9 @@ pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
             SamplerKind::Full => format!("env {} full ({lights} lights)", file_name(&env.file)),
             _ => format!("env {} {sampler} {lights}", file_name(&env.file)),
         });
+        if env.rotation != 0.0 {
+            parts.push(format!("env rotated {} deg", env.rotation));
+        }
     }
     if scene.render.cull == crate::raster::Cull::Back {
         parts.push("back-face culling".into());

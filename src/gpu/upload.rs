@@ -83,9 +83,9 @@ pub(super) const LOOP_ITERATIONS_PER_PASS: u32 = 16_000;
 
 impl Uploads {
     /// The light ranges `[begin, end)` of the passes: each pass's loop iterations (the SH
-    /// coefficient lookup per pixel, then per light the light loop and the SH recurrence's
-    /// `bands + bands (bands + 1) / 2`) within [`LOOP_ITERATIONS_PER_PASS`]; one empty pass
-    /// for no lights.
+    /// coefficient lookup and the transfer table's dot per pixel, then per light the light
+    /// loop and the SH recurrence's `bands + bands (bands + 1) / 2`) within
+    /// [`LOOP_ITERATIONS_PER_PASS`]; one empty pass for no lights.
     pub fn light_passes(&self) -> Vec<(u32, u32)> {
         if self.aov {
             return vec![(0, 0)];

@@ -24,11 +24,15 @@ pub struct ShadeCounts {
     /// (pixel x light) pairs the kernels summed: on the per-pixel path the lights above
     /// each pixel's horizon (what [`crate::kernel::gather`] kept); on the pixel-packed
     /// paths every pair of a batch's pixels with the frame's lights (a light below a
-    /// pixel's horizon there adds an exact 0 in its lane).
+    /// pixel's horizon there fills its lane with an exact 0; the packed analytic path
+    /// skips a light no pixel of the batch sees, which is still counted).
     pub pairs_summed: u64,
-    /// Lanes those pairs occupied, counting the padding of each pixel's last group (per
-    /// pixel) or of a batch's empty lanes (pixel-packed): `pairs_summed / lane_slots` is
-    /// the kernels' lane utilisation (issue 15). Scalar evaluations count one lane each.
+    /// Lanes those pairs occupied: per pixel, its groups of eight (the last one padded);
+    /// pixel-packed, the batch's lanes (empty ones included) times the lights. So
+    /// `pairs_summed / lane_slots` is the share of lanes holding a light above the horizon
+    /// on the per-pixel path, and how full the batches of pixels are on the packed paths
+    /// (issue 15). Scalar evaluations count one lane each. Depends on the kernel path (8
+    /// or 16 pixels per packed batch).
     pub lane_slots: u64,
 }
 
