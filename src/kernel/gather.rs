@@ -72,7 +72,7 @@ impl Scratch {
     /// along the normal (so every basis value stays finite), and returns the padded count.
     #[inline(always)]
     pub fn pad(&mut self) -> usize {
-        let end = self.n.div_ceil(LANES) * LANES;
+        let end = padded(self.n);
         for i in self.n..end {
             self.x[i] = 0.0;
             self.y[i] = 0.0;
@@ -83,6 +83,12 @@ impl Scratch {
         }
         end
     }
+}
+
+/// `n` lights padded to whole groups of [`LANES`] (what [`Scratch::pad`] fills).
+#[inline(always)]
+pub fn padded(n: usize) -> usize {
+    n.div_ceil(LANES) * LANES
 }
 
 /// Appends to `sc` the lights of chunks `chunks` of `lights` that lie above the horizon of

@@ -58,7 +58,7 @@ impl<'a> LaneModel<'a> {
         match *self {
             LaneModel::Scalar(_) => n,
             LaneModel::Lambert { .. } | LaneModel::BlinnPhong { .. } if n == 1 => 1,
-            _ => n.div_ceil(LANES) * LANES,
+            _ => super::gather::padded(n),
         }
     }
 

@@ -33,13 +33,18 @@ use std::f32::consts::PI;
 pub const PACKED_MAX_LIGHTS: usize = LANES;
 
 impl FramePrep<'_> {
+    /// The frame's lights that carry irradiance: the live directional lights of every
+    /// chunk, plus the point lights (what the packed analytic path sums per pixel).
+    pub(super) fn live_lights(&self) -> usize {
+        self.chunk_live.iter().map(|&c| c as usize).sum::<usize>() + self.points.len()
+    }
+
     /// Whether the tile loop shades this frame on the packed analytic path: a Lambert or
     /// Blinn-Phong material, 1 ..= [`PACKED_MAX_LIGHTS`] lights (directional ones with
     /// irradiance, plus point lights), no environment term, no dropped light to restore,
     /// no seeded fault.
     pub fn packs_analytic(&self) -> bool {
-        let live: usize = self.chunk_live.iter().map(|&c| c as usize).sum();
-        let lights = live + self.points.len();
+        let lights = self.live_lights();
         self.sh.is_none()
             && self.transfer.is_none()
             && self.fault.is_none()

@@ -79,7 +79,7 @@ impl FramePrep<'_> {
     /// model's ([`kernel::models::LaneModel::lane_slots`]).
     pub(super) fn lane_slots(&self, n: usize) -> u64 {
         match &self.sh {
-            Some(_) => (n.div_ceil(kernel::lanes::LANES) * kernel::lanes::LANES) as u64,
+            Some(_) => kernel::gather::padded(n) as u64,
             None => self.model.lane_slots(n) as u64,
         }
     }

@@ -167,8 +167,7 @@ impl Kernel for ShadeTile<'_, '_, '_> {
                 }
             }
             _ if prep.packs_analytic() => {
-                let live: u64 = prep.chunk_live.iter().map(|&c| c as u64).sum();
-                let nl = live + prep.points.len() as u64;
+                let nl = prep.live_lights() as u64;
                 for batch in surfaces.chunks(LANES) {
                     let rgb = prep.shade_packed_analytic(s, batch);
                     for (k, (at, _)) in batch.iter().enumerate() {
