@@ -260,7 +260,11 @@ pub fn hemi_nearest_texel(s: f32, t: f32, nu: usize, nv: usize) -> (usize, usize
 /// Returns `[(i0, j0, (1-a)(1-b)), (i1, j0, a(1-b)), (i0, j1, (1-a)b), (i1, j1, a b)]`; the
 /// weights sum to 1. Non-finite coordinates are treated as 0 (documented fallback).
 /// Panics if `nu` or `nv` is 0.
-#[inline]
+///
+/// Inlined into the kernels (per pixel on the packed paths), where `floor` is one
+/// instruction; the wrap takes no integer division when `u` is already in range (always,
+/// for `s` in `[0, 1)`, but for the half texel below 0).
+#[inline(always)]
 pub fn hemi_bilinear_texels(s: f32, t: f32, nu: usize, nv: usize) -> [(usize, usize, f32); 4] {
     assert!(nu > 0 && nv > 0, "empty table");
     let s = if s.is_finite() { s } else { 0.0 };
@@ -269,8 +273,13 @@ pub fn hemi_bilinear_texels(s: f32, t: f32, nu: usize, nv: usize) -> [(usize, us
     let v = t * nv as f32 - 0.5;
     let (uf, vf) = (u.floor(), v.floor());
     let (a, b) = (u - uf, v - vf);
-    let i0 = (uf as i64).rem_euclid(nu as i64) as usize;
-    let i1 = (i0 + 1) % nu;
+    let ui = uf as i64;
+    let i0 = if (0..nu as i64).contains(&ui) {
+        ui as usize
+    } else {
+        ui.rem_euclid(nu as i64) as usize
+    };
+    let i1 = if i0 + 1 == nu { 0 } else { i0 + 1 };
     let j0 = (vf as i64).clamp(0, nv as i64 - 1) as usize;
     let j1 = (vf as i64 + 1).clamp(0, nv as i64 - 1) as usize;
     [

@@ -178,7 +178,13 @@ pub fn setup_triangles(
             out
         })
         .collect();
-    chunks.into_iter().flatten().collect()
+    // One copy per chunk into a vector of the exact length (a flattening iterator would
+    // move the 200-byte triangles one by one).
+    let mut all = Vec::with_capacity(chunks.iter().map(Vec::len).sum());
+    for c in &chunks {
+        all.extend_from_slice(c);
+    }
+    all
 }
 
 /// Lists, per tile, the indices of the set-up triangles whose pixel bounds touch it, in

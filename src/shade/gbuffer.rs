@@ -43,37 +43,63 @@ pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) 
         return None;
     }
     let t = &vis.triangles[id as usize];
+    // The exact sphere first: where its ray hits, the facet's values would be replaced, so
+    // they are computed only where it misses (or the mesh has no exact sphere).
+    if let (Some(sphere), Some(rays)) = (mesh.exact_sphere, vis.rays) {
+        let dir = rays.dir(x, y);
+        if let Some(s) = sphere.ray_parameter(rays.eye, dir, !t.front_facing) {
+            let hit = rays.eye + s * dir;
+            let normal = sphere.normal_at(hit).normalize().as_vec3();
+            return Some(Surface {
+                position: hit.as_vec3(),
+                normal: if t.front_facing { normal } else { -normal },
+                front_facing: t.front_facing,
+                // dir has view-space z = -1: s is the depth along the view axis.
+                view_depth: s as f32,
+            });
+        }
+    }
     let b = t.source_bary(x, y);
     let tri = mesh.triangles[t.source as usize];
     let [p0, p1, p2] = tri.map(|k| mesh.positions[k as usize]);
     let [n0, n1, n2] = tri.map(|k| mesh.normals[k as usize]);
     let position = p0 * b[0] + p1 * b[1] + p2 * b[2];
-    let geometric = (p1 - p0).cross(p2 - p0);
-    let mut normal = (n0 * b[0] + n1 * b[1] + n2 * b[2])
+    let normal = (n0 * b[0] + n1 * b[1] + n2 * b[2])
         .try_normalize()
-        .or_else(|| geometric.try_normalize())
+        .or_else(|| (p1 - p0).cross(p2 - p0).try_normalize())
         .unwrap_or(Vec3::Y);
-    let mut position = position;
-    let mut view_depth = 1.0 / vis.depth[i];
-    if let (Some(sphere), Some(rays)) = (mesh.exact_sphere, vis.rays) {
-        let dir = rays.dir(x, y);
-        if let Some(s) = sphere.ray_parameter(rays.eye, dir, !t.front_facing) {
-            let hit = rays.eye + s * dir;
-            position = hit.as_vec3();
-            normal = sphere.normal_at(hit).normalize().as_vec3();
-            // dir has view-space z = -1: s is the depth along the view axis.
-            view_depth = s as f32;
-        }
-    }
-    if !t.front_facing {
-        normal = -normal;
-    }
     Some(Surface {
         position,
-        normal,
+        normal: if t.front_facing { normal } else { -normal },
         front_facing: t.front_facing,
-        view_depth,
+        view_depth: 1.0 / vis.depth[i],
     })
+}
+
+/// The surfaces of tile `t`'s visible pixels, in [`tile_pixels`]' order, each with its
+/// index in the image rows of the tile's row of tiles (`(y - y0) width + x`), into `out`
+/// (cleared first). Plain loops over the tile's rows that skip empty pixels before looking
+/// at a triangle: the per-tile G-buffer of the kernels' path (`tile.rs`).
+pub fn tile_surfaces(mesh: &Mesh, vis: &VisBuffer, t: usize, out: &mut Vec<(usize, Surface)>) {
+    out.clear();
+    let ts = vis.tile_size;
+    let x0 = (t as u32 % vis.tiles_x) * ts;
+    let y0 = (t as u32 / vis.tiles_x) * ts;
+    let (w, h) = (ts.min(vis.width - x0), ts.min(vis.height - y0));
+    let first = t * (ts * ts) as usize;
+    for ly in 0..h {
+        let row = first + (ly * ts) as usize;
+        let ids = &vis.visible[row..row + w as usize];
+        for (lx, &id) in ids.iter().enumerate() {
+            if id == NO_TRIANGLE {
+                continue;
+            }
+            let (x, y) = (x0 + lx as u32, y0 + ly);
+            if let Some(s) = surface_at_index(mesh, vis, row + lx, x, y) {
+                out.push(((ly * vis.width + x) as usize, s));
+            }
+        }
+    }
 }
 
 /// Pixels of tile `t` as `(index within the tile, x, y)`, row by row, without divisions

@@ -34,7 +34,7 @@
 //! public name is re-exported here, so each has the one path `shade::X`.
 //!
 //! - `gbuffer.rs`: the surface seen through a pixel ([`Surface`], [`surface_at`],
-//!   [`surface_at_index`], [`tile_pixels`]).
+//!   [`surface_at_index`], [`tile_pixels`], [`tile_surfaces`]).
 //! - `view.rs`: the view direction in the shading frame lifted above the horizon
 //!   ([`local_view`], [`MIN_VIEW_COS`]); one body for f32 ([`lift_above_horizon`]) and f64
 //!   ([`lift_above_horizon_f64`]).
@@ -90,7 +90,7 @@ pub use fault::KernelFault;
 pub use {
     counts::ShadeCounts,
     entry::{shade, Shaded},
-    gbuffer::{surface_at, surface_at_index, tile_pixels, Surface},
+    gbuffer::{surface_at, surface_at_index, tile_pixels, tile_surfaces, Surface},
     lightcuts::CutStats,
     options::{ShadeOptions, ShadingPath},
     packed_analytic::PACKED_MAX_LIGHTS,

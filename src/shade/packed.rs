@@ -36,8 +36,13 @@ impl FramePrep<'_> {
         let w = s.wide();
         let lanes = packed_width(s);
         let t3 = 3 * ds.bands() * ds.bands();
-        buf.resize(t3 * (lanes + 1), 0.0);
-        let (ct, one) = buf.split_at_mut(t3 * lanes);
+        // `ct`: the batch's coefficients transposed (coefficient-major, a lane per pixel),
+        // as `sh_sum_packed` reads them; `ones`: each pixel's looked-up coefficients as
+        // `lookup_coeffs` writes them (pixel-major, rows padded to whole vectors), moved into
+        // `ct` in 8 x 8 blocks below.
+        let stride = kernel::gather::padded(t3);
+        buf.resize(t3 * lanes + stride * lanes, 0.0);
+        let (ct, ones) = buf.split_at_mut(t3 * lanes);
         let includes_cosine = self.brdf.includes_cosine();
         let np = self.points.len();
         let mut table_basis = [None; MAX_LANES];
@@ -55,10 +60,9 @@ impl FramePrep<'_> {
             kernel::approx::azimuth(s, y, x).store(&mut azimuth[o..]);
         }
         for p in 0..lanes {
+            let one = &mut ones[p * stride..p * stride + t3];
             let Some((_, surf)) = batch.get(p) else {
-                for k in 0..t3 {
-                    ct[k * lanes + p] = 0.0;
-                }
+                one.fill(0.0);
                 for i in 0..np {
                     let o = i * lanes + p;
                     (sc.x[o], sc.y[o], sc.z[o]) = (0.0, 0.0, 1.0);
@@ -80,9 +84,6 @@ impl FramePrep<'_> {
                     sum + ds.reconstruct_tabulated(wi, wo) * w
                 }));
             }
-            for (k, &c) in one.iter().enumerate() {
-                ct[k * lanes + p] = c;
-            }
             for (i, light) in self.points.iter().enumerate() {
                 let (l, e) = light.at(surf.position);
                 let wi = frame.to_local(l);
@@ -98,6 +99,7 @@ impl FramePrep<'_> {
                 (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);
             }
         }
+        transpose_blocks(s, ones, t3, stride, lanes, ct);
         let mut lights = np;
         match self.fault {
             Some(KernelFault::DropLane(lane)) => {
@@ -115,6 +117,30 @@ impl FramePrep<'_> {
         w.store(g, &mut a[1]);
         w.store(b, &mut a[2]);
         std::array::from_fn(|p| table_basis[p].unwrap_or(Vec3::new(a[0][p], a[1][p], a[2][p])))
+    }
+}
+
+/// `ct[k lanes + p] = ones[p stride + k]` for `k < t3`, `p < lanes` (a multiple of
+/// [`LANES`]): the pixel-major coefficients of a batch turned coefficient-major, in 8 x 8
+/// blocks ([`Isa::transpose8`]; values moved, never computed: the bits are the lookup's).
+/// `stride` is `t3` rounded up to [`LANES`], so each block reads whole rows of `ones`.
+#[inline(always)]
+fn transpose_blocks<S: Isa>(
+    s: S,
+    ones: &[f32],
+    t3: usize,
+    stride: usize,
+    lanes: usize,
+    ct: &mut [f32],
+) {
+    debug_assert!(lanes % LANES == 0 && stride >= t3 && stride % LANES == 0);
+    for h in (0..lanes).step_by(LANES) {
+        for k0 in (0..t3).step_by(LANES) {
+            let rows = std::array::from_fn(|i| s.load(&ones[(h + i) * stride + k0..]));
+            for (j, col) in s.transpose8(rows).into_iter().enumerate().take(t3 - k0) {
+                col.store(&mut ct[(k0 + j) * lanes + h..]);
+            }
+        }
     }
 }
 

@@ -12,7 +12,7 @@
 //! the per-pixel path (`pixel.rs`) or, for SH data sets under point lights only, the
 //! pixel-packed one (`packed.rs`).
 
-use super::{surface_at_index, tile_pixels, FramePrep, ShadeCounts, Surface};
+use super::{surface_at_index, tile_pixels, tile_surfaces, FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES, MAX_LANES};
 use crate::kernel::{self, cluster::Cone, skip::needs_restore};
@@ -137,13 +137,7 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             scratch,
             surfaces,
         } = self;
-        let per_tile = (vis.tile_size * vis.tile_size) as usize;
-        let y0 = (t as u32 / vis.tiles_x) * vis.tile_size;
-        surfaces.clear();
-        surfaces.extend(tile_pixels(vis, t).filter_map(|(i, x, y)| {
-            let at = ((y - y0) * vis.width + x) as usize;
-            surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y).map(|s| (at, s))
-        }));
+        tile_surfaces(&scene.mesh, vis, t, surfaces);
         let cone = if prep.cull_lights {
             Cone::around(surfaces.iter().map(|(_, s)| s.normal))
         } else {

@@ -119,6 +119,10 @@ pub trait Isa: Copy + Send + Sync {
     fn wide(self) -> Self::Wide;
     /// Lanes `8 h .. 8 h + 8` of a wide vector (`h < N / 8`).
     fn half(self, w: <Self::Wide as Width>::V, h: usize) -> Self::V;
+    /// The 8 x 8 transpose: lane `j` of result `i` is lane `i` of `rows[j]` (values moved,
+    /// never computed). Turns eight pixels' coefficient runs into eight coefficients'
+    /// pixel lanes (the pixel-packed path's batch layout).
+    fn transpose8(self, rows: [Self::V; 8]) -> [Self::V; 8];
 }
 
 /// Vectors of one width on one instruction set, for the code that is the same at any

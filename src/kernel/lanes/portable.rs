@@ -46,6 +46,10 @@ impl Isa for Portable {
         debug_assert_eq!(h, 0);
         w
     }
+    #[inline(always)]
+    fn transpose8(self, rows: [P8; 8]) -> [P8; 8] {
+        std::array::from_fn(|i| P8(std::array::from_fn(|j| rows[j].0[i])))
+    }
 }
 
 impl Add for P8 {

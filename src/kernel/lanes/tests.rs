@@ -188,3 +188,37 @@ fn wide_groups_load_mask_and_compress_in_lane_order() {
         assert_eq!(got[3..], want[..], "{}", path.name());
     }
 }
+
+struct Transpose(Vec<f32>);
+impl Kernel for Transpose {
+    type Out = Vec<f32>;
+    fn run<S: Isa>(self, s: S) -> Vec<f32> {
+        let rows = std::array::from_fn(|i| s.load(&self.0[8 * i..]));
+        let mut out = vec![0.0; 64];
+        for (i, v) in s.transpose8(rows).into_iter().enumerate() {
+            v.store(&mut out[8 * i..]);
+        }
+        out
+    }
+}
+
+#[test]
+fn transpose8_moves_every_lane_on_every_path() {
+    // Distinct values, a NaN payload and a negative zero: moved, never computed.
+    let mut m: Vec<f32> = (0..64).map(|k| k as f32 * 1.25 - 7.0).collect();
+    m[9] = f32::from_bits(0x7fc0_1234);
+    m[50] = -0.0;
+    for path in KernelPath::available() {
+        let got = Dispatch::choose(path).unwrap().run(Transpose(m.clone()));
+        for i in 0..8 {
+            for j in 0..8 {
+                assert_eq!(
+                    got[8 * i + j].to_bits(),
+                    m[8 * j + i].to_bits(),
+                    "{} ({i}, {j})",
+                    path.name()
+                );
+            }
+        }
+    }
+}
