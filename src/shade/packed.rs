@@ -133,7 +133,7 @@ fn transpose_blocks<S: Isa>(
     lanes: usize,
     ct: &mut [f32],
 ) {
-    debug_assert!(lanes % LANES == 0 && stride >= t3 && stride % LANES == 0);
+    debug_assert!(lanes.is_multiple_of(LANES) && stride >= t3 && stride.is_multiple_of(LANES));
     for h in (0..lanes).step_by(LANES) {
         for k0 in (0..t3).step_by(LANES) {
             let rows = std::array::from_fn(|i| s.load(&ones[(h + i) * stride + k0..]));
