@@ -45,36 +45,48 @@ impl Isa for Avx2Fma {
     }
     #[inline(always)]
     fn transpose8(self, rows: [A8; 8]) -> [A8; 8] {
-        let r = rows.map(|v| v.0);
-        unsafe {
-            // Pairs of rows interleaved, then pairs of pairs, then the 128-bit halves.
-            let t0 = _mm256_unpacklo_ps(r[0], r[1]);
-            let t1 = _mm256_unpackhi_ps(r[0], r[1]);
-            let t2 = _mm256_unpacklo_ps(r[2], r[3]);
-            let t3 = _mm256_unpackhi_ps(r[2], r[3]);
-            let t4 = _mm256_unpacklo_ps(r[4], r[5]);
-            let t5 = _mm256_unpackhi_ps(r[4], r[5]);
-            let t6 = _mm256_unpacklo_ps(r[6], r[7]);
-            let t7 = _mm256_unpackhi_ps(r[6], r[7]);
-            let u0 = _mm256_shuffle_ps::<0x44>(t0, t2);
-            let u1 = _mm256_shuffle_ps::<0xee>(t0, t2);
-            let u2 = _mm256_shuffle_ps::<0x44>(t1, t3);
-            let u3 = _mm256_shuffle_ps::<0xee>(t1, t3);
-            let u4 = _mm256_shuffle_ps::<0x44>(t4, t6);
-            let u5 = _mm256_shuffle_ps::<0xee>(t4, t6);
-            let u6 = _mm256_shuffle_ps::<0x44>(t5, t7);
-            let u7 = _mm256_shuffle_ps::<0xee>(t5, t7);
-            [
-                A8(_mm256_permute2f128_ps::<0x20>(u0, u4)),
-                A8(_mm256_permute2f128_ps::<0x20>(u1, u5)),
-                A8(_mm256_permute2f128_ps::<0x20>(u2, u6)),
-                A8(_mm256_permute2f128_ps::<0x20>(u3, u7)),
-                A8(_mm256_permute2f128_ps::<0x31>(u0, u4)),
-                A8(_mm256_permute2f128_ps::<0x31>(u1, u5)),
-                A8(_mm256_permute2f128_ps::<0x31>(u2, u6)),
-                A8(_mm256_permute2f128_ps::<0x31>(u3, u7)),
-            ]
-        }
+        // SAFETY: an `Avx2Fma` token proves AVX (module doc).
+        unsafe { transpose8_m256(rows.map(|v| v.0)) }.map(A8)
+    }
+}
+
+/// The 8 x 8 transpose of `__m256` rows ([`Isa::transpose8`]): lane `j` of result `i` is
+/// lane `i` of `r[j]`, by unpacks, shuffles and 128-bit permutes (values moved, never
+/// computed). Shared by this backend and the AVX-512 one, whose eight lanes are `__m256`
+/// too.
+///
+/// # Safety
+/// The CPU must have AVX (the caller holds an [`Avx2Fma`] or [`super::Avx512`] token).
+#[inline(always)]
+pub(super) unsafe fn transpose8_m256(r: [__m256; 8]) -> [__m256; 8] {
+    unsafe {
+        // Pairs of rows interleaved, then pairs of pairs, then the 128-bit halves.
+        let t0 = _mm256_unpacklo_ps(r[0], r[1]);
+        let t1 = _mm256_unpackhi_ps(r[0], r[1]);
+        let t2 = _mm256_unpacklo_ps(r[2], r[3]);
+        let t3 = _mm256_unpackhi_ps(r[2], r[3]);
+        let t4 = _mm256_unpacklo_ps(r[4], r[5]);
+        let t5 = _mm256_unpackhi_ps(r[4], r[5]);
+        let t6 = _mm256_unpacklo_ps(r[6], r[7]);
+        let t7 = _mm256_unpackhi_ps(r[6], r[7]);
+        let u0 = _mm256_shuffle_ps::<0x44>(t0, t2);
+        let u1 = _mm256_shuffle_ps::<0xee>(t0, t2);
+        let u2 = _mm256_shuffle_ps::<0x44>(t1, t3);
+        let u3 = _mm256_shuffle_ps::<0xee>(t1, t3);
+        let u4 = _mm256_shuffle_ps::<0x44>(t4, t6);
+        let u5 = _mm256_shuffle_ps::<0xee>(t4, t6);
+        let u6 = _mm256_shuffle_ps::<0x44>(t5, t7);
+        let u7 = _mm256_shuffle_ps::<0xee>(t5, t7);
+        [
+            _mm256_permute2f128_ps::<0x20>(u0, u4),
+            _mm256_permute2f128_ps::<0x20>(u1, u5),
+            _mm256_permute2f128_ps::<0x20>(u2, u6),
+            _mm256_permute2f128_ps::<0x20>(u3, u7),
+            _mm256_permute2f128_ps::<0x31>(u0, u4),
+            _mm256_permute2f128_ps::<0x31>(u1, u5),
+            _mm256_permute2f128_ps::<0x31>(u2, u6),
+            _mm256_permute2f128_ps::<0x31>(u3, u7),
+        ]
     }
 }
 

@@ -65,36 +65,8 @@ impl Isa for Avx512 {
     }
     #[inline(always)]
     fn transpose8(self, rows: [V8; 8]) -> [V8; 8] {
-        let r = rows.map(|v| v.0);
-        unsafe {
-            // Pairs of rows interleaved, then pairs of pairs, then the 128-bit halves.
-            let t0 = _mm256_unpacklo_ps(r[0], r[1]);
-            let t1 = _mm256_unpackhi_ps(r[0], r[1]);
-            let t2 = _mm256_unpacklo_ps(r[2], r[3]);
-            let t3 = _mm256_unpackhi_ps(r[2], r[3]);
-            let t4 = _mm256_unpacklo_ps(r[4], r[5]);
-            let t5 = _mm256_unpackhi_ps(r[4], r[5]);
-            let t6 = _mm256_unpacklo_ps(r[6], r[7]);
-            let t7 = _mm256_unpackhi_ps(r[6], r[7]);
-            let u0 = _mm256_shuffle_ps::<0x44>(t0, t2);
-            let u1 = _mm256_shuffle_ps::<0xee>(t0, t2);
-            let u2 = _mm256_shuffle_ps::<0x44>(t1, t3);
-            let u3 = _mm256_shuffle_ps::<0xee>(t1, t3);
-            let u4 = _mm256_shuffle_ps::<0x44>(t4, t6);
-            let u5 = _mm256_shuffle_ps::<0xee>(t4, t6);
-            let u6 = _mm256_shuffle_ps::<0x44>(t5, t7);
-            let u7 = _mm256_shuffle_ps::<0xee>(t5, t7);
-            [
-                V8(_mm256_permute2f128_ps::<0x20>(u0, u4)),
-                V8(_mm256_permute2f128_ps::<0x20>(u1, u5)),
-                V8(_mm256_permute2f128_ps::<0x20>(u2, u6)),
-                V8(_mm256_permute2f128_ps::<0x20>(u3, u7)),
-                V8(_mm256_permute2f128_ps::<0x31>(u0, u4)),
-                V8(_mm256_permute2f128_ps::<0x31>(u1, u5)),
-                V8(_mm256_permute2f128_ps::<0x31>(u2, u6)),
-                V8(_mm256_permute2f128_ps::<0x31>(u3, u7)),
-            ]
-        }
+        // SAFETY: an `Avx512` token proves AVX (module doc).
+        unsafe { super::avx2::transpose8_m256(rows.map(|v| v.0)) }.map(V8)
     }
 }
 
