@@ -1,11 +1,11 @@
-//! Kernel benches (issue "fast shading kernel"):
+//! Benches of the shading kernel (docs/benchmarks.md):
 //! (a) SH kernel throughput in (pixel x light x SH term) per second, beside this machine's
 //!     f32 multiply-add peak measured in the same run by a companion micro-bench;
 //! (b) frame time of the 640x480 teapot in the thesis's configurations: 5 and 8 orders with
 //!     one point light, 5 and 8 orders with 128 median-cut lights, D-BRDF with 1 and 128;
-//! (c) the same frames and a 640x480 sphere (issue 15's llvmpipe comparison scene) on each
-//!     kernel path this CPU runs, plus the default scene on the scalar oracle (the kernel
-//!     path must beat it), for A/B runs of one path against another.
+//! (c) the same frames and a 640x480 sphere (the llvmpipe comparison scene) on each kernel
+//!     path this CPU runs, plus the default scene on the scalar oracle (the kernel path must
+//!     beat it), for A/B runs of one path against another.
 
 use brdfkit::conventions::ShadingFrame;
 use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
@@ -233,8 +233,8 @@ fn frames(c: &mut Criterion) {
     g.finish();
 }
 
-/// The sphere of issue 15's llvmpipe comparison: a 640x480 UV sphere filling most of the
-/// frame, with `material` and the same light choices as [`scene`].
+/// The sphere of the llvmpipe comparison: a 640x480 UV sphere filling most of the frame,
+/// with `material` and the same light choices as [`scene`].
 fn sphere(material: MaterialSpec, env_lights: Option<usize>) -> Scene {
     let mut f = scene_file(material, env_lights);
     f.mesh = SceneFile::parse("[mesh]\nsource = \"sphere\"\nsegments = 64\n")
@@ -279,8 +279,8 @@ fn frames_per_path(c: &mut Criterion) {
         .unwrap();
         // The FMAs the frame needs: SH, 3 bands^2 per (pixel, light) pair the kernels
         // summed, to set beside madd-peak. On the per-pixel path those are the pairs above
-        // the horizon (issue 15 counts these); on the pixel-packed point-light path every
-        // pixel-light pair, so there it is an upper bound.
+        // the horizon (the pairs the FMA-peak target counts, docs/benchmarks.md); on the
+        // pixel-packed point-light path every pixel-light pair, so there it is an upper bound.
         let bands = st.sh_bands_used as u64;
         eprintln!(
             "frame-path {name}: {} pixels shaded, {} pairs handed to the kernel, {} summed \

@@ -1,9 +1,9 @@
 //! Frame time at 640x480 of a sphere (256 segments, ~91k shaded pixels) with
 //! `[env] method = "lightcuts"` (default `cut_error` 1%, `cut_max` 1000), Blinn-Phong
 //! exponent 200 and the library D-BRDF `lindt-paper`, under the shipped city and studio
-//! probes; issue 14's target is >= 30 frames/s on this 2-core machine. The light tree's
-//! build time (probe load included) is measured once per probe and printed beside it, with
-//! each frame's mean cut size.
+//! probes; the light-cut method's target is >= 30 frames/s on this 2-core machine. The
+//! light tree's build time (probe load included) is measured once per probe and printed
+//! beside it, with each frame's mean cut size.
 //!
 //! A/B in one run: per probe and material, one frame of per-pixel cuts (the reference,
 //! `ShadingPath::ScalarOracle`, timed once: it takes seconds), then the shared cuts (one cut

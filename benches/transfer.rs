@@ -1,7 +1,8 @@
 //! Frame time at 640x480 of an 8-band SH material (library `teal-paint`) on a sphere under
 //! the shipped city probe with `[env] method = "transfer"` (128 x 65 table, 64 exact
-//! lights), issue 14's target being >= 100 frames/s; the table build time is measured once
-//! and printed beside it (it runs once per scene, far too long for criterion's samples).
+//! lights), the transfer-table method's target being >= 100 frames/s; the table build time
+//! is measured once and printed beside it (it runs once per scene, far too long for
+//! criterion's samples).
 
 use brdfkit::env::transfer::{prepare_transfer, TransferBasis};
 use brdfkit::progress::Progress;

@@ -1,5 +1,5 @@
-//! Error of `[env] method = "lightcuts"` against the converged reference, for people: the
-//! table of issue 14 (deliverable 3).
+//! Error of `[env] method = "lightcuts"` against the converged reference, for people: a
+//! table, one row per material, probe and `cut_error`.
 //!
 //! ```sh
 //! cargo run --release --example lightcuts_error -- [SIZE] [e=CUT_ERROR ...] [PROBE...]

@@ -1,5 +1,5 @@
-//! Error of `[env] method = "transfer"` against the converged reference, for people: the
-//! table of issue 14 (deliverables 1 and 2).
+//! Error of `[env] method = "transfer"` against the converged reference, for people: a
+//! table, one row per material and probe.
 //!
 //! ```sh
 //! cargo run --release --example transfer_error -- [SIZE] [k=EXACT_LIGHTS] [m=MATERIAL] [PROBE...]

@@ -228,17 +228,18 @@ pub struct Thresholds {
 }
 
 impl Thresholds {
-    /// Defaults for a GPU build against this oracle, from tests/perturbation.rs (blue silk
-    /// and a 45-degree-turned anisotropic lobe, 160x120, city probe, 64 median-cut lights +
-    /// a key light). Measured FLIP mean / 99th percentile of the seeded faults: half-texel
-    /// lookup shift 0.032 / 0.36, wrong cosine factor 0.080 / 0.60, flipped azimuth
+    /// Defaults for a GPU build against this oracle, from tests/integration/perturbation.rs
+    /// (blue silk and a 45-degree-turned anisotropic lobe, 160x120, city probe, 64 median-cut
+    /// lights + a key light). Measured FLIP mean / 99th percentile of the seeded faults:
+    /// half-texel lookup shift 0.032 / 0.36, wrong cosine factor 0.080 / 0.60, flipped azimuth
     /// 0.109 / 0.96; the unperturbed render 0 / 0, and our own f32 kernel against the scalar
     /// oracle differs by at most 1.3e-4 relative, which does not change an 8-bit display
     /// value. The mean bound (0.01) sits at a third of the smallest fault's mean, leaving room
     /// for a GPU port's legitimate differences (8-bit sub-texel filtering weights, fp32
     /// evaluation order; not measured here: this machine has no GPU). The 99th-percentile
     /// bound (0.1) keeps a small bad region (a seam, a few hundred wrong pixels) from hiding
-    /// in a good mean; a one-pixel shift of the whole image fails it (tests/compare.rs).
+    /// in a good mean; a one-pixel shift of the whole image fails it
+    /// (tests/integration/compare.rs).
     pub const DEFAULT: Thresholds = Thresholds {
         flip_mean: 0.01,
         percentile: 0.99,

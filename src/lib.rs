@@ -11,12 +11,13 @@
 //!    names its exact sphere, which shading intersects per pixel instead of its facets).
 //! 2. **Lights and materials prepared**: [`light`] (delta lights: point, directional),
 //!    [`env`](mod@env) (light probes collapsed into delta-light sets: uniform, importance sampling,
-//!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2; and,
-//!    opt-in with `[env] method = "transfer"`, [`env::transfer`]: the full probe projected
+//!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2; and
+//!    the two methods `[env] method = "auto"`, the default, chooses between per material
+//!    ([`scene::env_method`]): `transfer`, [`env::transfer`]: the full probe projected
 //!    onto an SH data set's basis or into irradiance per normal, tabulated once and
-//!    interpolated per pixel by [`shade`]; opt-in with `[env] method = "lightcuts"`,
-//!    [`env::lightcuts`]: every texel a light in a light tree, cut per pixel by [`shade`]
-//!    within the bounds of [`material::cone_bound`], Walter et al. 2005),
+//!    interpolated per pixel by [`shade`]; `lightcuts`, [`env::lightcuts`]: every texel a
+//!    light in a light tree, cut per pixel by [`shade`] within the bounds of
+//!    [`material::cone_bound`], Walter et al. 2005),
 //!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
 //!    D-BRDF with its file format [`brdf::dbrdf::file`], Lambert + D-BRDF lobe, MERL tables,
 //!    and the library's stand-in source models [`brdf::stand_ins`]), [`sh`] (real spherical

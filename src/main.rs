@@ -2,7 +2,8 @@ use std::process::ExitCode;
 
 /// mimalloc keeps freed frame-sized blocks (visibility buffer, image) for the next frame;
 /// glibc's allocator returned them to the system and page-faulted them back every frame,
-/// which doubled the default 640x480 frame (13.9 ms against 6.2 ms, README "Benchmarks").
+/// which doubled the default 640x480 frame (13.9 ms against 6.2 ms; docs/benchmarks.md,
+/// "The kernel").
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

@@ -55,7 +55,7 @@ pub fn relative_rmse(reference: &Image, img: &Image, mask: Option<&[bool]>) -> f
 /// at least 1% of the mean norm of the covered (non-zero) reference pixels: uncovered
 /// background and near-black pixels, where any absolute error is a large relative one, are
 /// left out. 0 when no pixel is left. The images must have the same number of pixels
-/// (panics otherwise). Issue 14 states this beside [`relative_rmse`] as "p99".
+/// (panics otherwise). The sweep reports it beside [`relative_rmse`] as `p99_rel`.
 pub fn relative_error_quantile(
     reference: &Image,
     img: &Image,

@@ -6,11 +6,24 @@
 //! - [`Motion::Camera`]: the camera position orbits its look-at target
 //!   (`target + rotate_about_up(position - target, angle)`), up and field of view kept, so
 //!   the object appears to turn clockwise;
-//! - [`Motion::Environment`]: the camera stays and the environment turns: every light that
-//!   came from the probe has its direction turned by the angle. This is exactly the light
-//!   set of the probe rotated by the angle for the samplers that work on the probe's texels
-//!   (median cut, importance, stratified, Lloyd, full), and it keeps the set rigid from
-//!   frame to frame (no re-sampling flicker). Explicit `[[light]]`s stay fixed.
+//! - [`Motion::Environment`]: the camera stays and the last `env_lights` directional lights
+//!   of the scene turn ([`frame_scene`]; `render --turntable-env` passes
+//!   [`EnvSummary::lights`](crate::scene::EnvSummary::lights)); point lights never turn.
+//!   What that turns depends on the `[env]` method:
+//!   - `lights`: every light that came from the probe (they follow the explicit
+//!     `[[light]]`s, which stay fixed). This is exactly the light set of the probe rotated
+//!     by the angle for the samplers that work on the probe's texels (median cut,
+//!     importance, stratified, Lloyd, full), and it keeps the set rigid from frame to frame
+//!     (no re-sampling flicker).
+//!   - `transfer`: only the exact lights (the brightest texels); the transfer table
+//!     ([`Scene::transfer`]) stays put, so the table's part of the probe does not turn.
+//!   - `lightcuts`: the light tree ([`Scene::lightcuts`]) stays put. No environment light is
+//!     in [`Scene::lights`], but `EnvSummary::lights` counts the tree's texels, so every
+//!     directional light of the scene turns: the explicit `[[light]]`s, if any.
+//!
+//!   So only `lights` turns the environment; `auto`, unless `sampler`, `count` or a light
+//!   set file is stated, is `transfer` or `lightcuts` for every known material
+//!   ([`crate::scene::env_method`]).
 //!
 //! Files: from the output path `DIR/OUT.png`, frame `k` is `DIR/OUT_kkkk.png` (4 digits,
 //! more when `N > 10000`) and the GIF is `DIR/OUT.gif`. The GIF is always built from the
@@ -33,7 +46,8 @@ pub const MAX_FRAMES: usize = 100_000;
 pub enum Motion {
     /// The camera orbits the look-at point.
     Camera,
-    /// The environment's lights turn; the camera stays.
+    /// The last `env_lights` directional lights turn ([`frame_scene`]; module doc: the
+    /// environment's delta lights under `[env] method = "lights"`); the camera stays.
     Environment,
 }
 
@@ -42,8 +56,9 @@ pub fn frame_angle(k: usize, n: usize) -> f64 {
     std::f64::consts::TAU * k as f64 / n as f64
 }
 
-/// The scene of frame `k` of `n`. `env_lights` is the number of lights at the end of
-/// `base.lights` that came from the environment (turned by [`Motion::Environment`]).
+/// The scene of frame `k` of `n`. [`Motion::Environment`] turns the directional lights
+/// among the last `env_lights` of `base.lights` (all of them when `env_lights` exceeds
+/// their number); `base.transfer` and `base.lightcuts` are never turned (module doc).
 pub fn frame_scene(base: &Scene, env_lights: usize, motion: Motion, k: usize, n: usize) -> Scene {
     let a = frame_angle(k, n);
     let mut s = base.clone();

@@ -1,7 +1,7 @@
-//! Hostile input for every parser brdfkit owns (issue "golden-image oracle", item 6): empty
-//! files, truncations of valid files, wrong magic, wrong dimensions, absurd declared sizes
-//! and NaN fields. Each must give one clear error naming the file, never a panic, and must
-//! not allocate more than the file's size justifies.
+//! Hostile input for every parser brdfkit owns: empty files, truncations of valid files,
+//! wrong magic, wrong dimensions, absurd declared sizes and NaN fields. Each must give one
+//! clear error naming the file, never a panic, and must not allocate more than the file's
+//! size justifies.
 //!
 //! Allocation is measured two ways:
 //! - in this process, by a counting global allocator that records the largest single

@@ -2,9 +2,12 @@
 //! the material and the probe; the screenshot it writes at the end must equal, pixel for
 //! pixel, `brdfkit render` of the scene file it writes beside it (an independent process
 //! rendering headless), and that scene file must hold the changes the script made. Where
-//! Xvfb is not installed the test passes and says it did not run.
+//! Xvfb is not installed a test says it did not run; under `CI=true` it fails instead
+//! ([`common::cannot_run`]).
 //!
 //! Also: without a display, `view` fails with one line and a non-zero exit, no panic.
+
+mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -111,12 +114,9 @@ fn render(scene: &Path, out: &Path, cache: &Path) -> image::RgbImage {
 #[test]
 fn scripted_orbit_material_and_probe_change_give_the_pixels_render_gives() {
     let Some(exe) = xvfb_path() else {
-        // Written past libtest's capture (which takes only print!/eprint!), so a plain
-        // `cargo test` shows it.
-        use std::io::Write;
-        let _ = writeln!(
-            std::io::stderr(),
-            "tests/viewer.rs: the viewer test did not run: Xvfb is not installed (Debian package xvfb)"
+        common::cannot_run(
+            "tests/viewer.rs: the viewer test",
+            "Xvfb is not installed (Debian package xvfb)",
         );
         return;
     };
@@ -217,10 +217,9 @@ fn scripted_orbit_material_and_probe_change_give_the_pixels_render_gives() {
 #[test]
 fn a_still_view_refines_to_the_frame_render_gives_for_its_last_step() {
     let Some(exe) = xvfb_path() else {
-        use std::io::Write;
-        let _ = writeln!(
-            std::io::stderr(),
-            "tests/viewer.rs: the refinement test did not run: Xvfb is not installed (Debian package xvfb)"
+        common::cannot_run(
+            "tests/viewer.rs: the refinement test",
+            "Xvfb is not installed (Debian package xvfb)",
         );
         return;
     };
@@ -280,10 +279,9 @@ fn a_still_view_refines_to_the_frame_render_gives_for_its_last_step() {
 #[test]
 fn under_method_auto_the_moving_frame_is_the_delta_light_set() {
     let Some(exe) = xvfb_path() else {
-        use std::io::Write;
-        let _ = writeln!(
-            std::io::stderr(),
-            "tests/viewer.rs: the auto-method test did not run: Xvfb is not installed (Debian package xvfb)"
+        common::cannot_run(
+            "tests/viewer.rs: the auto-method test",
+            "Xvfb is not installed (Debian package xvfb)",
         );
         return;
     };

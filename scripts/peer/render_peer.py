@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Peer reference images for brdfkit, rendered with Mitsuba 3 (issue 11, item 2).
+"""Peer reference images for brdfkit, rendered with Mitsuba 3.
 
 (One file past 400 lines on purpose: the conventions it documents, the scene it builds and
 the checks of Mitsuba's envmap and of the Blinn-Phong BSDF belong together.)

@@ -1,10 +1,10 @@
-//! `brdfkit lights --report`'s per-pixel error on a sphere (issue 14, item 5): what a light
-//! set costs an image, not only the irradiance it carries.
+//! `brdfkit lights --report`'s per-pixel error on a sphere: what a light set costs an
+//! image, not only the irradiance it carries.
 //!
 //! The irradiance error over normals (0.13-0.47% for 128 lights on the shipped probes)
 //! understates the per-pixel error of a rendered sphere (0.15-2.1% Lambert), and says
 //! nothing about glossy materials, whose lobes narrower than the lights' spacing see a few
-//! of them or none (14-35% relative RMSE at Blinn-Phong exponent 200, issue 14). So the
+//! of them or none (14-35% relative RMSE at Blinn-Phong exponent 200). So the
 //! report also renders a small unit sphere ([`SIZE`] pixels square, the scene's default
 //! camera framing, the exact sphere per pixel: [`crate::mesh::Mesh::exact_sphere`]) under
 //! the light set and under the full probe (every texel a light), both on the f64 path with

@@ -47,7 +47,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (the built-in default scene when no file is given).
     #[command(
-        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n  brdfkit render --env city.exr --material blue-silk --turntable 60 -o spin.png   # spin_0000.png ... spin.gif\n  brdfkit render --env city.exr --turntable 60 --turntable-env -o env.png         # the probe turns instead\n  brdfkit render --turntable 60 --shard 0/2 -o spin.png; ... --shard 1/2 ...; brdfkit render --turntable 60 --assemble -o spin.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file.\n\nLight-set cache (environment lights only): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else\n~/.cache/brdfkit; one file lights-KEY.json per probe bytes x loader options x sampler settings x\nbrdfkit version x light-set algorithm version, checked (checksum, versions) on every read.\n[env] method = \"transfer\" keeps its tables there too (transfer-KEY.bin: probe bytes x table\nsettings x versions). --no-cache neither reads nor writes it. Only `render` uses this cache."
+        after_help = "Examples:\n  brdfkit render                       # default scene -> out.png + out.exr\n  brdfkit render scene.toml -o a.exr   # linear float EXR\n  brdfkit render --mesh sphere --aov view-polar -o polar.png\n  brdfkit render --env city.exr --material blue-silk --turntable 60 -o spin.png   # spin_0000.png ... spin.gif\n  brdfkit render --env city.exr --env-method lights --turntable 60 --turntable-env -o env.png   # the light set turns instead\n  brdfkit render --turntable 60 --shard 0/2 -o spin.png; ... --shard 1/2 ...; brdfkit render --turntable 60 --assemble -o spin.png\n\nThe output format follows the extension (.png: exposure, tone map, sRGB, 8 bits; .exr: linear f32).\nCommand-line options override the scene file.\n\nLight-set cache (environment lights only): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else\n~/.cache/brdfkit; one file lights-KEY.json per probe bytes x loader options x sampler settings x\nbrdfkit version x light-set algorithm version, checked (checksum, versions) on every read.\n[env] method = \"transfer\" keeps its tables there too (transfer-KEY.bin: probe bytes x table\nsettings x versions). --no-cache neither reads nor writes it. `render` and `view` use this cache."
     )]
     Render(RenderArgs),
     /// Collapse a light probe into directional lights; write them and draw them over the probe.
@@ -346,7 +346,7 @@ pub struct RenderArgs {
     /// Render N frames with the camera orbiting the look-at point about world up (+y), one full turn: OUT_0000.png ... and OUT.gif (OUT from -o, default out).
     #[arg(long, value_name = "N")]
     pub turntable: Option<usize>,
-    /// With --turntable: keep the camera still and turn the environment (light probe) about +y instead.
+    /// With --turntable: keep the camera still and turn the environment's delta lights about +y instead ([env] method = "lights", as --env-method lights, --sampler or --lights give; a transfer table or light tree does not turn).
     #[arg(long, requires = "turntable")]
     pub turntable_env: bool,
     /// With --turntable: write only frames k with k % N == I (0-based I/N) and no GIF; --assemble makes the GIF after.

@@ -1,4 +1,5 @@
-//! `brdfkit render --turntable N`: the frames of an orbit (or a turning environment),
+//! `brdfkit render --turntable N`: the frames of an orbit (or, with `--turntable-env`,
+//! turning environment lights: [`crate::turntable`] says which turn),
 //! sharded over machines with `--shard`, assembled into a GIF.
 
 use super::RenderArgs;

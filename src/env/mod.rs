@@ -16,10 +16,15 @@
 //! exact texel solid angles ([`crate::conventions::probe_texel_solid_angle`]; the
 //! thesis's `cos(linspace)` weight gives the pole rows zero weight, we use the true area).
 //!
-//! Samplers live in [`sampling`]: uniform random, importance (Algorithm 1) and its
+//! Samplers live in [`samplers`]: uniform random, importance (Algorithm 1) and its
 //! stratified variant, median cut (Algorithm 2, Debevec 2005), Lloyd relaxation (weighted
 //! spherical k-means seeded from median cut), and the full probe (the converged
 //! reference).
+//!
+//! Beside the light sets (`[env] method = "lights"`), two methods shade the full probe
+//! without collapsing it: [`transfer`] (a table over normals) and [`lightcuts`] (a light
+//! tree cut per pixel); `auto`, the default, chooses per material
+//! ([`prepare::EnvMethod`], [`crate::scene::env_method`]).
 
 pub mod lightcuts;
 pub mod lightset_io;

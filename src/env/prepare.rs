@@ -40,10 +40,12 @@ pub enum SamplerKind {
     MedianCut,
     /// Median cut relaxed by weighted spherical k-means (lower error at equal N); the default for rendering.
     //
-    // Why the default (`[env]`, `render --env`): with 128 lights it lies on the
-    // run-time-against-error Pareto front of `brdfkit sweep`, where median cut with 128
-    // lights is dominated (README, "Run time against error"). Its preparation is slower
-    // (hundreds of milliseconds to seconds, once: light sets are cached on disk).
+    // Why the default (of `[env] method = "lights"`, as `render --lights` or `--sampler`
+    // give): among light sets it is the cheapest way to about 1% relative RMSE in
+    // `brdfkit sweep`; at 128 lights median cut is about as fast with four times the error
+    // (docs/sweeps.md, "The default scene"; both are dominated by transfer tables there).
+    // Its preparation is slower (hundreds of milliseconds to seconds, once: light sets are
+    // cached on disk).
     #[default]
     Lloyd,
     /// Every texel a light: the converged reference.
@@ -78,7 +80,8 @@ impl SamplerKind {
 pub enum EnvMethod {
     /// Chosen per material (the default): `transfer` for Lambert and SH data sets,
     /// `lightcuts` for analytic lobes and D-BRDFs; `lights` when the `[env]` table states
-    /// `sampler` or `count` ([`crate::scene::env_method`] says why, from the sweep).
+    /// `sampler` or `count` or names a light set file (`lights`)
+    /// ([`crate::scene::env_method`] says why, from the sweep).
     #[default]
     Auto,
     /// The probe collapsed into delta lights by `sampler`.
@@ -117,7 +120,8 @@ pub const DEFAULT_TRANSFER_POLAR: usize = 65;
 pub const DEFAULT_EXACT_LIGHTS: usize = 64;
 
 /// Default `cut_error` of light cuts: a cluster's error bound at most 1% of the pixel's
-/// estimate (issue 14's accuracy target is 1% relative RMSE).
+/// estimate (the environment methods' accuracy target is 1% relative RMSE,
+/// [`crate::sweep::ERROR_BOUND`]).
 pub const DEFAULT_CUT_ERROR: f32 = 0.01;
 /// Default `cut_max` of light cuts. Why 1000: at the default `cut_error` (1%), Blinn-Phong
 /// exponent 200 and the library D-BRDF under the shipped probes need mean cuts of 230-380

@@ -20,7 +20,7 @@
 //! # written by `golden bless`, never by hand:
 //! config = "..."              # summary of the scene's configuration (checked for staleness)
 //! hash = "xxh3-64:..."        # of the EXR's pixel values
-//! blessed_on = "x86_64-linux/avx2"   # the platform and kernel path that rendered it
+//! blessed_on = "x86_64-linux-glibc2.36/avx2"   # the platform (libm included) and kernel path
 //! fast_vs_reference = { max_abs = .., rel_rmse = .., flip_mean = .. }   # see [`MeasuredBound`]
 //! fast_vs_reference_small = { .. }   # the same at 1/BOUND_CHECK_SCALE of the size
 //! ```
@@ -30,7 +30,7 @@
 //! every bit must agree: the render is deterministic there, so any change at all (a
 //! constant off by 0.05%, one texel, one dropped light) fails. On another platform or path
 //! the entry's tolerance applies. The two kernel paths give the same bits by construction
-//! ([`crate::kernel::lanes`]), which `tests/golden.rs` checks over the whole set, so in
+//! ([`crate::kernel::lanes`]), which `tests/integration/golden.rs` checks over the whole set, so in
 //! practice the tolerance serves only other platforms (another libm, another instruction
 //! set) and GPU builds.
 //!
@@ -70,10 +70,43 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The platform this binary runs on, as recorded in [`Entry::blessed_on`]:
-/// `<arch>-<os>` (the libm that the angles, probe directions and f64 path go through comes
-/// with the OS).
+/// `<arch>-<os>-<libm>`, e.g. `x86_64-linux-glibc2.36`. The libm is part of the key because
+/// bits that pass through it (`powf`, `exp`, the camera's and the probe directions'
+/// trigonometry, the f64 path) may differ between C library versions on the same
+/// architecture and OS: glibc names its version ([`libm`]), so exactness is promised only
+/// where the blessing's C library is the one running; elsewhere the entry's tolerance
+/// applies.
 pub fn platform() -> String {
-    format!("{}-{}", std::env::consts::ARCH, std::env::consts::OS)
+    format!(
+        "{}-{}-{}",
+        std::env::consts::ARCH,
+        std::env::consts::OS,
+        libm()
+    )
+}
+
+/// The C library whose libm this binary calls: `glibc<version>` from
+/// `gnu_get_libc_version` on GNU targets (the library loaded at run time, not the one
+/// linked against), else the target's C library name (`musl`, `msvc`, ...) or `libc`
+/// where the target names none. Never fails.
+pub fn libm() -> String {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        // SAFETY: gnu_get_libc_version returns a pointer to a static NUL-terminated string.
+        let v = unsafe { std::ffi::CStr::from_ptr(libc::gnu_get_libc_version()) };
+        format!("glibc{}", v.to_string_lossy())
+    }
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    {
+        let env = if cfg!(target_env = "musl") {
+            "musl"
+        } else if cfg!(target_env = "msvc") {
+            "msvc"
+        } else {
+            "libc"
+        };
+        env.to_string()
+    }
 }
 
 /// Whether an entry's image goes through the f32 shading kernels (a shaded f32 entry), so
@@ -83,7 +116,7 @@ pub fn uses_kernel(entry: &Entry, scene: &Scene) -> bool {
 }
 
 /// Where an entry is rendered: [`platform`], plus `/<kernel path>` when the image goes
-/// through the kernels ([`uses_kernel`]), e.g. `x86_64-linux/avx2`.
+/// through the kernels ([`uses_kernel`]), e.g. `x86_64-linux-glibc2.36/avx2`.
 pub fn blessing_path(entry: &Entry, scene: &Scene) -> String {
     if uses_kernel(entry, scene) {
         let d = Dispatch::choose(scene.render.kernel).expect("checked by Scene::resolve");
@@ -165,7 +198,7 @@ pub fn judge(
     let tol = tolerance_named(&entry.tolerance).expect("checked by parse_manifest");
     let hash_ok = entry.hash == expected_hash;
     // Exact on the blessing platform whatever the kernel path: the paths (portable, avx2,
-    // avx512) are built to give identical bits, and tests/golden.rs demands it of each.
+    // avx512) are built to give identical bits, and tests/integration/golden.rs demands it of each.
     let platform_of = |p: &str| p.split('/').next().unwrap_or("").to_string();
     let exact =
         !entry.blessed_on.is_empty() && platform_of(&entry.blessed_on) == platform_of(rendered_on);
@@ -300,8 +333,8 @@ pub fn check(
 /// (AOVs in their linear encoding, [`crate::aov::png_bytes`]), hash, configuration summary
 /// the platform and kernel path ([`Entry::blessed_on`]) and the measured fast-vs-reference
 /// bounds ([`measure`], full size and 1/[`BOUND_CHECK_SCALE`]); then the manifest and the
-/// table in `README.md` ([`readme_table`]). Every entry is rendered before anything is
-/// written, so a failing entry leaves golden/ as it was.
+/// table in the directory's `README.md` ([`readme_table`]). Every entry is rendered before
+/// anything is written, so a failing entry leaves golden/ as it was.
 pub fn bless(dir: &Path, names: &[String], opts: &CheckOptions) -> Result<Vec<PathBuf>> {
     let mut manifest = load_manifest(dir)?;
     for n in names {

@@ -37,11 +37,12 @@ pub const CROSS_PLATFORM: Tolerance = Tolerance {
 /// another instruction set, or a GPU build sums the same terms in another order, and each
 /// kernel is held within [`crate::kernel::SH_KERNEL_TOLERANCE`] (relative to the pixel or
 /// to 1% of the image's peak) of the scalar oracle. The scalar oracle, another summation
-/// order, passes every shaded f32 entry at this tolerance (tests/golden.rs,
+/// order, passes every shaded f32 entry at this tolerance (tests/integration/golden.rs,
 /// `the_scalar_oracle_passes_every_shaded_f32_entry`, which prints the share used). The
-/// faults of tests/perturbation.rs (half-texel lookup shift, wrong cosine factor, flipped
-/// azimuth) move pixels by 1e-2 and more, and tests/golden.rs shows a lookup-mode change,
-/// an environment turned by 2 degrees and a 1% pixel change are each caught at it.
+/// faults of tests/integration/perturbation.rs (half-texel lookup shift, wrong cosine
+/// factor, flipped azimuth) move pixels by 1e-2 and more, and tests/integration/golden.rs
+/// shows a lookup-mode change, an environment turned by 2 degrees and a 1% pixel change are
+/// each caught at it.
 pub const KERNEL_DISPATCH: Tolerance = Tolerance {
     abs: 1e-6,
     rel: crate::kernel::SH_KERNEL_TOLERANCE,

@@ -1,6 +1,6 @@
 //! Seeded GPU faults: the mistakes a GPU port of this method typically makes, injected on
 //! purpose (the hidden option `brdfkit golden check --device gpu --gpu-fault NAME`) so that
-//! tests can show the golden check fails on each (`tests/gpu_golden.rs`).
+//! tests can show the golden check fails on each (`tests/gpu/golden.rs`).
 //!
 //! Each is a bit the fragment shader tests (`shaders/conventions.wgsl`, `frame.wgsl`):
 //! - `half-texel`: table texels taken to sit on their corners, not their centres (GL's

@@ -27,7 +27,7 @@ static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// Test hook (integration tests only): when this variable names a file, every
 /// [`super::replace_via_temp`] writes the temporary file's path into it after the contents
 /// are written and then waits [`PAUSE`] before the rename, so a test can signal the
-/// process while a temporary file exists (tests/interrupt.rs).
+/// process while a temporary file exists (tests/integration/interrupt.rs).
 pub const PAUSE_ENV: &str = "BRDFKIT_TEST_PAUSE_BEFORE_RENAME";
 
 /// How long the [`PAUSE_ENV`] hook waits before the rename.

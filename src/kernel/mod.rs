@@ -33,16 +33,17 @@
 //!   ([`crate::shade::ShadingPath::ScalarOracle`], and the f64 path, neither of which uses
 //!   any of this), use FMA, and the view angles' `acos`/`atan2` are polynomials with stated,
 //!   tested maximum errors ([`approx`]). Each path is held within [`KERNEL_TOLERANCE`]
-//!   (analytic, D-BRDF) or [`SH_KERNEL_TOLERANCE`] (SH) of the oracle (tests/kernel.rs, both
-//!   paths), which the golden check's `kernel-dispatch` tolerance builds on.
-//!   tests/kernel_mutation.rs measures the worst case on every golden scene and shows, by
-//!   faults seeded through the test-only `fault` of [`crate::shade::ShadeOptions`], that
+//!   (analytic, D-BRDF) or [`SH_KERNEL_TOLERANCE`] (SH) of the oracle
+//!   (tests/integration/kernel.rs, both paths), which the golden check's `kernel-dispatch`
+//!   tolerance builds on. tests/integration/kernel_mutation.rs measures the worst case on
+//!   every golden scene and shows, by faults seeded through the test-only `fault` of
+//!   [`crate::shade::ShadeOptions`], that
 //!   the tolerance catches a dropped band, a dropped lane, a skipped group and a tabulated
 //!   basis.
 //! - **One SH basis.** Every light kind (directional, point, environment set) and every
 //!   path (per pixel, pixel-packed, oracle, f64) evaluates the analytic SH basis, also for a
 //!   data set that carries a basis table (the data set's definition:
-//!   [`crate::sh::dataset`]; tests/sh_basis.rs).
+//!   [`crate::sh::dataset`]; tests/integration/sh_basis.rs).
 //!
 //! Work skipped, and why it changes nothing:
 //! - lights are sorted once per frame into spatially coherent chunks of
@@ -70,8 +71,9 @@ pub mod skip;
 /// the terms themselves), plus 1e-6 absolute: f32 sums of up to
 /// 1024 lights x 100 terms in a different (lane-grouped) order differ by a few ulps per
 /// term, far below 1e-4 of the result; a wrong term, a wrong cosine or a missed light moves
-/// the result by much more. Measured (tests/kernel_mutation.rs, every golden scene without
-/// an SH data set, both instruction-set paths): at most 7.2e-6 against the oracle. Beyond
+/// the result by much more. Measured (tests/integration/kernel_mutation.rs, every golden
+/// scene without an SH data set, both instruction-set paths): at most 7.2e-6 against the
+/// oracle. Beyond
 /// about a thousand lights the oracle's own plain f32 running sum drifts (golden
 /// `fig3-8-full-studio`, 130519 lights: 4.0e-4 off the f64 path on the same light set,
 /// while the kernel's eight lane sums stay within 1.7e-5 of it), so there the kernel is
@@ -81,8 +83,9 @@ pub const KERNEL_TOLERANCE: f32 = 1e-4;
 /// [`KERNEL_TOLERANCE`] for SH data sets: the sum `sum_lm c_lm Y_lm` of a specular data
 /// set at 8 bands cancels heavily (terms of opposite sign, each far larger than the sum),
 /// so two f32 summation orders differ by more. Measured against the oracle
-/// (tests/kernel_mutation.rs, every golden scene with an SH data set, both instruction-set
-/// paths, which give the same bits): at most 1.94e-4 (`fig3-10-blue-silk-nearest`; 1.87e-4
+/// (tests/integration/kernel_mutation.rs, every golden scene with an SH data set, both
+/// instruction-set paths, which give the same bits): at most 1.94e-4
+/// (`fig3-10-blue-silk-nearest`; 1.87e-4
 /// on `fig3-12-gold-dust-paint-median-cut`, 129 lights), so 1e-3 leaves a margin of 5.
 /// (With the portable path's `mul_add` unfused, as before, gold-dust reached 4.4e-4.) Seeded
 /// kernel faults exceed it by far (same test, 8-band blue-silk and teal-paint under a

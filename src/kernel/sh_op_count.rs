@@ -1,5 +1,5 @@
-//! Issue 15, deliverable 4: the SH recurrence costs no more vector operations than the
-//! coefficient FMAs it feeds. [`sh_dot`] runs here on a one-lane counting type, which
+//! Test only: the SH recurrence costs no more vector operations than the coefficient FMAs
+//! it feeds. [`sh_dot`] runs here on a one-lane counting type, which
 //! counts every arithmetic operation it is given (add, subtract, multiply, FMA); the
 //! coefficient FMAs are exactly three per term (R, G, B), and everything else is the
 //! associated-Legendre recurrence, the azimuth rotation and the basis scaling.

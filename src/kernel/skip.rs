@@ -19,7 +19,7 @@
 //!
 //! That bound is relative to the brightest value any pixel could take (`E_total M`), not
 //! to the pixel: under a glossy lobe the dim dropped lights made visible highlights (3% of
-//! glossy pixels at `fraction = 1e-3`, issue 14), and on the dark side of a studio probe a
+//! glossy pixels at `fraction = 1e-3`), and on the dark side of a studio probe a
 //! Lambert pixel changed by 5%. So the bound is made relative to each pixel. Only the
 //! dropped lights above the pixel's horizon (`n.l_k > 0`) reach it, so
 //! `|dL| <= M E_D(n)` with `E_D(n) = sum_{k in D, n.l_k > 0} E_k` (a horizon test per

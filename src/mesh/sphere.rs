@@ -2,7 +2,7 @@
 //! exact sphere it tessellates ([`ExactSphere`]), which shading intersects per pixel.
 //!
 //! Why the exact sphere: interpolating vertex normals across 16 stacks shifts a
-//! Blinn-Phong sphere's pixels by up to 17% (issue 14; the facets' normals bend in steps of
+//! Blinn-Phong sphere's pixels by up to 17% (the facets' normals bend in steps of
 //! `pi / stacks`). Every vertex of the UV sphere lies on the exact sphere, so its facets
 //! are inside it and every camera ray that hits a facet also hits the sphere; shading at
 //! that intersection makes the image independent of the tessellation except at the

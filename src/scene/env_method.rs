@@ -3,16 +3,19 @@
 //! Design rule: the choice is a function of the scene's material spec alone (no file is
 //! read), so the command line, the sweep and [`super::Scene::resolve`] make the same choice
 //! before anything is prepared. The choice comes from the sweep (`brdfkit sweep --class
-//! diffuse|sh-glossy|glossy --probe city|studio|sky`; the numbers are in the README's
-//! "Per material class" section): the fastest method whose error against the converged
-//! reference is at most 1% relative RMSE *and* at most 5% at the 99th percentile of the
-//! per-pixel relative error, under every shipped probe:
+//! diffuse|sh-glossy|glossy --probe city|studio|sky`; the numbers are in docs/sweeps.md,
+//! "The `[env]` default per material"): the fastest method whose error against the converged
+//! reference is at most 1% relative RMSE ([`crate::sweep::ERROR_BOUND`]) *and* at most 10%
+//! at the 99th percentile of the per-pixel relative error (`brdfkit sweep --max-p99 0.1`),
+//! under every shipped probe:
 //! - Lambert and SH data sets: `transfer` (a table over normals from the full probe plus
-//!   the 16 brightest texels): the per-pixel cost does not grow with the probe.
-//! - Analytic lobes (Blinn-Phong) and D-BRDFs: `lightcuts` at `cut_error = 0.01`. A delta
-//!   light set that meets 1% RMSE for a narrow lobe (Lloyd, 1024 lights) is faster, but
-//!   its 99th percentile is tens of percent: the highlight shows the lights as spots. The
-//!   cuts bound every pixel's error instead.
+//!   the [`DEFAULT_EXACT_LIGHTS`](crate::env::prepare::DEFAULT_EXACT_LIGHTS) brightest
+//!   texels summed exactly): the per-pixel cost does not grow with the probe.
+//! - Analytic lobes (Blinn-Phong) and D-BRDFs: `lightcuts` at the default `cut_error`
+//!   ([`DEFAULT_CUT_ERROR`](crate::env::prepare::DEFAULT_CUT_ERROR)). A delta light set
+//!   that meets 1% RMSE for a narrow lobe (Lloyd, 1024 lights) is faster, but its 99th
+//!   percentile is tens of percent: the highlight shows the lights as spots. The cuts bound
+//!   every pixel's error instead.
 //!
 //! A table that states `sampler` or `count` and no `method` asks for a delta light set:
 //! its method is then `lights` ([`super::SceneFile::parse`]; a stated `method = "auto"`
@@ -99,5 +102,72 @@ mod tests {
         // A light set file is delta lights.
         let text = "[material]\nkind = \"lambert\"\n[env]\nlights = \"set.json\"\n";
         assert_eq!(method_of(text), EnvMethod::Lights);
+    }
+
+    /// The module doc, its `//!` lines joined by single spaces.
+    fn module_doc() -> String {
+        include_str!("env_method.rs")
+            .lines()
+            .take_while(|l| l.starts_with("//!"))
+            .map(|l| l.trim_start_matches("//!").trim())
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    /// The number written just before the first `suffix` of `text`.
+    fn number_before(text: &str, suffix: &str) -> f64 {
+        let end = text.find(suffix).unwrap_or_else(|| panic!("no {suffix:?}"));
+        let start = text[..end]
+            .rfind(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .map_or(0, |i| i + 1);
+        let n = &text[start..end];
+        n.parse()
+            .unwrap_or_else(|e| panic!("{n:?} before {suffix:?}: {e}"))
+    }
+
+    /// The number written just after the first `prefix` of `text`.
+    fn number_after(text: &str, prefix: &str) -> f64 {
+        let start = text.find(prefix).unwrap_or_else(|| panic!("no {prefix:?}")) + prefix.len();
+        let rest = &text[start..];
+        let len = rest
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(rest.len());
+        let n = rest[..len].trim_end_matches('.');
+        n.parse()
+            .unwrap_or_else(|e| panic!("{n:?} after {prefix:?}: {e}"))
+    }
+
+    /// The module doc restates the bounds the rule was chosen at, so they are held to the
+    /// code: the RMSE bound to [`crate::sweep::ERROR_BOUND`], the 99th-percentile bound to
+    /// the `--max-p99` value the doc names and to the one `brdfkit sweep --help` gives for
+    /// the rule (there is no constant for it). The exact-light count and the cut error are
+    /// intra-doc links to their constants, so no number may stand before "brightest".
+    #[test]
+    fn the_module_doc_states_the_bounds_the_code_uses() {
+        let doc = module_doc();
+        let rmse = number_before(&doc, "% relative RMSE");
+        assert!(
+            (rmse / 100.0 - crate::sweep::ERROR_BOUND).abs() < 1e-12,
+            "the doc states {rmse}% relative RMSE, ERROR_BOUND is {}",
+            crate::sweep::ERROR_BOUND
+        );
+        let p99 = number_before(&doc, "% at the 99th percentile");
+        let flag = number_after(&doc, "--max-p99 ");
+        assert!(
+            (p99 / 100.0 - flag).abs() < 1e-12,
+            "the doc states {p99}% at the 99th percentile and --max-p99 {flag}"
+        );
+        let help = number_after(include_str!("../cli/mod.rs"), "method = \"auto\"` uses ");
+        assert_eq!(
+            flag, help,
+            "--max-p99's help gives {help} for the auto rule"
+        );
+        for (i, _) in doc.match_indices(" brightest") {
+            let word = doc[..i].rsplit(' ').next().unwrap_or("");
+            assert!(
+                word.parse::<f64>().is_err(),
+                "the doc states {word} brightest texels: link DEFAULT_EXACT_LIGHTS instead"
+            );
+        }
     }
 }

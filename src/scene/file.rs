@@ -27,7 +27,8 @@ pub struct SceneFile {
     pub material: MaterialSpec,
     #[serde(rename = "light")]
     pub lights: Option<Vec<LightSpec>>,
-    /// Environment light: a probe collapsed into directional lights.
+    /// Environment light: a probe, shaded by `[env] method` (delta lights, a transfer
+    /// table or light cuts; `auto`: [`super::env_method`]).
     pub env: Option<EnvSpec>,
     pub render: RenderSpec,
     pub output: OutputSpec,

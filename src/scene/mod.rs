@@ -9,11 +9,12 @@
 //! it ([`SceneFile`], [`RenderSpec`], [`LightSpec`], ...); `material.rs`, the material's
 //! spec, what a `--material` value names, and building the material
 //! ([`MaterialSpec`]); `resolve.rs`, checking every value and loading the parts into a
-//! [`Scene`] ([`Scene::resolve`]); `camera.rs`, the camera ([`camera::Camera`]).
+//! [`Scene`] ([`Scene::resolve`]); `camera.rs`, the camera ([`camera::Camera`]);
+//! `env_method.rs`, the method `[env] method = "auto"` stands for ([`env_method`]).
 //!
 //! The format, every field with its default and examples, is `docs/scene-format.md`,
 //! included below as the one description (the README and `brdfkit render --help` point to it;
-//! `tests/docs_examples.rs` loads its examples).
+//! `tests/integration/docs_examples.rs` loads its examples).
 //!
 #![doc = include_str!("../../docs/scene-format.md")]
 

@@ -2,7 +2,7 @@
 //!
 //! Design rule: integers gathered per tile and summed after, so the totals do not depend
 //! on the thread count or the order of the sum; tests read them to see each skip
-//! (tests/skips.rs), the command line reports them.
+//! (tests/integration/skips.rs), the command line reports them.
 
 /// Work done by the kernels' tile loop in one [`super::shade`] call, gathered per tile and summed after
 /// (integers: the totals do not depend on the thread count or the order of the sum).
@@ -31,8 +31,8 @@ pub struct ShadeCounts {
     /// pixel-packed, the batch's lanes (empty ones included) times the lights. So
     /// `pairs_summed / lane_slots` is the share of lanes holding a light above the horizon
     /// on the per-pixel path, and how full the batches of pixels are on the packed paths
-    /// (issue 15). Scalar evaluations count one lane each. Depends on the kernel path (8
-    /// or 16 pixels per packed batch).
+    /// (`render --stats`: "kernel lanes used"). Scalar evaluations count one lane each.
+    /// Depends on the kernel path (8 or 16 pixels per packed batch).
     pub lane_slots: u64,
 }
 

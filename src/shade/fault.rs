@@ -1,5 +1,5 @@
 //! **Test only**: faults seeded into the SH kernel path, for the mutation tests
-//! (tests/kernel_mutation.rs, tests/sh_basis.rs).
+//! (tests/integration/kernel_mutation.rs, tests/integration/sh_basis.rs).
 //!
 //! Design rule: the kernel itself stays as shipped. A fault is applied to the kernel's
 //! inputs (per pixel, or per batch on the pixel-packed path) with exactly the effect a bug

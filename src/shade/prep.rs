@@ -54,9 +54,10 @@ pub struct FramePrep<'a> {
     pub(crate) dispatch: Dispatch,
     /// **Test only**: a seeded fault of the SH kernel path ([`KernelFault`]), for the
     /// mutation tests that show [`crate::kernel::SH_KERNEL_TOLERANCE`] catches real faults
-    /// (tests/kernel_mutation.rs), from [`ShadeOptions`]'s hidden `fault` field; no scene
-    /// setting or command-line option reaches it. Tested once per pixel (a predictable branch beside
-    /// the pixel's lights x `bands^2` x 3 FMAs; on the packed path, twice per pixel and once
+    /// (tests/integration/kernel_mutation.rs), from [`ShadeOptions`]'s hidden `fault` field;
+    /// no scene setting or command-line option reaches it. Tested once per pixel (a
+    /// predictable branch beside the pixel's lights x `bands^2` x 3 FMAs; on the packed path,
+    /// twice per pixel and once
     /// per batch), never per light or term.
     pub(crate) fault: Option<KernelFault>,
     /// The scene's transfer table (`[env] method = "transfer"`) and the coefficients its

@@ -11,7 +11,7 @@
 //! - the scalar oracle and the f64 path add it in a second, plain pass over the image
 //!   ([`add_transfer`]: `std` angles, [`crate::sh::dataset::ShDataset::lookup_coeffs`],
 //!   [`TransferTable::radiance_with`]), the simple form the fast one is held to within
-//!   [`crate::env::transfer::FAST_PATH_TOLERANCE`] (tests/transfer_scene.rs).
+//!   [`crate::env::transfer::FAST_PATH_TOLERANCE`] (tests/integration/transfer_scene.rs).
 //!
 //! The surface, frame and lifted view are those of every other path (`gbuffer.rs`,
 //! [`ShadingFrame::from_normal`], [`super::local_view`]); `c(wo)` is the data set's filtered

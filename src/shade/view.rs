@@ -3,7 +3,7 @@
 //! Design rule: one definition of the lifting for both arithmetics. Interpolated normals
 //! can face slightly away from the camera at silhouettes, and a BRDF is not defined below
 //! the horizon, so the local view direction is clamped to at least [`MIN_VIEW_COS`] above
-//! it, keeping its azimuth (src/conventions.rs, "view direction"). The f32 form
+//! it, keeping its azimuth (src/conventions/mod.rs, "view direction"). The f32 form
 //! ([`lift_above_horizon`], through [`local_view`]) serves the kernels and the scalar
 //! oracle; the f64 form ([`lift_above_horizon_f64`]) serves the f64 path
 //! (`f64_path.rs`). Both are expanded from the one body in

@@ -3,8 +3,9 @@
 //!
 //! Design rule: the default scene is the render defaults (sampler, light count, material
 //! lookup) on a small frame, so the sweep's default row is what `brdfkit render` does out
-//! of the box. The class scenes are the three material classes of issue 14 (diffuse, SH
-//! glossy, analytic glossy) on one sphere under one shipped probe, each with its `[env]` at
+//! of the box. The class scenes are the three material classes `[env] method = "auto"`
+//! chooses for ([`crate::scene::env_method`]: diffuse, SH glossy, analytic glossy) on one
+//! sphere under one shipped probe, each with its `[env]` at
 //! the render defaults, small enough that a sweep of all three takes minutes: the front of
 //! each is where a class's default method is chosen ([`super::fastest_within`]).
 
@@ -15,7 +16,7 @@ use crate::scene::{MaterialSpec, SceneFile};
 use crate::sh::dataset::Lookup;
 use std::path::PathBuf;
 
-/// The shipped probe `assets/probes/NAME`, from the working directory when it is the
+/// The shipped probe `assets/probes/<name>`, from the working directory when it is the
 /// repository, else from the crate's source directory; an error when neither has it.
 fn shipped_probe(name: &str) -> Result<PathBuf> {
     let rel = PathBuf::from("assets/probes").join(name);
@@ -34,7 +35,7 @@ fn shipped_probe(name: &str) -> Result<PathBuf> {
 }
 
 /// The probe `--probe` names: a shipped probe by name (`city`, `sky`, `studio`: the file
-/// `assets/probes/NAME.exr`), else a path to an HDR file. An error names the argument when
+/// `assets/probes/<name>.exr`), else a path to an HDR file. An error names the argument when
 /// neither exists.
 pub fn probe_path(name_or_file: &str) -> Result<PathBuf> {
     let file = PathBuf::from(name_or_file);
@@ -67,7 +68,8 @@ pub fn default_scene_file() -> Result<SceneFile> {
     Ok(f)
 }
 
-/// A material class of issue 14 (`brdfkit sweep --class`).
+/// A material class the environment method's default is chosen for (`brdfkit sweep
+/// --class`, [`crate::scene::env_method`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum MaterialClass {
     /// Lambert (albedo 0.8 grey).
@@ -95,7 +97,7 @@ const CLASS_MATERIALS: [(MaterialClass, &str); 3] = [
 ];
 
 impl MaterialClass {
-    /// Every class, in the README's order.
+    /// Every class, in docs/sweeps.md's order.
     pub const ALL: [MaterialClass; 3] = [
         MaterialClass::Diffuse,
         MaterialClass::ShGlossy,

@@ -48,8 +48,8 @@ pub fn default_transfer_grids() -> Vec<(usize, usize)> {
     vec![(32, 17), (64, 33), (128, 65)]
 }
 
-/// Default numbers of brightest texels summed exactly beside a transfer table: 0, 16
-/// (the `[env]` default) and 64.
+/// Default numbers of brightest texels summed exactly beside a transfer table: 0, 16 and
+/// 64 (the `[env]` default, [`DEFAULT_EXACT_LIGHTS`](crate::env::prepare::DEFAULT_EXACT_LIGHTS)).
 pub fn default_exact_lights() -> Vec<usize> {
     vec![0, 16, 64]
 }

@@ -24,8 +24,9 @@
 //! method takes.
 //!
 //! # Material classes
-//! `--class` ([`MaterialClass`]) sweeps a built-in scene of one of issue 14's material
-//! classes (diffuse, SH glossy, analytic glossy) on a narrower grid
+//! `--class` ([`MaterialClass`]) sweeps a built-in scene of one of the three material
+//! classes `[env] method = "auto"` chooses for ([`crate::scene::env_method`]: diffuse, SH
+//! glossy, analytic glossy) on a narrower grid
 //! ([`MaterialClass::grid`]); the sweep prints the fastest row within 1% relative RMSE
 //! ([`fastest_within`], always on the Pareto front), where a class's default method is
 //! picked.

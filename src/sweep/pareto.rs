@@ -31,14 +31,16 @@ pub fn finish_rows(rows: &mut [Row]) {
     }
 }
 
-/// The relative RMSE bound of [`fastest_within`] issue 14 picks defaults at: 1%.
+/// The relative RMSE bound of [`fastest_within`] at which the environment methods'
+/// defaults are picked ([`crate::scene::env_method`]): 1%.
 pub const ERROR_BOUND: f64 = 0.01;
 
 /// The fastest row with `rel_rmse <= bound` (ties in `frame_ms`: the smaller error, then
 /// the smaller index), `None` when no row meets the bound. Such a row is always on the
 /// Pareto front: a row dominating it would be at least as fast and at least as accurate,
-/// so it would meet the bound too and be the one chosen. This is the row issue 14 uses to
-/// pick a material class's default method (`bound` = [`ERROR_BOUND`]).
+/// so it would meet the bound too and be the one chosen. This is the row a material
+/// class's default method is picked from (`bound` = [`ERROR_BOUND`], with `brdfkit sweep
+/// --max-p99` also bounding the 99th percentile: [`crate::scene::env_method`]).
 pub fn fastest_within(rows: &[Row], bound: f64) -> Option<&Row> {
     rows.iter()
         .filter(|r| r.rel_rmse <= bound && !r.frame_ms.is_nan())

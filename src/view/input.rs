@@ -2,7 +2,7 @@
 //!
 //! The window's events (`app.rs`) and the script's lines ([`super::script`]) both go
 //! through here, so a script drives the viewer exactly as a person does. The controls table
-//! in the README is this file's [`CONTROLS`].
+//! of docs/viewer.md ("Controls") is this file's [`CONTROLS`].
 
 /// One change a person asks for.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,7 +54,7 @@ pub const ENV_PIXELS_PER_DEGREE: f64 = 2.0;
 /// Camera distance factor per wheel notch towards the target.
 pub const ZOOM_PER_NOTCH: f64 = 0.9;
 
-/// The controls: (input, what it does), in the order the README's table lists them.
+/// The controls: (input, what it does), in the order docs/viewer.md's table lists them.
 pub const CONTROLS: [(&str, &str); 17] = [
     ("drag", "orbit the camera about its target"),
     ("wheel", "zoom (camera distance x0.9 per notch)"),

@@ -6,10 +6,11 @@
 //! renderer of `brdfkit render` — on its own thread pool, and encodes it for display with
 //! the one display encoding [`crate::image_io::display`] (the PNG's).
 //!
-//! A *preview* job may turn the kept scene's environment lights rigidly instead of
-//! preparing the light set of the rotated probe again (as `render --turntable-env` does):
-//! that keeps a shift-drag fast. Its frame is marked not exact, and the viewer asks for the
-//! exact one when the view is still.
+//! A *preview* job of a delta-light environment (no transfer table, no light cuts: those
+//! are resolved again at the new rotation) may turn the kept scene's environment lights
+//! rigidly, as `render --turntable-env` does, instead of preparing the light set of the
+//! rotated probe again: that keeps a shift-drag fast. Its frame is marked not exact, and
+//! the viewer asks for the exact one when the view is still.
 
 use super::background::Background;
 use crate::aov::Aov;

@@ -18,6 +18,9 @@ pub struct Run {
     pub stderr: String,
     /// Wall time of the run.
     pub elapsed: Duration,
+    /// CPU time (user + system) of the run and every process it waited for, from
+    /// `wait4(2)`: unlike the wall time, it does not grow when the machine is busy.
+    pub cpu: Duration,
 }
 
 impl Run {
@@ -90,14 +93,14 @@ impl Cli {
             cmd.env(k, v);
         }
         let start = Instant::now();
-        let out = cmd
-            .output()
+        let (status, cpu, stdout, stderr) = spawn_and_wait(&mut cmd)
             .expect("run brdfkit under timeout (coreutils) and prlimit (util-linux)");
         let run = Run {
-            code: out.status.code(),
-            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+            code: status.code(),
+            stdout: String::from_utf8_lossy(&stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&stderr).into_owned(),
             elapsed: start.elapsed(),
+            cpu,
         };
         // `timeout` exits 128 + 9 when it had to kill the child.
         assert_ne!(
@@ -108,6 +111,55 @@ impl Cli {
         );
         run
     }
+}
+
+/// Runs `cmd` to its end with stdout and stderr collected: (exit status, CPU time of the
+/// child and its waited-for descendants, stdout, stderr). Reaps the child with `wait4(2)`
+/// for its resource usage, so the `Child` is never waited for by std.
+fn spawn_and_wait(
+    cmd: &mut Command,
+) -> std::io::Result<(std::process::ExitStatus, Duration, Vec<u8>, Vec<u8>)> {
+    use std::io::Read;
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()?;
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            r.read_to_end(&mut v).map(|_| v)
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().expect("piped")));
+    let err = drain(Box::new(child.stderr.take().expect("piped")));
+    let pid = child.id() as libc::pid_t;
+    let mut status: libc::c_int = 0;
+    // SAFETY: an all-zero rusage is a valid value of the plain C struct.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    loop {
+        // SAFETY: waits for our own child, writing into the two locals above.
+        let r = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+        if r == pid {
+            break;
+        }
+        let e = std::io::Error::last_os_error();
+        if e.kind() != std::io::ErrorKind::Interrupted {
+            return Err(e);
+        }
+    }
+    let tv = |t: libc::timeval| Duration::new(t.tv_sec as u64, t.tv_usec as u32 * 1000);
+    let cpu = tv(usage.ru_utime) + tv(usage.ru_stime);
+    let stdout = out.join().expect("stdout reader")?;
+    let stderr = err.join().expect("stderr reader")?;
+    Ok((
+        std::process::ExitStatus::from_raw(status),
+        cpu,
+        stdout,
+        stderr,
+    ))
 }
 
 /// Runs `brdfkit args` in `cwd` (the defaults of [`brdfkit`]), returning (success, stderr).
@@ -129,4 +181,39 @@ pub fn city_probe() -> String {
         .join("assets/probes/city.exr")
         .display()
         .to_string()
+}
+
+/// Says, past libtest's capture (which takes only `print!`/`eprint!`, so a plain `cargo
+/// test` shows the line), that `test` did not run and why; under `CI=true` it panics
+/// instead: in CI a test that cannot run is a failure, not a pass.
+pub fn cannot_run(test: &str, why: &str) {
+    if std::env::var_os("CI").is_some_and(|v| v == "true") {
+        panic!("{test} cannot run under CI=true: {why}");
+    }
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "NOT RUN: {test}: {why}");
+}
+
+/// The kernel paths this CPU runs ([`brdfkit::kernel::lanes::KernelPath::available`]), after
+/// printing past libtest's capture each path `test` therefore skips, by name (the AVX-512
+/// path runs only on CPUs that have it, and a CI host may not). Never fails: no CPU has
+/// every path.
+pub fn kernel_paths(test: &str) -> Vec<brdfkit::kernel::lanes::KernelPath> {
+    use brdfkit::kernel::lanes::KernelPath;
+    use std::io::Write;
+    // Said once per test name, however often a test asks.
+    static SAID: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+    let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
+    if said.iter().any(|t| t == test) {
+        return KernelPath::available();
+    }
+    said.push(test.to_string());
+    for (path, needs) in KernelPath::unavailable() {
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED kernel path {}: {test}: this CPU lacks {needs}",
+            path.name()
+        );
+    }
+    KernelPath::available()
 }

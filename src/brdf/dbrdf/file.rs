@@ -7,7 +7,7 @@
 //! # Format, version 1
 //! * OpenEXR, one part named `dbrdf-p`, one 32-bit float channel named `p`. Encoding: RLE
 //!   compression, 64x64 tiles (lossless; the `exr` crate's `Encoding::FAST_LOSSLESS`;
-//!   `tests/file_formats.rs` reads it back from a written file's headers). Image
+//!   `tests/integration/file_formats.rs` reads it back from a written file's headers). Image
 //!   **width = nu** (half-vector azimuth texels), **height = nv** (polar texels); pixel
 //!   `(x, y) = (i, j)` holds `p` at texel `(i, j)`, so row 0 (the top in EXR viewers) is
 //!   next to the normal. Values are finite and `>= 0`, normalised to unit

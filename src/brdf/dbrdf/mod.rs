@@ -78,7 +78,7 @@
 //!   lobes used here; `brdf::tests_analytic` checks albedo <= 1 by quadrature.
 //! * Closed form: a constant table is `p = 1/pi`; with `R_s = 1` (`F = 1`) the model is
 //!   `f = 1 / (4 pi (a + b - a b))`, `a = k1.n`, `b = k2.n` (tested end to end in
-//!   `tests/closed_form_delta.rs`).
+//!   `tests/integration/closed_form_delta.rs`).
 //!
 //! [`DBrdf::normalize_projected`] enforces the condition *exactly for the file table's
 //! lookup* (and the derived table keeps that integral to 1e-5, above): the `GL_LINEAR` lookup is linear in azimuth between texel centres

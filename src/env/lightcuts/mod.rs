@@ -1,7 +1,7 @@
 //! Adaptive light cuts: every probe texel a directional light, organised in a light tree, and
 //! per pixel a cut through the tree refined until each cluster's error bound is a small
-//! fraction of the pixel's value (issue 14, deliverable 3; Walter, Fernandez, Arbree, Bala,
-//! Donikian & Greenberg, "Lightcuts: a scalable approach to illumination", SIGGRAPH 2005).
+//! fraction of the pixel's value (Walter, Fernandez, Arbree, Bala, Donikian & Greenberg,
+//! "Lightcuts: a scalable approach to illumination", SIGGRAPH 2005).
 //!
 //! # What is summed
 //! The converged reference shades the full probe: `L_o = sum_t f(w_t, wo) cos(polar_t) E_t`

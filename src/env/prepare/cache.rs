@@ -19,9 +19,9 @@
 //! Nothing reads the environment to find a cache except [`CacheDir::user`], which only the
 //! command line calls. The library's default ([`crate::scene::Scene::resolve`]) is
 //! [`CacheDir::None`], so `cargo test`, `brdfkit golden check|bless` and `brdfkit sweep`
-//! never read or write a light-set cache. `brdfkit render` uses [`CacheDir::user`]:
-//! `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else `$HOME/.cache/brdfkit` (with
-//! none of them set, nothing is cached); `render --no-cache` uses none.
+//! never read or write a light-set cache. `brdfkit render` and `brdfkit view` use
+//! [`CacheDir::user`]: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else
+//! `$HOME/.cache/brdfkit` (with none of them set, nothing is cached); `--no-cache` uses none.
 
 use crate::env::lightset_io::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
 use crate::env::{LightSet, LoadOptions, LoadReport, SamplerConfig};

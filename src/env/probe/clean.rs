@@ -1,5 +1,5 @@
 //! Negative texels: their mass is moved into nearby positive texels, so the probe keeps its
-//! local signed integral (issue 14, item 6).
+//! local signed integral.
 //!
 //! Lossy DWAB compression rings around bright sources with both overshoot and undershoot
 //! (assets/probes/README.md). Clamping the undershoot to zero keeps the overshoot and adds

@@ -10,7 +10,7 @@ pub(crate) fn assets() -> PathBuf {
 fn city_loads_clean_with_negatives_counted() {
     let (p, rep) = Probe::load(&assets().join("city.exr"), &LoadOptions::default()).unwrap();
     assert_eq!((p.width(), p.height()), (512, 256));
-    // README: 0.12% of texels have a negative channel.
+    // assets/probes/README.md: 0.12% of texels have a negative channel.
     let frac = rep.negative_texels as f64 / (512.0 * 256.0);
     assert!(frac > 0.0005 && frac < 0.003, "{frac}");
     assert!(p
@@ -24,7 +24,7 @@ fn city_loads_clean_with_negatives_counted() {
 
 #[test]
 fn sky_loads_with_its_sun_and_high_dynamic_range() {
-    // README: 0.01% negative texels, max / median luminance 1.05e5.
+    // assets/probes/README.md: 0.01% negative texels, max / median luminance 1.05e5.
     let (p, rep) = Probe::load(&assets().join("sky.exr"), &LoadOptions::default()).unwrap();
     assert_eq!((p.width(), p.height()), (512, 256));
     assert!(rep.negative_texels > 0);
@@ -97,7 +97,7 @@ fn check_cleaned(raw: &[[f32; 3]], cleaned: &[[f32; 3]], w: usize, h: usize) -> 
     Ok(())
 }
 
-/// Item 6's seeded fault: plain clamping, what the loader did before.
+/// The seeded fault: plain clamping, what the loader did before (see `clean.rs`).
 fn clamp_only(raw: &[[f32; 3]]) -> Vec<[f32; 3]> {
     raw.iter().map(|t| t.map(|c| c.max(0.0))).collect()
 }

@@ -1,6 +1,7 @@
 //! The disk cache of transfer tables, beside the light-set cache
 //! ([`crate::env::prepare::cache`]): same directory ([`crate::env::prepare::CacheDir`]),
-//! same rules (only `brdfkit render` passes one; tests, `golden` and `sweep` never do).
+//! same rules (only `brdfkit render` and `brdfkit view` pass one; tests, `golden` and
+//! `sweep` never do).
 //!
 //! # Key
 //! [`StableHasher`] (XXH3-64) of a key tag, the crate version,
@@ -8,8 +9,8 @@
 //! texels (`zero_non_finite`, `max_texels`) and every table parameter: the basis (kind,
 //! bands, cosine), the grid `(nu, nv)`, the number of brightest texels left out, and the
 //! intensity's bits ([`table_cache_key`]). The probe rotation is not in the key: the table
-//! lives in the probe's own frame and the rotation is applied at lookup, so a turntable
-//! that spins the environment reads one entry for every frame. Entries are
+//! lives in the probe's own frame and the rotation is applied at lookup, so the viewer
+//! turning the environment (shift-drag) reads one entry for every angle. Entries are
 //! `<dir>/transfer-<key>.bin`, `<key>` 16 hex digits ([`table_file_name`]).
 //!
 //! # Format

@@ -1,5 +1,4 @@
-//! Transfer tables: the environment seen by a material, tabulated over normals (issue 14,
-//! deliverables 1 and 2).
+//! Transfer tables: the environment seen by a material, tabulated over normals.
 //!
 //! For an SH data set (thesis Def. 12: `f(wi, wo) = sum_k c_k(wo) Y_k(wi)` in the local
 //! shading frame of [`crate::conventions`]) under a distant environment of radiance `L`,
@@ -20,8 +19,8 @@
 //! brightest texels (luminance x solid angle) may be left out of the table and summed
 //! exactly per pixel as directional lights through the ordinary kernels: each light that
 //! crosses a normal's horizon makes `T` jump, which no grid interpolates, and under a probe
-//! with a few dominant sources those jumps are most of the table's error (issue 14's
-//! measurements).
+//! with a few dominant sources those jumps are most of the table's error (studio:
+//! [`crate::env::prepare::DEFAULT_EXACT_LIGHTS`] says by how much).
 //!
 //! # Grid of normals
 //! Latitude-longitude in the probe's own convention ([`crate::conventions`], "Light
@@ -38,8 +37,8 @@
 //! - [`table`]: [`TransferTable`] (values, grid, bilinear lookup in normal);
 //! - [`build`]: building a table from a probe ([`build::build_table`]) and choosing the
 //!   brightest texels ([`build::brightest_texels`]);
-//! - [`cache`]: the disk cache of tables beside the light-set cache (`brdfkit render`
-//!   only; `brdfkit cache` lists and cleans it).
+//! - [`cache`]: the disk cache of tables beside the light-set cache (`brdfkit render` and
+//!   `brdfkit view` only; `brdfkit cache` lists and cleans it).
 
 pub mod build;
 pub mod cache;
@@ -54,7 +53,7 @@ pub use table::TransferTable;
 /// ([`TransferTable::radiance_with`] in a pass of its own, `std` angles, every band), per
 /// pixel and channel, relative to the pixel (or to 1% of the image's peak where SH terms
 /// cancel), as [`crate::kernel::SH_KERNEL_TOLERANCE`] holds the lights' kernels
-/// (tests/transfer_scene.rs).
+/// (tests/integration/transfer_scene.rs).
 pub const FAST_PATH_TOLERANCE: f32 = 1e-3;
 
 /// What a transfer table projects the environment onto.

@@ -25,8 +25,9 @@
 //! one rule on all. Wide vectors never change a per-pixel sum's order: they compute per-lane
 //! values (one light's or one pixel's), and every sum across lights stays on eight lanes in
 //! light order (16 lanes are split into two halves, [`Isa::half`], accumulated one after
-//! the other), so a pixel's arithmetic is the same at any width. `tests/golden.rs` renders
-//! every golden entry on every path and requires identical bits; the scalar oracle, another
+//! the other), so a pixel's arithmetic is the same at any width.
+//! `tests/integration/golden.rs` renders every golden entry on every path and requires
+//! identical bits; the scalar oracle, another
 //! summation order, is held within the kernel tolerances
 //! ([`crate::kernel::SH_KERNEL_TOLERANCE`], [`crate::kernel::KERNEL_TOLERANCE`]). A frame
 //! takes one path for every tile and thread, so images stay bit-identical across thread
@@ -246,6 +247,23 @@ impl KernelPath {
         KernelPath::EXPLICIT
             .into_iter()
             .filter(|p| Dispatch::choose(*p).is_some())
+            .collect()
+    }
+
+    /// The explicit paths this CPU does not run, each with the instructions it needs: what
+    /// a test that loops over [`KernelPath::available`] did not cover, so it can say so.
+    pub fn unavailable() -> Vec<(KernelPath, &'static str)> {
+        KernelPath::EXPLICIT
+            .into_iter()
+            .filter(|p| Dispatch::choose(*p).is_none())
+            .map(|p| {
+                let needs = match p {
+                    KernelPath::Avx512 => "AVX-512F, AVX-512VL, AVX2 and FMA",
+                    KernelPath::Avx2 => "AVX2 and FMA",
+                    KernelPath::Auto | KernelPath::Portable => "nothing",
+                };
+                (p, needs)
+            })
             .collect()
     }
 }

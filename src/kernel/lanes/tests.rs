@@ -2,6 +2,20 @@
 
 use super::*;
 
+/// [`KernelPath::available`], after saying past libtest's capture (so a plain `cargo test`
+/// shows it) each path `test` skips on this CPU, by name.
+fn paths_run_by(test: &str) -> Vec<KernelPath> {
+    use std::io::Write;
+    for (path, needs) in KernelPath::unavailable() {
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED kernel path {}: kernel::lanes::tests::{test}: this CPU lacks {needs}",
+            path.name()
+        );
+    }
+    KernelPath::available()
+}
+
 struct Probe(Vec<f32>, Vec<f32>);
 impl Kernel for Probe {
     type Out = (Vec<f32>, f32, u32, Vec<f32>);
@@ -29,7 +43,7 @@ fn every_dispatch_path_computes_the_same_lanes() {
     let a = vec![1.0, -2.0, 3.0, -4.0, 5.0, 0.0, 7.0, -0.5];
     let b = vec![0.5, 1.0, -1.0, 2.0, 2.0, 3.0, 0.25, 1.0];
     let want = Dispatch::portable().run(Probe(a.clone(), b.clone()));
-    for path in KernelPath::available() {
+    for path in paths_run_by("every_dispatch_path_computes_the_same_lanes") {
         let got = Dispatch::choose(path)
             .unwrap()
             .run(Probe(a.clone(), b.clone()));
@@ -62,7 +76,7 @@ fn mul_add_rounds_once_on_every_path() {
     let c = -(1.0 + f32::powi(2.0, -11));
     let want = (f32::powi(2.0, -24), -f32::powi(2.0, -24));
     assert_ne!(a * a + c, want.0, "the case must tell fused from unfused");
-    for path in KernelPath::available() {
+    for path in paths_run_by("mul_add_rounds_once_on_every_path") {
         let d = Dispatch::choose(path).unwrap();
         let got = d.run(Fused(a, a, c));
         assert_eq!(got.0, want.0, "{}: mul_add", path.name());
@@ -120,7 +134,7 @@ fn wide_vectors_compute_the_eight_lane_values_in_lane_order() {
         })
         .collect();
     let mut widths = Vec::new();
-    for path in KernelPath::available() {
+    for path in paths_run_by("wide_vectors_compute_the_eight_lane_values_in_lane_order") {
         let (n, wide, halves, narrow) = Dispatch::choose(path)
             .unwrap()
             .run(WideProbe(a.clone(), b.clone()));
@@ -176,7 +190,7 @@ fn wide_groups_load_mask_and_compress_in_lane_order() {
         .filter(|x| *x > 0.0)
         .collect();
     assert!(want.len() > 4);
-    for path in KernelPath::available() {
+    for path in paths_run_by("wide_groups_load_mask_and_compress_in_lane_order") {
         let got = Dispatch::choose(path)
             .unwrap()
             .run(WideCompress(v.clone(), at));
@@ -208,7 +222,7 @@ fn transpose8_moves_every_lane_on_every_path() {
     let mut m: Vec<f32> = (0..64).map(|k| k as f32 * 1.25 - 7.0).collect();
     m[9] = f32::from_bits(0x7fc0_1234);
     m[50] = -0.0;
-    for path in KernelPath::available() {
+    for path in paths_run_by("transpose8_moves_every_lane_on_every_path") {
         let got = Dispatch::choose(path).unwrap().run(Transpose(m.clone()));
         for i in 0..8 {
             for j in 0..8 {

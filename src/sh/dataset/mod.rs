@@ -48,7 +48,7 @@
 //! - one definition is what makes every light kind agree: a directional light and the same
 //!   light as a distant point light must give the same image, whichever kernel path, the
 //!   scalar oracle or the f64 path shades it, with or without the band skip
-//!   (tests/sh_basis.rs). Earlier versions used the table for point lights only and so
+//!   (tests/integration/sh_basis.rs). Earlier versions used the table for point lights only and so
 //!   rendered the two differently (FLIP mean 0.053).
 //!
 //! So [`ShDataset::reconstruct`], [`Brdf::eval`](crate::brdf::Brdf::eval),

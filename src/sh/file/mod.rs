@@ -8,8 +8,8 @@
 //!
 //! # Format, version 1
 //! * OpenEXR, 32-bit float channels. Encoding: RLE compression, 64x64 tiles (lossless;
-//!   the `exr` crate's `Encoding::FAST_LOSSLESS`, in both parts; `tests/file_formats.rs`
-//!   reads it back from a written file's headers).
+//!   the `exr` crate's `Encoding::FAST_LOSSLESS`, in both parts;
+//!   `tests/integration/file_formats.rs` reads it back from a written file's headers).
 //! * Part (layer) `sh-coefficients`, required: image **width = nu** (azimuth texels),
 //!   **height = nv** (polar texels). Pixel `(x, y) = (i, j)` holds view texel `(i, j)`;
 //!   row `y = 0` (the top of the image in EXR viewers) is the polar texel next to the

@@ -1,6 +1,6 @@
 //! Tests of the sweep CSV ([`super`]): exact text, header-keyed reading, and errors that
-//! name the file, the line and the column. Expected text comes from the committed README
-//! sweep and from hand-written lines.
+//! name the file, the line and the column. Expected text comes from the committed sweep
+//! (assets/readme/sweep.csv) and from hand-written lines.
 
 use super::*;
 
@@ -212,8 +212,8 @@ fn the_header_is_the_record_schema() {
     );
 }
 
-/// The committed README sweep (1024 rows: 880 lights, 144 transfer) reads and writes back
-/// to the same bytes.
+/// The committed sweep assets/readme/sweep.csv (1024 rows: 880 lights, 144 transfer) reads
+/// and writes back to the same bytes.
 #[test]
 fn readme_sweep_reads_and_writes_back_byte_identical() {
     let text = readme_csv();

@@ -1,0 +1,147 @@
+//! The GPU golden check end to end (cargo feature `gpu`; needs a Vulkan adapter, e.g. Mesa's
+//! lavapipe, which .ci/run installs): `brdfkit golden check --device gpu` passes for the
+//! correct wgpu renderer, and fails for each seeded GPU fault (half-texel offset, missing
+//! cosine, mirrored azimuth, sRGB applied twice, the transfer table read at the mirrored
+//! probe azimuth) injected through the hidden `--gpu-fault`.
+//! Every entry the GPU does not render must be listed as skipped with its reason.
+#![cfg(feature = "gpu")]
+
+use crate::common;
+
+use std::path::{Path, PathBuf};
+
+fn golden_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("golden")
+}
+
+fn check(extra: &[&str]) -> common::Run {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = golden_dir();
+    let mut args = vec![
+        "golden",
+        "check",
+        "--device",
+        "gpu",
+        "--dir",
+        dir.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    // XDG_RUNTIME_DIR for the child only: Mesa's Vulkan drivers print a line when it is unset.
+    common::brdfkit(tmp.path())
+        .env("XDG_RUNTIME_DIR", tmp.path())
+        .timeout(600)
+        .run(&args)
+}
+
+/// Entry lines of a check's output: (name, status, rest).
+fn entries(stdout: &str) -> Vec<(String, String, String)> {
+    stdout
+        .lines()
+        .filter_map(|l| {
+            let mut it = l.split_whitespace();
+            let name = it.next()?.to_string();
+            let status = it.next()?.to_string();
+            ["pass", "FAIL", "skip"]
+                .contains(&status.as_str())
+                .then(|| (name, status, it.collect::<Vec<_>>().join(" ")))
+        })
+        .collect()
+}
+
+#[test]
+fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
+    let ok = check(&[]);
+    assert!(
+        ok.success(),
+        "correct build failed:\n{}{}",
+        ok.stdout,
+        ok.stderr
+    );
+    let lines = entries(&ok.stdout);
+    let manifest = std::fs::read_to_string(golden_dir().join("manifest.toml")).unwrap();
+    let n_entries = manifest.matches("[[entry]]").count();
+    assert_eq!(lines.len(), n_entries, "one line per entry:\n{}", ok.stdout);
+    // Every entry is rendered on the GPU and passes but the coverage debug output, which is
+    // skipped with its reason.
+    for (name, status, rest) in &lines {
+        if name == "debug-coverage" {
+            assert_eq!(status, "skip", "{rest}");
+            assert!(
+                rest.starts_with("skipped: debug output 'coverage'"),
+                "{rest}"
+            );
+        } else {
+            assert_eq!(status, "pass", "{name}: {rest}");
+        }
+    }
+
+    // The fault runs leave out the full-probe entry, whose light set (every texel of the
+    // probe a light, computed by the check) takes most of a check's time; every fault shows
+    // on other entries.
+    let names: Vec<&str> = manifest
+        .lines()
+        .filter_map(|l| l.strip_prefix("name = \""))
+        .map(|l| l.trim_end_matches('"'))
+        .filter(|n| *n != "fig3-8-full-studio")
+        .collect();
+    assert_eq!(names.len(), n_entries - 1);
+    for fault in [
+        "half-texel",
+        "no-cosine",
+        "mirrored-azimuth",
+        "srgb-twice",
+        "transfer-mirrored-azimuth",
+    ] {
+        let mut args = vec!["--gpu-fault", fault];
+        args.extend(&names);
+        let r = check(&args);
+        assert_eq!(
+            r.code,
+            Some(1),
+            "seeded fault {fault} did not fail the check:\n{}{}",
+            r.stdout,
+            r.stderr
+        );
+        let failed: Vec<_> = entries(&r.stdout)
+            .into_iter()
+            .filter(|l| l.1 == "FAIL")
+            .map(|l| l.0)
+            .collect();
+        assert!(!failed.is_empty(), "{fault}: {}", r.stdout);
+        if fault == "transfer-mirrored-azimuth" {
+            // The table fault shows on every entry that has a table, and only there.
+            let transfer: Vec<&str> = names
+                .iter()
+                .copied()
+                .filter(|n| n.starts_with("env-transfer-"))
+                .collect();
+            assert!(transfer.len() >= 2, "{transfer:?}");
+            assert_eq!(failed, transfer, "{fault}: {}", r.stdout);
+        }
+        eprintln!(
+            "{fault}: {} entries fail: {}",
+            failed.len(),
+            failed.join(", ")
+        );
+    }
+}
+
+#[test]
+fn an_unknown_fault_or_a_fault_on_the_cpu_is_a_one_line_error() {
+    let r = check(&["--gpu-fault", "nonsense"]);
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert_eq!(r.stderr.trim().lines().count(), 1, "{}", r.stderr);
+    assert!(r.stderr.contains("--gpu-fault"), "{}", r.stderr);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = golden_dir();
+    let r = common::brdfkit(tmp.path()).run(&[
+        "golden",
+        "check",
+        "--dir",
+        dir.to_str().unwrap(),
+        "--gpu-fault",
+        "no-cosine",
+    ]);
+    assert_eq!(r.code, Some(2), "{}", r.stderr);
+    assert!(r.stderr.contains("needs --device gpu"), "{}", r.stderr);
+}

@@ -1,0 +1,9 @@
+//! The GPU build's tests (cargo feature `gpu`, docs/gpu.md): one binary, run on a Vulkan
+//! adapter (lavapipe in CI). [`golden`] holds the wgpu renderer to the CPU oracle's golden
+//! set and shows each seeded fault failing; [`closed_form`] checks it against a closed form.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod closed_form;
+mod golden;
