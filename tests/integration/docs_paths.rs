@@ -315,3 +315,34 @@ fn numbers_the_readme_states_are_the_codes() {
         .collect();
     assert!(missing.is_empty(), "README.md no longer says: {missing:#?}");
 }
+
+#[test]
+fn bench_flags_reach_criterion() {
+    // `cargo bench -- --warm-up-time 1` (docs/benchmarks.md) hands the flags to every bench
+    // harness it runs: a libtest harness of the lib or bin target would reject them
+    // ("Unrecognized option"), so those have `bench = false`, and every bench target is
+    // criterion's (`harness = false`). CI does not build the benches (minutes): this reads
+    // the manifest instead.
+    let manifest: toml::Value =
+        toml::from_str(&std::fs::read_to_string(repo().join("Cargo.toml")).unwrap()).unwrap();
+    assert_eq!(
+        manifest["lib"]["bench"].as_bool(),
+        Some(false),
+        "[lib] bench"
+    );
+    let bins = manifest["bin"].as_array().unwrap();
+    assert!(!bins.is_empty());
+    for b in bins {
+        assert_eq!(b["bench"].as_bool(), Some(false), "[[bin]] {}", b["name"]);
+    }
+    let benches = manifest["bench"].as_array().unwrap();
+    assert!(benches.len() >= 4, "{} bench targets", benches.len());
+    for b in benches {
+        assert_eq!(
+            b["harness"].as_bool(),
+            Some(false),
+            "[[bench]] {}",
+            b["name"]
+        );
+    }
+}
