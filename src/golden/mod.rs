@@ -109,6 +109,19 @@ pub fn libm() -> String {
     }
 }
 
+/// The platform part of a [`blessing_path`] (`x86_64-linux-glibc2.36/avx2` ->
+/// `x86_64-linux-glibc2.36`): where the check demands identical bits, whatever the kernel
+/// path.
+pub fn platform_of(blessing_path: &str) -> &str {
+    blessing_path.split('/').next().unwrap_or("")
+}
+
+/// Whether `entry` was blessed on the platform this binary runs on ([`platform`]), where
+/// [`judge`] demands identical bits.
+pub fn blessed_here(entry: &Entry) -> bool {
+    platform_of(&entry.blessed_on) == platform()
+}
+
 /// Whether an entry's image goes through the f32 shading kernels (a shaded f32 entry), so
 /// its bits may depend on the kernel path; debug outputs and the f64 path do not.
 pub fn uses_kernel(entry: &Entry, scene: &Scene) -> bool {
@@ -199,7 +212,6 @@ pub fn judge(
     let hash_ok = entry.hash == expected_hash;
     // Exact on the blessing platform whatever the kernel path: the paths (portable, avx2,
     // avx512) are built to give identical bits, and tests/integration/golden.rs demands it of each.
-    let platform_of = |p: &str| p.split('/').next().unwrap_or("").to_string();
     let exact =
         !entry.blessed_on.is_empty() && platform_of(&entry.blessed_on) == platform_of(rendered_on);
     let Some((max_abs, over)) = compare(expected, actual, tol) else {

@@ -57,7 +57,7 @@ fn golden_set_matches_on_every_kernel_path() {
     let paths = crate::common::kernel_paths("golden: every kernel path gives the blessed bits");
     assert!(paths.contains(&KernelPath::Portable));
     let manifest = golden::load_manifest(&golden_dir()).unwrap();
-    if !manifest.entries.iter().any(blessed_here) {
+    if !manifest.entries.iter().any(golden::blessed_here) {
         crate::common::cannot_run(
             "golden: identical bits on the blessing platform",
             &format!("no entry was blessed on {}", golden::platform()),
@@ -84,7 +84,7 @@ fn golden_set_matches_on_every_kernel_path() {
         for (o, e) in outcomes.iter().zip(&manifest.entries) {
             assert_eq!(o.name, e.name);
             eprintln!("{} [{}]: {}", o.name, kernel.name(), o.message);
-            if blessed_here(e) {
+            if golden::blessed_here(e) {
                 assert_eq!(
                     o.pixels_differing,
                     0,
@@ -575,12 +575,6 @@ fn the_scalar_oracle_passes_every_shaded_f32_entry() {
 
 /// The kernel path that blessed `name`, if this machine is its platform and runs that
 /// path (whatever `auto` picks here); the exact-bits faults below are only meaningful there.
-/// Whether `e` was blessed on this platform (architecture, OS and libm, any kernel path):
-/// where the check demands identical bits.
-fn blessed_here(e: &golden::Entry) -> bool {
-    e.blessed_on.split('/').next() == Some(golden::platform().as_str())
-}
-
 /// The kernel path to check entry `name` on where the check is exact for it: the path that
 /// blessed it when this CPU runs it, else any (every path gives the same bits, which
 /// `golden_set_matches_on_every_kernel_path` checks); `None` off the
@@ -588,7 +582,7 @@ fn blessed_here(e: &golden::Entry) -> bool {
 fn blessing_kernel(name: &str) -> Option<KernelPath> {
     let manifest = golden::load_manifest(&golden_dir()).unwrap();
     let e = manifest.entries.iter().find(|e| e.name == name).unwrap();
-    if !blessed_here(e) {
+    if !golden::blessed_here(e) {
         return None;
     }
     let available = KernelPath::available();
