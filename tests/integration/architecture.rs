@@ -5,7 +5,7 @@
 //! An import is any `crate::NAME` path (or `crate::{NAME, ...}` group) in a module's
 //! non-test code: `//` comment lines (doc links included), files named `tests.rs` or
 //! `tests_*.rs`, and everything after a file's `#[cfg(test)]` are left out, since tests
-//! may reach across layers. `cargo test --test integration architecture:: -- --nocapture` prints the graph.
+//! may reach across layers. `cargo test --release --test integration architecture:: -- --nocapture` prints the graph.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;

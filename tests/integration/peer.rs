@@ -33,7 +33,7 @@
 //! one) must fail the same check. The default configuration is checked against the
 //! measured numbers in [`DEFAULT_BOUNDS`] (regression bounds), not against the noise.
 //!
-//! Run `cargo test --test integration peer:: -- --nocapture` to print the table of measured numbers.
+//! Run `cargo test --release --test integration peer:: -- --nocapture` to print the table of measured numbers.
 //!
 //! One file past 400 lines on purpose: the scene reconstruction, the comparison and the
 //! seeded faults share one definition of the check, which must not drift between files.
