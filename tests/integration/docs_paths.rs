@@ -321,8 +321,8 @@ fn bench_flags_reach_criterion() {
     // `cargo bench -- --warm-up-time 1` (docs/benchmarks.md) hands the flags to every bench
     // harness it runs: a libtest harness of the lib or bin target would reject them
     // ("Unrecognized option"), so those have `bench = false`, and every bench target is
-    // criterion's (`harness = false`). CI does not build the benches (minutes): this reads
-    // the manifest instead.
+    // criterion's (`harness = false`). CI does not build or run the benches: this reads the
+    // manifest instead.
     let manifest: toml::Value =
         toml::from_str(&std::fs::read_to_string(repo().join("Cargo.toml")).unwrap()).unwrap();
     assert_eq!(
