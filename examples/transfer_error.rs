@@ -108,7 +108,10 @@ fn main() {
     ));
     materials.retain(|(n, _)| only.is_empty() || only.contains(&n.as_str()));
     let tmp = tempfile::tempdir().expect("a temporary cache directory");
-    let cache = CacheDir::At(tmp.path().to_path_buf());
+    let cache = CacheDir::At {
+        dir: tmp.path().to_path_buf(),
+        max_bytes: u64::MAX,
+    };
     let none = CacheDir::None;
     println!("exact_lights = {k}, {size} x {size}");
     println!(

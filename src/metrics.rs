@@ -260,3 +260,28 @@ mod tests {
         assert_eq!(relative_l2(5.0, 1.0), 5f64.sqrt());
     }
 }
+
+/// The negative values of one image (radiance cannot be negative: SH data that rings,
+/// [`crate::acquire::Method`], is the usual cause): how many pixels have a channel below
+/// zero and the most negative channel value.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NegativePixels {
+    /// Pixels with at least one channel `< 0`.
+    pub pixels: usize,
+    /// The smallest channel value of the image, when it is negative (else 0).
+    pub min: f32,
+}
+
+/// Counts the pixels of `img` with a channel below zero ([`NegativePixels`]); NaN channels
+/// are not negative.
+pub fn negative_pixels(img: &Image) -> NegativePixels {
+    let mut out = NegativePixels::default();
+    for p in &img.pixels {
+        let m = p.min_element();
+        if m < 0.0 {
+            out.pixels += 1;
+            out.min = out.min.min(m);
+        }
+    }
+    out
+}

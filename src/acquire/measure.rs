@@ -96,6 +96,19 @@ pub fn hemisphere_error(
     nv: usize,
     grid: ErrorGrid,
 ) -> ErrorReport {
+    hemisphere_error_with_progress(src, approx, nu, nv, grid, &Progress::hidden())
+}
+
+/// [`hemisphere_error`], counting one step on `progress` per finished view texel (`nu x nv`
+/// in all; the caller sets the length). Counting does not change the report.
+pub fn hemisphere_error_with_progress(
+    src: &dyn Brdf,
+    approx: &dyn Brdf,
+    nu: usize,
+    nv: usize,
+    grid: ErrorGrid,
+    progress: &Progress,
+) -> ErrorReport {
     let dirs = grid.directions();
     let texels: Vec<(usize, usize)> = (0..nv).flat_map(|j| (0..nu).map(move |i| (i, j))).collect();
     // Per texel: (sum err^2, sum src^2, max approx, smallest colour of each approximation).
@@ -115,6 +128,7 @@ pub fn hemisphere_error(
                 hi = hi.max(x.max_element());
                 mins.push(x.min_element());
             }
+            progress.inc(1);
             (e2, s2, hi, mins)
         })
         .collect();

@@ -4,7 +4,7 @@ use super::source::parse_source;
 use super::{AcquireArgs, FitDbrdfArgs, MethodArg};
 use crate::acquire::fit::{fit_dbrdf_with_progress, FitOptions};
 use crate::acquire::{
-    acquire_with_progress, hemisphere_error, ringing_flagged, AcquireOptions, ErrorGrid,
+    acquire_with_progress, hemisphere_error_with_progress, ringing_flagged, AcquireOptions, ErrorGrid,
     ErrorReport, Method, RINGING_THRESHOLD,
 };
 use crate::brdf::dbrdf::file::write_dbrdf;
@@ -15,7 +15,7 @@ use crate::sh::write_sh_dataset;
 
 fn row(bands: usize, method: &str, r: &ErrorReport) -> String {
     format!(
-        "{bands:>5}  {method:<6} {:>9.4} {:>10.4} {:>9.2}% {:>9.2}% {:>9.2}%{}",
+        "{bands:>5}  {method:<8} {:>9.4} {:>10.4} {:>9.2}% {:>9.2}% {:>9.2}%{}",
         r.rel_l2,
         r.rel_l2_unweighted,
         100.0 * r.min_over_peak,
@@ -46,13 +46,20 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
             lambda: crate::acquire::DEFAULT_LAMBDA,
         },
         MethodArg::Even => Method::Even,
+        MethodArg::Positive => Method::Positive,
+        MethodArg::Nonneg => Method::NonNegative {
+            lambda: crate::acquire::DEFAULT_LAMBDA,
+        },
     };
     let method = match (method, a.lambda) {
-        (Method::Lsq { .. }, Some(l)) => {
+        (Method::Lsq { .. } | Method::NonNegative { .. }, Some(l)) => {
             if !(l.is_finite() && l > 0.0) {
                 return Err(Error::field("--lambda", format!("{l} must be > 0")));
             }
-            Method::Lsq { lambda: l }
+            match method {
+                Method::Lsq { .. } => Method::Lsq { lambda: l },
+                _ => Method::NonNegative { lambda: l },
+            }
         }
         (m, _) => m,
     };
@@ -63,7 +70,15 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
     let methods: Vec<Method> = if a.no_table {
         vec![]
     } else {
-        vec![Method::Zero, method_lsq(method), Method::Even]
+        vec![
+            Method::Zero,
+            method_lsq(method),
+            Method::Even,
+            Method::Positive,
+            Method::NonNegative {
+                lambda: method_lsq(method).lambda(),
+            },
+        ]
     };
     if !methods.is_empty() {
         println!(
@@ -75,19 +90,26 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
              unweighted worst cases for comparison; flag: min/peak < {:.0}%",
             100.0 * RINGING_THRESHOLD
         );
-        println!("bands  method    rel L2 unweighted  min/peak     worst below zero");
+        println!("bands  method      rel L2 unweighted  min/peak     worst below zero");
     }
-    // Every acquisition counts its view texels: the table's (bands x methods) and the
-    // written data set's.
+    // Every acquisition and every error report counts its view texels: the table's
+    // (bands x methods, each acquired and measured) and the written data set's (measured
+    // too without the table). The error report is the larger part: grid light directions
+    // per view texel against the quadrature's.
     let acquisitions = a.bands * methods.len() + 1;
-    let pb = Progress::bar((acquisitions * nu * nv) as u64, "acquire", "view texels");
+    let reports = a.bands * methods.len() + usize::from(a.no_table);
+    let pb = Progress::bar(
+        ((acquisitions + reports) * nu * nv) as u64,
+        "acquire",
+        "view texels",
+    );
     let mut flagged = None;
     for bands in 1..=a.bands {
         for m in &methods {
             let ds =
                 acquire_with_progress(src.as_ref(), &AcquireOptions::new(bands, nu, nv, *m), &pb)
                     .map_err(|e| Error::field("acquire", e.to_string()))?;
-            let r = hemisphere_error(src.as_ref(), &ds, nu, nv, grid);
+            let r = hemisphere_error_with_progress(src.as_ref(), &ds, nu, nv, grid, &pb);
             pb.suspend(|| println!("{}", row(bands, m.name(), &r)));
             if bands == a.bands && m.name() == method.name() && ringing_flagged(&r) {
                 flagged = Some(r);
@@ -99,15 +121,15 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
         &AcquireOptions::new(a.bands, nu, nv, method),
         &pb,
     );
-    pb.finish();
     let mut ds = ds.map_err(|e| Error::field("acquire", e.to_string()))?;
     if a.no_table {
-        let r = hemisphere_error(src.as_ref(), &ds, nu, nv, grid);
-        println!("{}", row(a.bands, method.name(), &r));
+        let r = hemisphere_error_with_progress(src.as_ref(), &ds, nu, nv, grid, &pb);
+        pb.suspend(|| println!("{}", row(a.bands, method.name(), &r)));
         if ringing_flagged(&r) {
             flagged = Some(r);
         }
     }
+    pb.finish();
     if let Some(r) = flagged {
         println!(
             "warning: ringing: min/peak {:.1}% is below the {:.0}% threshold at {} bands ({}); \
@@ -138,12 +160,10 @@ pub fn run_acquire(a: AcquireArgs) -> Result<()> {
     Ok(())
 }
 
+/// `lsq` with the chosen method's lambda (the default for methods without one).
 fn method_lsq(chosen: Method) -> Method {
-    match chosen {
-        Method::Lsq { .. } => chosen,
-        _ => Method::Lsq {
-            lambda: crate::acquire::DEFAULT_LAMBDA,
-        },
+    Method::Lsq {
+        lambda: chosen.lambda(),
     }
 }
 

@@ -1,5 +1,6 @@
-//! `brdfkit cache [show|clean]`: where the two caches are, how much they hold, and a way to
-//! empty them.
+//! `brdfkit cache [show|clean]`: where the three caches are (light sets and transfer
+//! tables, in one directory, and sweep references), how much they hold, the cap, and a way
+//! to empty them.
 //!
 //! Design rule: `clean` deletes only files whose names the caches write themselves
 //! (`lights-<16 hex>.json` and `transfer-<16 hex>.bin`, the transfer tables of
@@ -8,6 +9,7 @@
 //! that builds before the XXH3 hash wrote), never a directory or any other
 //! file, so pointing `BRDFKIT_CACHE_DIR` at a directory that holds other things is safe.
 
+use crate::env::prepare::cap::{cache_files, DEFAULT_CACHE_MAX_BYTES};
 use crate::env::prepare::CacheDir;
 use crate::error::{Error, Result};
 use clap::Subcommand;
@@ -30,53 +32,6 @@ pub enum CacheAction {
     Clean,
 }
 
-/// Whether `name` is a file one of the caches writes (see the module doc).
-pub fn is_cache_file(name: &str) -> bool {
-    let hex16 = |s: &str| s.len() == 16 && s.bytes().all(|b| b.is_ascii_hexdigit());
-    if let Some(k) = name
-        .strip_prefix("lights-")
-        .and_then(|r| r.strip_suffix(".json"))
-    {
-        return hex16(k);
-    }
-    if let Some(k) = name
-        .strip_prefix("transfer-")
-        .and_then(|r| r.strip_suffix(".bin"))
-    {
-        return hex16(k);
-    }
-    if let Some(r) = name.strip_prefix("reference-") {
-        let k = r
-            .strip_suffix(".exr.xxh3")
-            .or_else(|| r.strip_suffix(".exr.fnv1a"))
-            .or_else(|| r.strip_suffix(".exr"));
-        return k.is_some_and(hex16);
-    }
-    false
-}
-
-/// The cache files directly in `dir` with their sizes (none if the directory is missing).
-fn cache_files(dir: &Path) -> Result<Vec<(PathBuf, u64)>> {
-    let entries = match std::fs::read_dir(dir) {
-        Ok(e) => e,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(Error::io(dir, "cannot list cache directory", e)),
-    };
-    let mut out = Vec::new();
-    for e in entries {
-        let e = e.map_err(|err| Error::io(dir, "cannot list cache directory", err))?;
-        let name = e.file_name().to_string_lossy().into_owned();
-        let meta = e
-            .metadata()
-            .map_err(|err| Error::io(e.path(), "cannot stat", err))?;
-        if meta.is_file() && is_cache_file(&name) {
-            out.push((e.path(), meta.len()));
-        }
-    }
-    out.sort();
-    Ok(out)
-}
-
 /// A byte count for people: `12.3 MB`.
 fn human(bytes: u64) -> String {
     let b = bytes as f64;
@@ -89,35 +44,50 @@ fn human(bytes: u64) -> String {
 }
 
 pub fn run(a: CacheArgs) -> Result<()> {
-    let user = CacheDir::user();
+    let user = CacheDir::user()?;
     let sweep = a
         .sweep_cache
         .clone()
         .unwrap_or_else(|| PathBuf::from("target").join("brdfkit-cache"));
-    let dirs: Vec<(&str, Option<PathBuf>)> = vec![
-        (
-            "light sets and transfer tables (brdfkit render)",
-            user.path().map(Path::to_path_buf),
+    let cap = match user.max_bytes() {
+        Some(b) => format!(
+            "; cap {} ($BRDFKIT_CACHE_MAX_MB, default {}), least recently used evicted",
+            human(b),
+            human(DEFAULT_CACHE_MAX_BYTES)
         ),
-        ("sweep references (brdfkit sweep)", Some(sweep)),
+        None => String::new(),
+    };
+    let dirs: Vec<(&str, Option<PathBuf>, String)> = vec![
+        (
+            "light sets and transfer tables (brdfkit render, view)",
+            user.path().map(Path::to_path_buf),
+            cap,
+        ),
+        (
+            "sweep references (brdfkit sweep)",
+            Some(sweep),
+            "; not capped".to_string(),
+        ),
     ];
-    for (what, dir) in dirs {
+    for (what, dir, cap) in dirs {
         let Some(dir) = dir else {
             println!("{what}: no directory ($BRDFKIT_CACHE_DIR, $XDG_CACHE_HOME and $HOME unset)");
             continue;
         };
-        let files = cache_files(&dir)?;
-        let total: u64 = files.iter().map(|(_, n)| n).sum();
+        let files =
+            cache_files(&dir).map_err(|e| Error::io(&dir, "cannot list cache directory", e))?;
+        let total: u64 = files.iter().map(|f| f.bytes).sum();
         match a.action.unwrap_or(CacheAction::Show) {
             CacheAction::Show => println!(
-                "{what}: {}: {} files, {}",
+                "{what}: {}: {} files, {}{cap}",
                 dir.display(),
                 files.len(),
                 human(total)
             ),
             CacheAction::Clean => {
-                for (p, _) in &files {
-                    std::fs::remove_file(p).map_err(|e| Error::io(p, "cannot remove", e))?;
+                for f in &files {
+                    std::fs::remove_file(&f.path)
+                        .map_err(|e| Error::io(&f.path, "cannot remove", e))?;
                 }
                 println!(
                     "{what}: {}: removed {} files, {}",
@@ -129,32 +99,4 @@ pub fn run(a: CacheArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::is_cache_file;
-
-    #[test]
-    fn only_the_caches_own_file_names_count() {
-        assert!(is_cache_file("lights-0123456789abcdef.json"));
-        assert!(is_cache_file("transfer-0123456789abcdef.bin"));
-        assert!(is_cache_file("reference-0123456789ABCDEF.exr"));
-        assert!(is_cache_file("reference-0123456789abcdef.exr.xxh3"));
-        // Written by builds before the XXH3 hash: still cleaned.
-        assert!(is_cache_file("reference-0123456789abcdef.exr.fnv1a"));
-        for other in [
-            "lights-0123.json",
-            "transfer-0123.bin",
-            "transfer-0123456789abcdef.bin.tmp",
-            "transfer-0123456789abcdef.json",
-            "lights-0123456789abcdef.json.tmp",
-            "reference-0123456789abcdeg.exr",
-            "notes.txt",
-            "lights-.json",
-            ".lights-0123456789abcdef.json",
-        ] {
-            assert!(!is_cache_file(other), "{other}");
-        }
-    }
 }

@@ -79,7 +79,7 @@ pub enum Command {
     Materials,
     /// Show where the caches are and how much they hold, or empty them (`cache clean`).
     #[command(
-        after_help = "Examples:\n  brdfkit cache          # both caches: directory, files, size\n  brdfkit cache clean    # delete their entries (only lights-*.json, transfer-*.bin and reference-*.exr[.xxh3|.fnv1a])\n\nLight sets and transfer tables (brdfkit render): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else ~/.cache/brdfkit.\nSweep references (brdfkit sweep): target/brdfkit-cache, or the sweep's --cache DIR (here: --sweep-cache DIR).\nTests and golden check|bless use neither."
+        after_help = "Examples:\n  brdfkit cache          # every cache: directory, files, size, cap\n  brdfkit cache clean    # delete their entries (only lights-*.json, transfer-*.bin and reference-*.exr[.xxh3|.fnv1a])\n\nLight sets and transfer tables (brdfkit render, view): $BRDFKIT_CACHE_DIR, else $XDG_CACHE_HOME/brdfkit, else ~/.cache/brdfkit; capped at $BRDFKIT_CACHE_MAX_MB megabytes (default 500), the least recently used entries evicted.\nSweep references (brdfkit sweep): target/brdfkit-cache, or the sweep's --cache DIR (here: --sweep-cache DIR); not capped.\nTests and golden check|bless use none of them."
     )]
     Cache(CacheArgs),
     /// Run time against error: render a scene over a grid of configurations, write CSV and a plot.
@@ -243,10 +243,10 @@ pub struct AcquireArgs {
     /// Number of SH bands (orders), 1 to 10.
     #[arg(long, default_value_t = 8)]
     pub bands: usize,
-    /// Hemisphere fit: `zero` (zero extension, exact projection), `lsq` (regularised least squares on the hemisphere), `even` (mirror extension).
+    /// Hemisphere fit: `zero` (zero extension, exact projection), `lsq` (regularised least squares on the hemisphere), `even` (mirror extension), `positive` (zero extension windowed by a non-negative kernel: never rings below zero, blurs sharp lobes; the table shows the cost), `nonneg` (lsq held to f_r cos >= 0 on a dense set of directions, what the library uses).
     #[arg(long, value_enum, default_value = "lsq")]
     pub method: MethodArg,
-    /// Tikhonov weight for `--method lsq` (default 1e-6).
+    /// Tikhonov weight for `--method lsq` and `nonneg` (default 1e-6).
     #[arg(long)]
     pub lambda: Option<f64>,
     /// View grid NUxNV (azimuth x polar texels, each 1 to 1024).
@@ -373,6 +373,8 @@ pub enum MethodArg {
     Zero,
     Lsq,
     Even,
+    Positive,
+    Nonneg,
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]

@@ -83,7 +83,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let cache = if a.no_cache {
         CacheDir::None
     } else {
-        CacheDir::user()
+        CacheDir::user()?
     };
     let resolve_base = base.as_path();
     // Counts the light set's preparation when it is computed (nothing on a cache hit).
@@ -229,6 +229,16 @@ pub fn run(a: RenderArgs) -> Result<()> {
             Some(s) => eprintln!("{s}"),
             None if gpu.is_some() => eprintln!("stats: gpu frame (upload, draw, read-back)"),
             None => eprintln!("stats: none for --reference (every light, every band, no skips)"),
+        }
+        // Of the image itself, whatever rendered it: a PNG clips these to black.
+        if a.aov.is_none() {
+            let neg = crate::metrics::negative_pixels(&img);
+            eprintln!(
+                "negative pixels: {} of {} (min {:.3e})",
+                neg.pixels,
+                img.pixels.len(),
+                neg.min
+            );
         }
     }
     for (path, fmt) in outputs.iter().zip(formats) {

@@ -87,7 +87,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
         cache: if r.no_cache {
             CacheDir::None
         } else {
-            CacheDir::user()
+            CacheDir::user()?
         },
     })
 }

@@ -8,6 +8,7 @@
 //! [`cache`] for which callers use which.
 
 pub mod cache;
+pub mod cap;
 
 pub use cache::{
     cache_file_name, file_cache_key, lights_checksum, read_cache_entry, CacheDir, CacheEntry,

@@ -271,6 +271,7 @@ impl Scene {
                 }
             };
             let p = prepare_transfer(spec, base, basis, cache.path(), progress)?;
+            cache.record_use(p.cache_file.as_deref(), p.cache_hit);
             lights.extend(prepare::to_scene_lights(&p.lights));
             env = Some(EnvSummary {
                 file: base.join(&spec.file),
@@ -285,6 +286,7 @@ impl Scene {
             transfer = Some(Arc::new(p.table));
         } else if let Some(spec) = &env_spec {
             let prepared = prepare::prepare_with_progress(spec, base, cache.path(), progress)?;
+            cache.record_use(prepared.cache_file.as_deref(), prepared.cache_hit);
             lights.extend(prepare::to_scene_lights(&prepared.lights));
             env = Some(EnvSummary {
                 // The light set file when `[env] lights` names one (the probe is not read).

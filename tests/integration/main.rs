@@ -36,6 +36,7 @@ mod interrupt;
 mod kernel;
 mod kernel_mutation;
 mod lightcuts_scene;
+mod library_radiance;
 mod lightset_scene;
 mod lookup;
 mod no_hidden_state;

@@ -431,7 +431,9 @@ fn gold_dust_10_bands() -> &'static ShDataset {
         let src = brdfkit::brdf::stand_ins::source_model("gold-dust-paint").unwrap();
         let (nu, nv) = brdfkit::library::VIEW_GRID;
         let opts =
-            brdfkit::acquire::AcquireOptions::new(10, nu, nv, brdfkit::library::LIBRARY_METHOD);
+            brdfkit::acquire::AcquireOptions::new(10, nu, nv, brdfkit::acquire::Method::Lsq {
+                lambda: brdfkit::acquire::DEFAULT_LAMBDA,
+            });
         brdfkit::acquire::acquire(src.as_ref(), &opts).unwrap()
     })
 }

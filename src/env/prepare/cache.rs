@@ -56,32 +56,75 @@ pub enum CacheDir {
     /// `golden check|bless` and `sweep`.
     #[default]
     None,
-    /// Read and write entries in this directory (created on first write).
-    At(PathBuf),
+    /// Read and write entries in `dir` (created on first write), its cache files kept to at
+    /// most `max_bytes` in all by evicting the least recently used ([`super::cap`],
+    /// [`CacheDir::record_use`]).
+    At { dir: PathBuf, max_bytes: u64 },
 }
 
 impl CacheDir {
     /// The user's cache directory: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`,
     /// else `$HOME/.cache/brdfkit` (empty variables count as unset); [`CacheDir::None`]
-    /// with none of them set. The only place the crate reads these variables; only the
-    /// command line (`brdfkit render`) calls it.
-    pub fn user() -> CacheDir {
+    /// with none of them set. Its cap is `$BRDFKIT_CACHE_MAX_MB` megabytes (10^6 bytes),
+    /// else [`super::cap::DEFAULT_CACHE_MAX_BYTES`]. The only place the crate reads these
+    /// variables; only the command line (`brdfkit render`, `view`, `cache`) calls it.
+    ///
+    /// Fails when `$BRDFKIT_CACHE_MAX_MB` is set and is not a number of megabytes > 0.
+    pub fn user() -> crate::error::Result<CacheDir> {
         let var = |k: &str| {
             std::env::var_os(k)
                 .filter(|v| !v.is_empty())
                 .map(PathBuf::from)
         };
-        var("BRDFKIT_CACHE_DIR")
+        let max_bytes = match std::env::var_os("BRDFKIT_CACHE_MAX_MB").filter(|v| !v.is_empty()) {
+            None => super::cap::DEFAULT_CACHE_MAX_BYTES,
+            Some(v) => {
+                let text = v.to_string_lossy();
+                match text.trim().parse::<f64>() {
+                    Ok(mb) if mb.is_finite() && mb > 0.0 => (mb * 1e6) as u64,
+                    _ => {
+                        return Err(crate::error::Error::field(
+                            "BRDFKIT_CACHE_MAX_MB",
+                            format!("\"{text}\" is not a number of megabytes > 0"),
+                        ))
+                    }
+                }
+            }
+        };
+        Ok(var("BRDFKIT_CACHE_DIR")
             .or_else(|| var("XDG_CACHE_HOME").map(|p| p.join("brdfkit")))
             .or_else(|| var("HOME").map(|p| p.join(".cache").join("brdfkit")))
-            .map_or(CacheDir::None, CacheDir::At)
+            .map_or(CacheDir::None, |dir| CacheDir::At { dir, max_bytes }))
     }
 
     /// The directory, if any.
     pub fn path(&self) -> Option<&Path> {
         match self {
             CacheDir::None => None,
-            CacheDir::At(p) => Some(p),
+            CacheDir::At { dir, .. } => Some(dir),
+        }
+    }
+
+    /// The size cap in bytes, if there is a directory.
+    pub fn max_bytes(&self) -> Option<u64> {
+        match self {
+            CacheDir::None => None,
+            CacheDir::At { max_bytes, .. } => Some(*max_bytes),
+        }
+    }
+
+    /// Bookkeeping after an entry `file` of this directory was read (`hit`) or written:
+    /// a hit marks it used ([`super::cap::touch`]); a write evicts the least recently used
+    /// entries past the cap ([`super::cap::enforce_cap`]), never `file` itself. Nothing
+    /// for [`CacheDir::None`] or without a file; never fails.
+    pub fn record_use(&self, file: Option<&Path>, hit: bool) {
+        let (CacheDir::At { dir, max_bytes }, Some(file)) = (self, file) else {
+            return;
+        };
+        if hit {
+            super::cap::touch(file);
+        } else if file.exists() {
+            super::cap::enforce_cap(dir, *max_bytes, file);
         }
     }
 }

@@ -111,6 +111,8 @@ pub struct PreparedTransfer {
     pub cache_hit: bool,
     /// Why an existing cache entry was not used (damaged, another version, ...).
     pub cache_rejected: Option<String>,
+    /// The cache file used (read or written), if any.
+    pub cache_file: Option<std::path::PathBuf>,
 }
 
 /// Loads the probe of `spec` (relative to `base`) and builds its transfer table for
@@ -181,6 +183,7 @@ pub fn prepare_transfer(
         report,
         cache_hit,
         cache_rejected,
+        cache_file: file,
     })
 }
 

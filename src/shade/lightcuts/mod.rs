@@ -242,61 +242,52 @@ fn add_shared_cuts(
         includes_cosine: scene.material.as_brdf().includes_cosine(),
     };
     let eye = scene.camera.position;
-    let band_len = (vis.width * vis.tile_size) as usize;
-    let per_tile = (vis.tile_size * vis.tile_size) as usize;
-    let sub = vis.tile_size.div_ceil(CUT_TILE) as usize;
+    // Squares are fixed in image space (CUT_TILE-aligned, whatever the tile size), and a
+    // square's pixels are gathered in row-major image order, so the cuts and the sums do
+    // not depend on how the frame is cut into tiles: the same bits for any tile size.
+    let ts = vis.tile_size;
+    let band_len = (vis.width * CUT_TILE) as usize;
+    let per_tile = (ts * ts) as usize;
+    let squares_x = vis.width.div_ceil(CUT_TILE);
     let stats: Vec<CutStats> = image
         .pixels
         .par_chunks_mut(band_len)
         .enumerate()
         .map_init(
-            || {
-                (
-                    TileScratch::default(),
-                    vec![Vec::<TilePixel>::new(); sub * sub],
-                )
-            },
-            |(sc, buckets), (ty, band)| {
+            || (TileScratch::default(), Vec::<TilePixel>::new()),
+            |(sc, pixels), (by, band)| {
                 let mut stats = CutStats::default();
-                let y0 = ty as u32 * vis.tile_size;
-                for tx in 0..vis.tiles_x as usize {
-                    let t = ty * vis.tiles_x as usize + tx;
-                    if !vis.tile_occupied[t] {
-                        continue;
+                let y0 = by as u32 * CUT_TILE;
+                let y1 = (y0 + CUT_TILE).min(vis.height);
+                for sx in 0..squares_x {
+                    let x0 = sx * CUT_TILE;
+                    let x1 = (x0 + CUT_TILE).min(vis.width);
+                    pixels.clear();
+                    for y in y0..y1 {
+                        for x in x0..x1 {
+                            let t = ((y / ts) * vis.tiles_x + x / ts) as usize;
+                            if !vis.tile_occupied[t] {
+                                continue;
+                            }
+                            let i = t * per_tile + ((y % ts) * ts + x % ts) as usize;
+                            let Some(s) = surface_at_index(&scene.mesh, vis, i, x, y) else {
+                                continue;
+                            };
+                            let frame = ShadingFrame::from_normal(s.normal);
+                            let wo = local_view(&frame, &s, eye);
+                            pixels.push(TilePixel {
+                                at: ((y - y0) * vis.width + x) as usize,
+                                x,
+                                y,
+                                frame,
+                                wo,
+                            });
+                        }
                     }
-                    buckets.iter_mut().for_each(Vec::clear);
-                    for (i, x, y) in tile_pixels(vis, t) {
-                        let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y)
-                        else {
-                            continue;
-                        };
-                        let frame = ShadingFrame::from_normal(s.normal);
-                        let wo = local_view(&frame, &s, eye);
-                        let (lx, ly) = ((i as u32 % vis.tile_size), (i as u32 / vis.tile_size));
-                        let b = (ly / CUT_TILE) as usize * sub + (lx / CUT_TILE) as usize;
-                        buckets[b].push(TilePixel {
-                            at: ((y - y0) * vis.width + x) as usize,
-                            x,
-                            y,
-                            frame,
-                            wo,
-                        });
-                    }
-                    let (tx0, ty0) = (tx as u32 * vis.tile_size, y0);
-                    for (b, pixels) in buckets.iter_mut().enumerate() {
-                        let (bx, by) = ((b % sub) as u32, (b / sub) as u32);
-                        let mut write = |p: &TilePixel, l: Vec3| band[p.at] += l;
-                        stats = stats.add(shade_square(
-                            dispatch,
-                            &ctx,
-                            pixels,
-                            CUT_TILE,
-                            tx0 + bx * CUT_TILE,
-                            ty0 + by * CUT_TILE,
-                            sc,
-                            &mut write,
-                        ));
-                    }
+                    let mut write = |p: &TilePixel, l: Vec3| band[p.at] += l;
+                    stats = stats.add(shade_square(
+                        dispatch, &ctx, pixels, CUT_TILE, x0, y0, sc, &mut write,
+                    ));
                 }
                 stats
             },
