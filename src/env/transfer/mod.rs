@@ -39,7 +39,7 @@
 //!   brightest texels ([`build::brightest_texels`]);
 //! - [`cache`]: the disk cache of tables beside the light-set cache (`brdfkit render` and
 //!   `brdfkit view` only; `brdfkit cache` lists and cleans it);
-//! - [`file`]: the table as `brdfkit export` writes it for a GPU build (a JSON header and
+//! - [`file`](mod@file): the table as `brdfkit export` writes it for a GPU build (a JSON header and
 //!   the raw values) and a scene's `[transfer] table` reads it back.
 
 pub mod build;
