@@ -1,6 +1,12 @@
 //! `brdfkit export`: what a GPU build needs to draw the same frame as the oracle, written
 //! into one directory from a resolved scene.
 //!
+//! Design rule: every file holds resolved values, each f32 in its shortest round-trip
+//! decimal form (or raw bits), and each value is written once; `scene.toml` reads those
+//! files back, or keeps what the scene wrote where the resolver's own arithmetic must run
+//! again to give the same bits (the `[[light]]` tables as written, a UV sphere's
+//! `[mesh]`), so `brdfkit render DIR/scene.toml` gives the original frame's bits.
+//!
 //! Files (all written only after the whole scene has resolved, each atomically):
 //! - `camera.json`: eye, target, up, vertical field of view, near plane, viewport, the
 //!   `view_from_world`, `clip_from_view` and `clip_from_world` matrices exactly as the
@@ -9,43 +15,45 @@
 //! - `mesh.obj`: the triangles with per-vertex normals (`v`, `vn`, `f a//a b//b c//c`,
 //!   1-based, one normal per position); winding counter-clockwise seen from the side the
 //!   normals point to, in the right-handed world ([`crate::mesh::Mesh`]).
-//! - `lights.json` and `lights.csv` (when the scene has an `[env]`): the environment's
-//!   delta lights in the light-set format of `brdfkit lights -o`
-//!   ([`crate::env::lightset_io`]), after the scene's `rotation` and `intensity` (world
-//!   directions, irradiances as shaded).
-//! - `scene_lights.json`: every light the frame is shaded with, in shading order (the
-//!   scene's `[[light]]` tables, then the environment's): directional lights with their
-//!   unit `to_light` and RGB irradiance (W/m^2), point lights with their position and RGB
-//!   intensity (W/sr).
+//! - `scene_lights.json`: the scene's own lights (its `[[light]]` tables, or the default
+//!   light), in shading order: directional lights with their unit `to_light` and RGB
+//!   irradiance (W/m^2), point lights with their position and RGB intensity (W/sr); and
+//!   `env_lights`, which names `lights.json` and its count (shaded after these).
+//! - `lights.json` (when the scene has an `[env]`): the environment's delta lights in the
+//!   light-set format of `brdfkit lights -o` ([`crate::env::lightset_io`]), after the
+//!   scene's `rotation` and `intensity` (world directions, irradiances as shaded); for
+//!   `method = "transfer"` the brightest texels the table leaves out. The one copy of them.
+//! - `transfer.json` and `transfer.bin` (when the scene shades with a transfer table):
+//!   the table's header and raw f32 values ([`crate::env::transfer::file`]).
 //! - `material.json`: the material's model and parameters; an SH data set or D-BRDF is
 //!   also written (or copied) as `material.exr` in its own format ([`crate::sh::file`],
 //!   [`crate::brdf::dbrdf::file`]).
 //! - `scene.toml`: the scene resolved: the same `[render]` and `[output]` (no output path),
-//!   `mesh.source = "mesh.obj"`, the camera stated in full, the `[[light]]` tables as
-//!   resolved, `[env] lights = "lights.json"`, and the material (a file material pointing to
-//!   `material.exr`). `brdfkit render DIR/scene.toml` gives the original frame's bits, except
-//!   for a UV sphere, whose exact surface (`export.json`) an OBJ cannot carry.
-//! - `export.json`: the list of files and the notes above that a file cannot say itself
-//!   (the exact sphere, if any).
+//!   `mesh.source = "mesh.obj"` (a UV sphere keeps its `[mesh]`: its shading intersects the
+//!   exact sphere, which an OBJ cannot carry), the camera stated in full, the `[[light]]`
+//!   tables as written, `[env] lights = "lights.json"`, `[transfer] table =
+//!   "transfer.json"`, and the material (a file material pointing to `material.exr`).
+//! - `export.json`: the list of files, the AOV the frame is (`--aov`, if any) and the
+//!   command that renders it, and the notes a file cannot say itself (the exact sphere).
 //!
-//! Refused (an error naming the field, nothing written): `[env] method` `transfer` or
-//! `lightcuts` (a light set cannot hold a transfer table or a light tree).
+//! Refused (an error naming the field, nothing written): `[env] method = "lightcuts"` (a
+//! light tree is refined per pixel; neither a light set nor a table holds it).
 
 mod camera;
+mod lights;
+mod material;
+mod mesh;
 
 pub use camera::{camera_json, CONVENTIONS};
-use camera::{fa, fj};
+pub use mesh::mesh_obj;
 
-use crate::env::lightset_io::{write_csv, write_json, LightSetHeader};
+use crate::aov::Aov;
 use crate::env::prepare::EnvMethod;
-use crate::env::LightSet;
 use crate::error::{Error, Result};
-use crate::light::Light;
-use crate::material::Material;
 use crate::scene::{Scene, SceneFile};
+use camera::{fa, fj};
 use glam::Vec3;
 use serde_json::json;
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The f32 as a TOML float that reads back as the same f32: its shortest round-trip
@@ -58,122 +66,9 @@ fn vec_value(v: Vec3) -> toml::Value {
     toml::Value::Array(v.to_array().map(f32_value).to_vec())
 }
 
-/// The mesh as OBJ text: one `vn` per `v` (same index), faces `f a//a b//b c//c`.
-pub fn mesh_obj(scene: &Scene) -> String {
-    let m = &scene.mesh;
-    let mut s = String::with_capacity(64 * (m.positions.len() * 2 + m.triangles.len()));
-    s.push_str(
-        "# brdfkit export: world-space triangles with unit per-vertex normals (vn i belongs \
-         to v i).\n# Winding: counter-clockwise seen from the side the normals point to \
-         (right-handed world, +y up).\n",
-    );
-    if let Some(sp) = &m.exact_sphere {
-        let _ = writeln!(
-            s,
-            "# Shading intersects the exact sphere (centre {:?}, radius {}) per pixel, not these facets.",
-            sp.center.to_array(),
-            sp.radius
-        );
-    }
-    for p in &m.positions {
-        let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
-    }
-    for n in &m.normals {
-        let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
-    }
-    for t in &m.triangles {
-        let [a, b, c] = t.map(|i| i + 1);
-        let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
-    }
-    s
-}
-
-/// Every light the frame is shaded with, in order, as `scene_lights.json`.
-fn scene_lights_json(lights: &[Light]) -> serde_json::Value {
-    let list: Vec<serde_json::Value> = lights
-        .iter()
-        .map(|l| match l {
-            Light::Directional {
-                to_light,
-                irradiance,
-            } => json!({
-                "kind": "directional",
-                "to_light": fa(&to_light.to_array()),
-                "irradiance": fa(&irradiance.to_array()),
-            }),
-            Light::Point {
-                position,
-                intensity,
-            } => json!({
-                "kind": "point",
-                "position": fa(&position.to_array()),
-                "intensity": fa(&intensity.to_array()),
-            }),
-        })
-        .collect();
-    json!({ "lights": list })
-}
-
-/// Directional lights as a light set (bit-exact: the inverse of
-/// [`crate::env::prepare::to_scene_lights`]).
-fn light_set_of(lights: &[Light]) -> LightSet {
-    let mut ls = LightSet::default();
-    for l in lights {
-        if let Light::Directional {
-            to_light,
-            irradiance,
-        } = l
-        {
-            ls.dir_x.push(to_light.x);
-            ls.dir_y.push(to_light.y);
-            ls.dir_z.push(to_light.z);
-            ls.irradiance_r.push(irradiance.x);
-            ls.irradiance_g.push(irradiance.y);
-            ls.irradiance_b.push(irradiance.z);
-        }
-    }
-    ls
-}
-
-/// A D-BRDF's constants and table size (thesis 2.3.6; the table itself is in the file).
-fn dbrdf_json(d: &crate::brdf::dbrdf::DBrdf) -> serde_json::Value {
-    json!({ "c": fj(d.c), "rs": fa(&d.rs.to_array()), "half_vector_texels": d.grid() })
-}
-
-/// The material's model and parameters (`material.json`); `file` names the written data
-/// file, if any.
-fn material_json(m: &Material, file: Option<&str>) -> serde_json::Value {
-    let mut v = match m {
-        Material::Lambert(l) => json!({ "albedo": fa(&l.albedo.to_array()) }),
-        Material::Phong(p) => json!({
-            "kd": fa(&p.kd.to_array()), "ks": fa(&p.ks.to_array()), "exponent": fj(p.exponent),
-        }),
-        Material::BlinnPhong(p) => json!({
-            "kd": fa(&p.kd.to_array()), "ks": fa(&p.ks.to_array()), "exponent": fj(p.exponent),
-        }),
-        Material::AshikhminShirley(a) => json!({
-            "nu": fj(a.nu), "nv": fj(a.nv), "rs": fa(&a.rs.to_array()), "rd": fa(&a.rd.to_array()),
-        }),
-        Material::LambertDbrdf(l) => json!({
-            "rd": fa(&l.rd.to_array()),
-            "lobe": dbrdf_json(&l.lobe),
-        }),
-        Material::DBrdf(d) => dbrdf_json(d),
-        Material::Sh(ds) => json!({
-            "bands": ds.bands(),
-            "view_texels": ds.grid(),
-            "coeff_lookup": ds.coeff_lookup,
-            "cosine_included": ds.cosine_included(),
-        }),
-        Material::Merl(_) => json!({}),
-    };
-    v["model"] = json!(m.name());
-    v["file"] = json!(file);
-    if matches!(m, Material::Merl(_)) {
-        v["note"] = json!("MERL tables are not exported: use the scene's table file");
-    }
-    v
-}
+/// The transfer table's header and values files.
+const TRANSFER_JSON: &str = "transfer.json";
+const TRANSFER_BIN: &str = "transfer.bin";
 
 /// What [`export`] wrote.
 #[derive(Debug)]
@@ -190,11 +85,18 @@ fn pretty(v: &serde_json::Value) -> String {
     serde_json::to_string_pretty(v).expect("JSON values serialize") + "\n"
 }
 
-/// Exports the scene file `scene_path` into `dir` (created if missing). The scene is
-/// resolved first (errors name the scene file and field); nothing is written unless it
-/// resolves and its environment is exportable, and no file appears in `dir` unless all
-/// were written (they are staged in a temporary directory inside `dir`, then moved).
-pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
+/// The AOV's name as `--aov` takes it (`light-polar`).
+fn aov_name(aov: Aov) -> String {
+    json!(aov).as_str().expect("an AOV is a string").to_string()
+}
+
+/// Exports the scene file `scene_path` into `dir` (created if missing); `aov`, the debug
+/// output the frame is (a golden entry's `aov`), is recorded in `export.json` and
+/// `scene.toml`'s header with the command that renders it. The scene is resolved first
+/// (errors name the scene file and field); nothing is written unless it resolves and its
+/// environment is exportable, and no file appears in `dir` unless all were written (they
+/// are staged in a temporary directory inside `dir`, then moved).
+pub fn export(scene_path: &Path, dir: &Path, aov: Option<Aov>) -> Result<Exported> {
     let text = crate::image_io::read_regular_text(
         scene_path,
         crate::scene::MAX_SCENE_BYTES,
@@ -202,28 +104,30 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
     )?;
     let mut file = SceneFile::parse(&text).map_err(|m| Error::format(scene_path, m))?;
     let base = scene_path.parent().unwrap_or(Path::new("."));
-    // `auto` made concrete: it may stand for a transfer table or light cuts.
+    // `auto` made concrete: it may stand for light cuts.
     let auto = file
         .env
         .as_ref()
         .is_some_and(|e| e.method == EnvMethod::Auto);
     file.resolve_env_method();
-    if let Some(env) = &file.env {
-        if matches!(env.method, EnvMethod::Transfer | EnvMethod::Lightcuts) {
-            let why = if auto {
-                format!(
-                    "env.method: \"auto\" is \"{}\" for this material, and export writes delta \
-                     lights; a transfer table or light tree is not a light set (state method = \
-                     \"lights\" with a sampler and count)",
-                    env.method.name()
-                )
-            } else {
-                "env.method: export writes delta lights; a transfer table or light tree is \
-                 not a light set (use method = \"lights\")"
-                    .to_string()
-            };
-            return Err(Error::format(scene_path, why));
-        }
+    if let Some(env) = file
+        .env
+        .as_ref()
+        .filter(|e| e.method == EnvMethod::Lightcuts)
+    {
+        let why = if auto {
+            format!(
+                "env.method: \"auto\" is \"{}\" for this material, and export writes delta \
+                 lights or a transfer table; a light tree is neither (state method = \
+                 \"lights\" with a sampler and count, or \"transfer\")",
+                env.method.name()
+            )
+        } else {
+            "env.method: export writes delta lights or a transfer table; a light tree is \
+             neither (use method = \"lights\" or \"transfer\")"
+                .to_string()
+        };
+        return Err(Error::format(scene_path, why));
     }
     let scene = Scene::resolve(&file, base).map_err(|e| match e {
         Error::Field { .. } => Error::format(scene_path, e.to_string()),
@@ -253,129 +157,59 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
     };
 
     put(&mut files, "camera.json", &pretty(&camera_json(&scene)))?;
-    put(&mut files, "mesh.obj", &mesh_obj(&scene))?;
+    put(&mut files, "mesh.obj", &mesh::mesh_obj(&scene))?;
+    // A UV sphere keeps its `[mesh]` (the exact sphere is rebuilt from it); every other
+    // mesh reads the OBJ, which holds its positions and normals bit for bit.
+    if scene.mesh.exact_sphere.is_none() {
+        let mut mesh = toml::Table::new();
+        mesh.insert("source".into(), "mesh.obj".into());
+        raw.insert("mesh".into(), mesh.into());
+    }
+
+    // The scene's own lights come first in `scene.lights`, the environment's after them.
+    // The `[[light]]` tables stay as written: the resolver normalises `to_light` and
+    // multiplies `color` by `intensity`, and only the same operands give the same bits (a
+    // normalised f32 vector normalised again may change in its last bit).
+    let n_own = file.light_specs().len();
+    let (own, env_lights) = scene.lights.split_at(n_own);
     put(
         &mut files,
         "scene_lights.json",
-        &pretty(&scene_lights_json(&scene.lights)),
+        &pretty(&lights::scene_lights_json(
+            own,
+            file.env.as_ref().map(|_| env_lights.len()),
+        )),
     )?;
-
-    // The scene's own lights come first in `scene.lights`, the environment's after them.
-    let n_own = file.light_specs().len();
-    let (own, env_lights) = scene.lights.split_at(n_own);
     if let Some(spec) = &file.env {
-        let ls = light_set_of(env_lights);
-        let t = ls.total_irradiance();
-        let header = LightSetHeader {
-            sampler: match &spec.lights {
-                Some(_) => "file".to_string(),
-                None => spec.sampler_config().name().to_string(),
-            },
-            n: ls.len(),
-            seed: spec.lights.is_none().then_some(spec.seed),
-            probe_file: Some(base.join(&spec.file).display().to_string()),
-            total_irradiance: [t.x, t.y, t.z],
-        };
-        let (j, c) = (dir.join("lights.json"), dir.join("lights.csv"));
-        write_json(&j, &header, &ls).map_err(|e| Error::Message(e.to_string()))?;
-        write_csv(&c, &ls).map_err(|e| Error::Message(e.to_string()))?;
-        files.extend([j, c]);
+        files.push(lights::write_env_lights(dir, spec, base, env_lights)?);
         let mut env = toml::Table::new();
-        env.insert("lights".into(), "lights.json".into());
+        env.insert("lights".into(), lights::ENV_LIGHTS.into());
         env.insert("method".into(), "lights".into());
         raw.insert("env".into(), env.into());
     }
-    let own_tables: Vec<toml::Value> = own
-        .iter()
-        .map(|l| {
-            let mut t = toml::Table::new();
-            match l {
-                Light::Directional {
-                    to_light,
-                    irradiance,
-                } => {
-                    t.insert("kind".into(), "directional".into());
-                    t.insert("to_light".into(), vec_value(*to_light));
-                    t.insert("color".into(), vec_value(*irradiance));
-                }
-                Light::Point {
-                    position,
-                    intensity,
-                } => {
-                    t.insert("kind".into(), "point".into());
-                    t.insert("position".into(), vec_value(*position));
-                    t.insert("color".into(), vec_value(*intensity));
-                }
-            }
-            // color x 1.0 is the resolved value's bits.
-            t.insert("intensity".into(), f32_value(1.0));
-            t.into()
-        })
-        .collect();
-    if own_tables.is_empty() {
-        raw.remove("light");
-    } else {
-        raw.insert("light".into(), toml::Value::Array(own_tables));
+    raw.remove("transfer");
+    if let Some(table) = &scene.transfer {
+        let (j, b) = (dir.join(TRANSFER_JSON), dir.join(TRANSFER_BIN));
+        crate::env::transfer::file::write_table(&j, &b, table)?;
+        files.extend([j, b]);
+        let mut t = toml::Table::new();
+        t.insert("table".into(), TRANSFER_JSON.into());
+        raw.insert("transfer".into(), t.into());
     }
 
-    // The material: a data set copied (file materials) or written (library materials)
-    // beside the scene as material.exr.
-    let source_file = match &file.material {
-        crate::scene::MaterialSpec::ShFile { path, .. }
-        | crate::scene::MaterialSpec::DbrdfFile { path } => Some(base.join(path)),
-        _ => None,
-    };
-    let data_file = match &scene.material {
-        _ if source_file.is_some() => {
-            let src = source_file.as_deref().expect("checked");
-            let bytes = crate::image_io::read_regular_file(
-                src,
-                crate::image_io::MAX_EXR_FILE_BYTES,
-                "material file",
-            )?;
-            let p = dir.join("material.exr");
-            crate::env::lightset_io::write_atomic(&p, &bytes)
-                .map_err(|e| Error::io(&p, "cannot write", e))?;
-            Some(p)
-        }
-        Material::Sh(ds) => {
-            let p = dir.join("material.exr");
-            crate::sh::file::write_sh_dataset(&p, ds).map_err(|e| Error::Message(e.to_string()))?;
-            Some(p)
-        }
-        Material::DBrdf(d) => {
-            let p = dir.join("material.exr");
-            crate::brdf::dbrdf::file::write_dbrdf(
-                &p,
-                d,
-                &format!("brdfkit export of {}", scene_path.display()),
-            )
-            .map_err(|e| Error::Message(e.to_string()))?;
-            Some(p)
-        }
-        Material::LambertDbrdf(l) => {
-            let p = dir.join("material-lobe.exr");
-            crate::brdf::dbrdf::file::write_dbrdf(
-                &p,
-                &l.lobe,
-                &format!("brdfkit export of {} (lobe)", scene_path.display()),
-            )
-            .map_err(|e| Error::Message(e.to_string()))?;
-            Some(p)
-        }
-        _ => None,
-    };
+    let data_file = material::write_data_file(&file.material, &scene, base, scene_path, dir)?;
     let data_name = data_file
         .as_ref()
         .and_then(|p| p.file_name())
         .map(|n| n.to_string_lossy().into_owned());
-    if let Some(p) = data_file {
-        files.push(p);
-    }
+    files.extend(data_file);
     put(
         &mut files,
         "material.json",
-        &pretty(&material_json(&scene.material, data_name.as_deref())),
+        &pretty(&material::material_json(
+            &scene.material,
+            data_name.as_deref(),
+        )),
     )?;
     // A file material now reads the written copy (same data); a library or analytic
     // material stays as the scene wrote it.
@@ -385,9 +219,6 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
         }
     }
 
-    let mut mesh = toml::Table::new();
-    mesh.insert("source".into(), "mesh.obj".into());
-    raw.insert("mesh".into(), mesh.into());
     let c = &scene.camera;
     let mut cam = toml::Table::new();
     cam.insert("position".into(), vec_value(c.position));
@@ -399,9 +230,13 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
     if let Some(toml::Value::Table(o)) = raw.get_mut("output") {
         o.remove("path");
     }
+    let render = match aov {
+        Some(a) => format!("brdfkit render scene.toml --aov {}", aov_name(a)),
+        None => "brdfkit render scene.toml".to_string(),
+    };
     let scene_toml = format!(
-        "# brdfkit export of {}: the scene resolved (camera stated, mesh and lights as \
-         files).\n{}",
+        "# brdfkit export of {}: the scene resolved (camera stated, mesh, lights and tables as \
+         files).\n# The frame: `{render}` (in this directory).\n{}",
         scene_path.display(),
         toml::to_string(&raw).map_err(|e| Error::Message(format!("scene.toml: {e}")))?
     );
@@ -416,6 +251,8 @@ pub fn export(scene_path: &Path, dir: &Path) -> Result<Exported> {
     let index = json!({
         "source": scene_path.display().to_string(),
         "files": names,
+        "aov": aov.map(aov_name),
+        "render": render,
         "exact_sphere": scene.mesh.exact_sphere.as_ref().map(|s| json!({
             "center": fa(&s.center.to_array()),
             "radius": fj(s.radius),

@@ -30,8 +30,23 @@ pub struct SceneFile {
     /// Environment light: a probe, shaded by `[env] method` (delta lights, a transfer
     /// table or light cuts; `auto`: [`super::env_method`]).
     pub env: Option<EnvSpec>,
+    /// A transfer table read from a file (`brdfkit export` writes one for `[env] method =
+    /// "transfer"`): its term is added to the lights' as that method adds its own table's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub transfer: Option<TransferFileSpec>,
     pub render: RenderSpec,
     pub output: OutputSpec,
+}
+
+/// `[transfer]`: a transfer table file ([`crate::env::transfer::file`], the format in
+/// docs/file-formats.md) that the scene shades with, beside its lights. Its basis must fit
+/// the material (an SH data set's bands and cosine, or Lambert's irradiance), and the
+/// scene's `[env]`, if any, must not build a table of its own.
+#[derive(Debug, Clone, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransferFileSpec {
+    /// The table's JSON header (relative to the scene file); its values file lies beside it.
+    pub table: PathBuf,
 }
 
 #[derive(Debug, Default, Clone, Deserialize, serde::Serialize)]

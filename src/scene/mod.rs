@@ -26,7 +26,7 @@ mod resolve;
 
 pub use file::{
     default_lights, CameraSpec, LightSpec, MeshSpec, OutputSpec, Precision, RenderSpec, SceneFile,
-    MAX_SCENE_BYTES,
+    TransferFileSpec, MAX_SCENE_BYTES,
 };
 pub use material::MaterialSpec;
 pub use resolve::{load_mesh, resolve_camera, EnvSummary, Scene, MAX_SIDE};

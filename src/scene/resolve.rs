@@ -301,6 +301,34 @@ impl Scene {
             });
         }
 
+        if let Some(t) = &file.transfer {
+            if transfer.is_some() {
+                return Err(Error::field(
+                    "transfer.table",
+                    "the [env] builds its own table (method = \"transfer\"): a scene shades \
+                     with one table",
+                ));
+            }
+            let table = crate::env::transfer::file::read_table(&base.join(&t.table))?;
+            let wanted = TransferBasis::for_material(&material);
+            if wanted != Some(table.basis()) {
+                use crate::env::transfer::file::basis_text;
+                return Err(Error::field(
+                    "transfer.table",
+                    format!(
+                        "a table of {} does not fit the material {} ({})",
+                        basis_text(table.basis()),
+                        material.name(),
+                        wanted.map_or(
+                            "transfer tables shade SH data sets and Lambert only".into(),
+                            |b| { format!("it needs {}", basis_text(b)) }
+                        )
+                    ),
+                ));
+            }
+            transfer = Some(Arc::new(table));
+        }
+
         let aspect = r.width as f32 / r.height as f32;
         let cam = resolve_camera(&file.camera.clone().unwrap_or_default(), &mesh, aspect)?;
         Ok(Scene {

@@ -1,12 +1,16 @@
 //! `brdfkit export`: the files read back as the scene they came from. The OBJ (through
 //! tobj) equals the mesh; the exported matrices put every vertex where the rasterizer puts
 //! it (1e-4 px) and where an independent f64 look-at and pinhole put it; the light set is
-//! the one `brdfkit lights` writes after rotation and intensity; the exported scene renders
-//! the original frame's bits.
+//! the one `brdfkit lights` writes after rotation and intensity, written once; every golden
+//! entry's export (directional lights, UV spheres, transfer tables, AOVs) renders the
+//! entry's bits as the golden check renders them; a transfer table that does not fit, or
+//! is damaged, is refused in one line.
 
+use brdfkit::golden;
 use brdfkit::scene::{Scene, SceneFile};
 use glam::{DMat4, DVec3, DVec4};
 use std::path::Path;
+use std::time::Instant;
 
 use crate::common;
 
@@ -175,15 +179,19 @@ fn exported_files_read_back_as_the_scene() {
     want.scale_irradiance(1.5);
     let (_, got) = brdfkit::env::lightset_io::read_json(&g.join("lights.json")).unwrap();
     assert_eq!(got, want);
-    assert_eq!(
-        brdfkit::env::lightset_io::read_csv(&g.join("lights.csv")).unwrap(),
-        want
+    // One copy of the environment's lights: scene_lights.json holds the scene's own light
+    // and names lights.json for the other 16.
+    assert!(
+        !g.join("lights.csv").exists(),
+        "a second copy of the light set"
     );
     let all = json(&g.join("scene_lights.json"));
-    let all = all["lights"].as_array().unwrap();
-    assert_eq!(all.len(), 17);
-    assert_eq!(all[0]["kind"], "point");
-    assert_eq!(f64s(&all[0]["intensity"]), vec![20.0; 3]);
+    let own = all["lights"].as_array().unwrap();
+    assert_eq!(own.len(), 1);
+    assert_eq!(own[0]["kind"], "point");
+    assert_eq!(f64s(&own[0]["intensity"]), vec![20.0; 3]);
+    assert_eq!(all["env_lights"]["file"], "lights.json");
+    assert_eq!(all["env_lights"]["count"], 16);
 
     // The exported scene renders the original frame's bits.
     for (scene, out) in [("s.toml", "a.exr"), ("gpu/scene.toml", "b.exr")] {
@@ -237,7 +245,7 @@ fn unexportable_scenes_write_nothing() {
     std::fs::write(
         p.join("t.toml"),
         format!(
-            "[material]\nkind = \"lambert\"\n[env]\nfile = \"{}\"\nmethod = \"transfer\"\n",
+            "[material]\nkind = \"lambert\"\n[env]\nfile = \"{}\"\nmethod = \"lightcuts\"\n",
             probe()
         ),
     )
@@ -260,4 +268,146 @@ fn unexportable_scenes_write_nothing() {
         "{err}"
     );
     assert!(!p.join("gpu").exists(), "nothing written");
+}
+
+/// Bytes of every file in `dir`.
+fn dir_bytes(dir: &Path) -> u64 {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().metadata().unwrap().len())
+        .sum()
+}
+
+#[test]
+fn every_golden_entry_exports_to_its_bits() {
+    // Each entry of golden/manifest.toml exported by the command line (with its --aov),
+    // then the export rendered as the golden check renders an entry (the scene file the
+    // export wrote, the AOV its export.json names) against the original entry's render:
+    // every bit must agree, on any machine (both renders are made here).
+    let gold = Path::new(env!("CARGO_MANIFEST_DIR")).join("golden");
+    let manifest = golden::load_manifest(&gold).unwrap();
+    assert!(manifest.entries.len() >= 30);
+    let tmp = tempfile::tempdir().unwrap();
+    let mut failed = Vec::new();
+    let mut kinds = std::collections::BTreeSet::new();
+    for e in &manifest.entries {
+        let t = Instant::now();
+        let out = tmp.path().join(&e.name);
+        let scene = gold.join(&e.scene);
+        let aov = e
+            .aov
+            .map(|a| serde_json::json!(a).as_str().unwrap().to_string());
+        let mut args = vec![
+            "export".to_string(),
+            scene.display().to_string(),
+            "-o".into(),
+            out.display().to_string(),
+        ];
+        args.extend(aov.iter().flat_map(|a| ["--aov".to_string(), a.clone()]));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, o, err) = run(tmp.path(), &args);
+        assert_eq!(code, 0, "{}: {o}{err}", e.name);
+        let t_export = t.elapsed().as_secs_f64();
+        let index = json(&out.join("export.json"));
+        assert_eq!(index["aov"].as_str(), aov.as_deref(), "{}: aov", e.name);
+        let exported = golden::Entry {
+            scene: "scene.toml".into(),
+            aov: serde_json::from_value(index["aov"].clone()).unwrap(),
+            ..e.clone()
+        };
+        let want = golden::render_entry(&gold, e).unwrap();
+        let got = golden::render_entry(&out, &exported).unwrap();
+        assert_eq!((got.width, got.height), (want.width, want.height));
+        let (mut differ, mut max_abs) = (0usize, 0.0f32);
+        for (a, b) in want.pixels.iter().zip(&got.pixels) {
+            if a.to_array().map(f32::to_bits) != b.to_array().map(f32::to_bits) {
+                differ += 1;
+                max_abs = max_abs.max((*a - *b).abs().max_element());
+            }
+        }
+        // One copy of the lights: scene_lights.json holds the scene's own lights only.
+        let own = SceneFile::load(&scene).unwrap().light_specs().len();
+        let sl = json(&out.join("scene_lights.json"));
+        assert_eq!(sl["lights"].as_array().unwrap().len(), own, "{}", e.name);
+        assert!(!out.join("lights.csv").exists(), "{}", e.name);
+        for f in ["transfer.json", "lights.json", "material.exr"] {
+            if out.join(f).exists() {
+                kinds.insert(f);
+            }
+        }
+        if index["exact_sphere"].is_object() {
+            kinds.insert("exact sphere");
+        }
+        eprintln!(
+            "{}: {differ} of {} pixels differ (max abs {max_abs:.1e}); export {} bytes, \
+             {t_export:.1} s, renders {:.1} s",
+            e.name,
+            want.pixels.len(),
+            dir_bytes(&out),
+            t.elapsed().as_secs_f64() - t_export
+        );
+        if differ > 0 {
+            failed.push(format!("{}: {differ} pixels", e.name));
+        }
+    }
+    // The set covers what the export must carry.
+    assert_eq!(kinds.len(), 4, "{kinds:?}");
+    assert!(
+        failed.is_empty(),
+        "exports that render other bits: {}",
+        failed.join(", ")
+    );
+}
+
+#[test]
+fn a_transfer_table_that_does_not_fit_or_is_damaged_is_refused() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let gold = Path::new(env!("CARGO_MANIFEST_DIR")).join("golden");
+    let scene = gold.join("env-transfer-lambert-studio.toml");
+    let (code, out, err) = run(p, &["export", &scene.display().to_string(), "-o", "gpu"]);
+    assert_eq!(code, 0, "{out}{err}");
+    let g = p.join("gpu");
+    let header = json(&g.join("transfer.json"));
+    assert_eq!(header["basis"], "irradiance");
+    assert_eq!(
+        (header["nu"].as_u64(), header["nv"].as_u64()),
+        (Some(128), Some(65))
+    );
+    // The rotation the lookup undoes: 60 degrees, as the f32 the table holds.
+    assert_eq!(
+        header["rotation_rad"].as_f64().unwrap() as f32,
+        60.0f64.to_radians() as f32
+    );
+    assert_eq!(
+        std::fs::metadata(g.join("transfer.bin")).unwrap().len(),
+        4 * 128 * 65 * 3
+    );
+    let text = std::fs::read_to_string(g.join("scene.toml")).unwrap();
+    // Another material: the table's one irradiance term does not fit Blinn-Phong.
+    let other = text.replace(
+        "albedo = [0.8, 0.8, 0.8]\nkind = \"lambert\"",
+        "kind = \"blinn-phong\"",
+    );
+    assert_ne!(other, text);
+    std::fs::write(g.join("other.toml"), other).unwrap();
+    let (code, _, err) = run(&g, &["render", "other.toml", "-o", "o.exr"]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("other.toml") && err.contains("transfer.table") && err.contains("blinn-phong"),
+        "{err}"
+    );
+    // One value's bit flipped: the header's checksum refuses it.
+    let mut bin = std::fs::read(g.join("transfer.bin")).unwrap();
+    bin[4 * 1000] ^= 1;
+    std::fs::write(g.join("transfer.bin"), &bin).unwrap();
+    let (code, _, err) = run(&g, &["render", "scene.toml", "-o", "o.exr"]);
+    assert_eq!(code, 2, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("transfer.json") && err.contains("checksum"),
+        "{err}"
+    );
+    assert!(!g.join("o.exr").exists());
 }

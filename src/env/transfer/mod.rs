@@ -38,10 +38,13 @@
 //! - [`build`]: building a table from a probe ([`build::build_table`]) and choosing the
 //!   brightest texels ([`build::brightest_texels`]);
 //! - [`cache`]: the disk cache of tables beside the light-set cache (`brdfkit render` and
-//!   `brdfkit view` only; `brdfkit cache` lists and cleans it).
+//!   `brdfkit view` only; `brdfkit cache` lists and cleans it);
+//! - [`file`](mod@file): the table as `brdfkit export` writes it for a GPU build (a JSON header and
+//!   the raw values) and a scene's `[transfer] table` reads it back.
 
 pub mod build;
 pub mod cache;
+pub mod file;
 pub mod table;
 
 pub use build::{brightest_texels, build_table, BuildFault};

@@ -1,0 +1,36 @@
+//! `mesh.obj` of an export: the world-space triangles with their per-vertex normals, in a
+//! form every OBJ reader takes and that reads back bit for bit (shortest round-trip
+//! decimals).
+
+use crate::scene::Scene;
+use std::fmt::Write as _;
+
+/// The mesh as OBJ text: one `vn` per `v` (same index), faces `f a//a b//b c//c`.
+pub fn mesh_obj(scene: &Scene) -> String {
+    let m = &scene.mesh;
+    let mut s = String::with_capacity(64 * (m.positions.len() * 2 + m.triangles.len()));
+    s.push_str(
+        "# brdfkit export: world-space triangles with unit per-vertex normals (vn i belongs \
+         to v i).\n# Winding: counter-clockwise seen from the side the normals point to \
+         (right-handed world, +y up).\n",
+    );
+    if let Some(sp) = &m.exact_sphere {
+        let _ = writeln!(
+            s,
+            "# Shading intersects the exact sphere (centre {:?}, radius {}) per pixel, not these facets.",
+            sp.center.to_array(),
+            sp.radius
+        );
+    }
+    for p in &m.positions {
+        let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
+    }
+    for n in &m.normals {
+        let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
+    }
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|i| i + 1);
+        let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+    }
+    s
+}
