@@ -42,6 +42,10 @@ pub const LIBRARY_METHOD: Method = Method::NonNegative {
     lambda: crate::acquire::DEFAULT_LAMBDA,
 };
 
+/// The entry that keeps the thesis's ringing SH on purpose (Fig. 3.12): acquired with plain
+/// least squares ([`Method::Lsq`]), not [`LIBRARY_METHOD`].
+pub const THESIS_RINGING: &str = "gold-dust-paint-sh-ringing";
+
 /// How a library material is rendered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Representation {
@@ -145,7 +149,14 @@ pub fn build(name: &str) -> Result<Material> {
     let src = source_model(name).expect("every library entry has a source model");
     match m.representation {
         Representation::Sh { bands } => {
-            let opts = AcquireOptions::new(bands, VIEW_GRID.0, VIEW_GRID.1, LIBRARY_METHOD);
+            let method = if name == THESIS_RINGING {
+                Method::Lsq {
+                    lambda: crate::acquire::DEFAULT_LAMBDA,
+                }
+            } else {
+                LIBRARY_METHOD
+            };
+            let opts = AcquireOptions::new(bands, VIEW_GRID.0, VIEW_GRID.1, method);
             let ds = acquire(src.as_ref(), &opts)
                 .map_err(|e| Error::field("material", format!("{name}: {e}")))?;
             Ok(Material::from(ds))

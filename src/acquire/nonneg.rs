@@ -10,8 +10,9 @@
 //! the matrix (`w` its cell's solid angle, `mu` = [`PENALTY`]), solve again; stop when no
 //! direction is newly negative or after [`MAX_ROUNDS`]. Directions are never removed, so the
 //! rounds end. A penalty of `mu` pulls an active value to about `1/(1 + mu w |Y_s|^2)` of
-//! what it would be unpenalised (`|Y_s|^2 = L^2 / (4 pi)`): at 8 bands a -3 % dip becomes
-//! about -0.01 %. Deterministic: directions in grid order, f64 throughout.
+//! what it would be unpenalised (`|Y_s|^2 = L^2 / (4 pi)`): at 8 bands about 1/1600, so a
+//! -3 % dip becomes about -0.002 %; between the directions small dips remain (the error
+//! grid of `acquire`'s table, denser, sees them). Deterministic: directions in grid order, f64 throughout.
 //!
 //! Where the unconstrained fit is nowhere negative on the set, the result is exactly the
 //! unconstrained one (the same bits as `lsq`).
@@ -20,12 +21,12 @@ use super::measure::ErrorGrid;
 use super::quadrature::{cholesky, cholesky_solve};
 use crate::sh::eval_sh_f64;
 
-/// Directions on which `f_r cos >= 0` is enforced: 24 x 48 cells of the upper hemisphere
-/// (about 5.4 square degrees each).
-pub const CONSTRAINT_GRID: ErrorGrid = ErrorGrid { n_mu: 24, n_az: 48 };
+/// Directions on which `f_r cos >= 0` is enforced: 32 x 64 cells of the upper hemisphere
+/// (about 3 square degrees each).
+pub const CONSTRAINT_GRID: ErrorGrid = ErrorGrid { n_mu: 32, n_az: 64 };
 
 /// The penalty weight `mu` per unit solid angle (module doc).
-pub const PENALTY: f64 = 1e4;
+pub const PENALTY: f64 = 1e5;
 
 /// Most active-set rounds per fit.
 pub const MAX_ROUNDS: usize = 16;

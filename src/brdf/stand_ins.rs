@@ -70,9 +70,11 @@ pub fn stand_in(name: &str) -> Option<StandIn> {
         // A-S with exponents 4 and 160: the thesis renders silk in SH at 8 bands (Fig. 3.10),
         // and that lobe fitted at weighted rel L2 0.51 with ringing -15 % (flagged: zebra
         // stripes of negative radiance under a studio probe); a measured silk the thesis
-        // showed in SH cannot have been that sharp. As Lambert + D-BRDF lobe, 4 x 40: rel L2
-        // 0.071, ringing -3.6 % at 8 bands (examples/library_fit.rs).
-        "blue-silk" => lambert_dbrdf(4.0, 40.0, [0.3, 0.35, 0.6], [0.02, 0.04, 0.22]),
+        // showed in SH cannot have been that sharp. As Lambert + D-BRDF lobe, 4 x 30 (still
+        // 7.5:1): least squares at 8 bands fits it at rel L2 0.056 with dips of -2.4 %, and
+        // the library's fit held to f cos >= 0 (`crate::library::LIBRARY_METHOD`) is what
+        // renders (examples/library_fit.rs has the table).
+        "blue-silk" => lambert_dbrdf(4.0, 30.0, [0.3, 0.35, 0.6], [0.02, 0.04, 0.22]),
         // Crinkled gold foil: sharp, slightly anisotropic metallic lobe, little diffuse.
         "lindt-paper" => asx(30.0, 90.0, [0.85, 0.62, 0.25], [0.3, 0.2, 0.05]),
         // Metallic flakes in a gold base: sharp coloured highlight over a gold diffuse. SH
@@ -84,8 +86,8 @@ pub fn stand_in(name: &str) -> Option<StandIn> {
         // 200 for the reason of blue-silk: the thesis shows teal paint in SH at 8 bands
         // (Fig. 3.13), and that lobe fitted at rel L2 0.95 with ringing -12 % (negative
         // radiance on a third of the pixels under studio). As Lambert + D-BRDF lobe,
-        // exponent 25: rel L2 0.079, ringing -2.4 % at 8 bands.
-        "teal-paint" => lambert_dbrdf(25.0, 25.0, [0.06, 0.06, 0.06], [0.02, 0.35, 0.3]),
+        // exponent 20 (examples/library_fit.rs has its errors).
+        "teal-paint" => lambert_dbrdf(20.0, 20.0, [0.06, 0.06, 0.06], [0.02, 0.35, 0.3]),
         // Plastic: broad weak highlight over a strong magenta diffuse. Changed from A-S with
         // the same parameters to Lambert + D-BRDF lobe: as A-S the 84.4 deg view row peaked
         // at f_r cos = 3.1 (12x the normal view) and the material was flagged for ringing

@@ -314,12 +314,14 @@ fn library_representations_follow_their_acquisition() {
         let r = hemisphere_error(src.as_ref(), &ds, nu, nv, SMALL);
         let sh_fits = !ringing_flagged(&r) && r.rel_l2 < 0.1;
         if let Representation::Sh { .. } = m.representation {
-            // What the library renders: the same fit held to f cos >= 0, about as accurate.
+            // What the library renders: the same fit held to f cos >= 0, which costs some
+            // accuracy (a dip pinned to zero), bounded here.
             let opts = AcquireOptions::new(bands, nu, nv, brdfkit::library::LIBRARY_METHOD);
             let lib = acquire(src.as_ref(), &opts).unwrap();
             let rl = hemisphere_error(src.as_ref(), &lib, nu, nv, SMALL);
-            if m.name != "gold-dust-paint-sh-ringing" {
-                assert!(rl.rel_l2 < 0.1, "{}: {rl:?}", m.name);
+            if m.name != brdfkit::library::THESIS_RINGING {
+                assert!(rl.rel_l2 < 0.15, "{}: {rl:?}", m.name);
+                assert!(rl.min_over_peak > -0.01, "{}: {rl:?}", m.name);
             }
         }
         match (m.name, m.representation) {

@@ -11,9 +11,12 @@ use brdfkit::scene::{Scene, SceneFile};
 use std::path::Path;
 
 /// Largest negative channel value allowed, relative to the mean covered radiance (all
-/// channels): f32 rounding of a non-negative sum of terms leaves values of about 1e-7 of
-/// the largest term; SH ringing leaves several percent.
-const NEGATIVE_TOLERANCE: f32 = 1e-3;
+/// channels): 1%. The library's SH fits are held to `f_r cos >= 0` on a dense set of
+/// directions, which leaves dips of a few 1e-5 of a lobe's peak between them; under a probe
+/// whose sun is 1e5 times its median that can still reach a few 1e-3 of the mean on a
+/// handful of pixels. Least-squares ringing (the thesis's gold dust) reaches several times
+/// the mean.
+const NEGATIVE_TOLERANCE: f32 = 1e-2;
 
 /// The library entry that rings on purpose (it reproduces the thesis's figure).
 const RINGS_ON_PURPOSE: &str = "gold-dust-paint-sh-ringing";
