@@ -9,6 +9,7 @@ use crate::library::Representation;
 use crate::progress::Progress;
 use crate::raster::Cull;
 use crate::render;
+use crate::scene::env_method::{self, Renderer};
 use crate::scene::{MaterialSpec, Precision, Scene, SceneFile, MAX_SIDE};
 use crate::sh::Lookup;
 use crate::shard::Shard;
@@ -45,12 +46,24 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let (mut file, base) = scene_file(&a)?;
     // How the probe's warnings name it: as the user gave it.
     let probe_name = file.env.as_ref().map(|env| probe_label(&a, env));
-    // `[env] method = "auto"` made concrete for this material (the progress bar below
-    // names the method's preparation).
+    // `[env] method = "auto"` made concrete for this material and renderer before anything
+    // is prepared (the progress bar below names the method's preparation); `--device gpu`
+    // gets a method the GPU runs, with one line saying so.
     let auto_method = file
         .env
         .as_ref()
         .is_some_and(|e| e.method == crate::env::prepare::EnvMethod::Auto);
+    if let Some(env) = &file.env {
+        let renderer = match a.device {
+            super::device::Device::Gpu => Renderer::Gpu,
+            super::device::Device::Cpu | super::device::Device::Auto => Renderer::Cpu,
+        };
+        let (chosen, note) = env_method::choose(env, &file.material, renderer);
+        if let Some(note) = note {
+            eprintln!("{note}");
+        }
+        file.env = Some(chosen);
+    }
     file.resolve_env_method();
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
