@@ -5,6 +5,11 @@
 //! render (the `coverage` debug output, `--reference`, `--turntable`, a material or environment method
 //! `crate::gpu::unsupported` names) it is a one-line error. `auto` takes the GPU when it
 //! can and otherwise says in one line why it renders on the CPU.
+//!
+//! The environment method is chosen before the device is opened: under `[env] method =
+//! "auto"`, `render --device gpu` asks [`crate::scene::env_method::choose`] for a method the
+//! GPU runs (never light cuts), so `gpu` refuses light cuts only when the scene states them.
+//! `--device auto` keeps the CPU's choice, and falls back to the CPU when that is light cuts.
 
 use crate::aov::Aov;
 use crate::error::{Error, Result};

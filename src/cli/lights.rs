@@ -78,7 +78,7 @@ pub fn run(a: LightsArgs) -> Result<()> {
         crate::image_io::check_output(p, &["png"], "--overlay")?;
     }
     let (probe, report) = load_probe(&a.probe, &opts)?;
-    if let Some(w) = report.negative_warning(&a.probe) {
+    if let Some(w) = report.negative_warning(&a.probe.display().to_string()) {
         eprintln!("warning: {w}");
     }
     let config = a.sampler.config(a.count, a.seed);

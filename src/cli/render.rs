@@ -9,6 +9,7 @@ use crate::library::Representation;
 use crate::progress::Progress;
 use crate::raster::Cull;
 use crate::render;
+use crate::scene::env_method::{self, Renderer};
 use crate::scene::{MaterialSpec, Precision, Scene, SceneFile, MAX_SIDE};
 use crate::sh::Lookup;
 use crate::shard::Shard;
@@ -43,12 +44,26 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
     let (mut file, base) = scene_file(&a)?;
-    // `[env] method = "auto"` made concrete for this material (the progress bar below
-    // names the method's preparation).
+    // How the probe's warnings name it: as the user gave it.
+    let probe_name = file.env.as_ref().map(|env| probe_label(&a, env));
+    // `[env] method = "auto"` made concrete for this material and renderer before anything
+    // is prepared (the progress bar below names the method's preparation); `--device gpu`
+    // gets a method the GPU runs, with one line saying so.
     let auto_method = file
         .env
         .as_ref()
         .is_some_and(|e| e.method == crate::env::prepare::EnvMethod::Auto);
+    if let Some(env) = &file.env {
+        let renderer = match a.device {
+            super::device::Device::Gpu => Renderer::Gpu,
+            super::device::Device::Cpu | super::device::Device::Auto => Renderer::Cpu,
+        };
+        let (chosen, note) = env_method::choose(env, &file.material, renderer);
+        if let Some(note) = note {
+            eprintln!("{note}");
+        }
+        file.env = Some(chosen);
+    }
     file.resolve_env_method();
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
@@ -121,21 +136,23 @@ pub fn run(a: RenderArgs) -> Result<()> {
         None => scene?,
     };
     if let Some(e) = &scene.env {
-        if let Some(w) = e.probe_report.and_then(|r| r.negative_warning(&e.file)) {
+        // Once per run: the scene holds the one probe (every turntable frame reuses it).
+        let label = probe_name
+            .clone()
+            .unwrap_or_else(|| e.file.display().to_string());
+        if let Some(w) = e.probe_report.and_then(|r| r.negative_warning(&label)) {
             eprintln!("warning: {w}");
         }
         if let Some((w, h)) = e.probe_size {
             if w != 2 * h {
                 eprintln!(
-                    "warning: {}: {w}x{h} is not 2:1; read as an equirectangular (latitude-longitude) probe anyway",
-                    e.file.display()
+                    "warning: {label}: {w}x{h} is not 2:1; read as an equirectangular (latitude-longitude) probe anyway"
                 );
             }
         }
         if e.total_irradiance.iter().all(|&p| p <= 0.0) {
             eprintln!(
-                "warning: {}: the probe carries no light (every texel black or negative): the environment adds nothing",
-                e.file.display()
+                "warning: {label}: the probe carries no light (every texel black or negative): the environment adds nothing"
             );
         }
         let (cached, what) = match &scene.transfer {
@@ -260,6 +277,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The environment's probe as the user named it, for warnings: `--env PROBE` as typed
+/// (relative to the working directory); a scene file's `[env] file` as written there
+/// (relative to the scene file), after the scene file's path as given; the default scene's
+/// probe path. `env` is the scene's `[env]` after [`scene_file`].
+fn probe_label(a: &RenderArgs, env: &EnvSpec) -> String {
+    match (&a.env, &a.scene) {
+        (Some(given), _) => given.display().to_string(),
+        (None, Some(scene)) => format!("{}: env.file {}", scene.display(), env.file.display()),
+        (None, None) => env.file.display().to_string(),
+    }
 }
 
 /// The scene file `render` renders: the scene's file (or the default scene) with every

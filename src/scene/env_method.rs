@@ -1,8 +1,8 @@
 //! `[env] method = "auto"`, the default: the environment method chosen per material.
 //!
-//! Design rule: the choice is a function of the scene's material spec alone (no file is
-//! read), so the command line, the sweep and [`super::Scene::resolve`] make the same choice
-//! before anything is prepared. The choice comes from the sweep (`brdfkit sweep --class
+//! Design rule: the choice is a function of the scene's material spec and of the renderer
+//! that draws the frame ([`Renderer`]) alone (no file is read), so the command line, the
+//! sweep and [`super::Scene::resolve`] make the same choice before anything is prepared. The choice comes from the sweep (`brdfkit sweep --class
 //! diffuse|sh-glossy|glossy --probe city|studio|sky`; the numbers are in docs/sweeps.md,
 //! "The `[env]` default per material"): the fastest method whose error against the converged
 //! reference is at most 1% relative RMSE ([`crate::sweep::ERROR_BOUND`]) *and* at most 10%
@@ -20,10 +20,32 @@
 //! A table that states `sampler` or `count` and no `method` asks for a delta light set:
 //! its method is then `lights` ([`super::SceneFile::parse`]; a stated `method = "auto"`
 //! stays auto); so do `--sampler` and `--lights` on the command line.
+//!
+//! On the GPU renderer (`brdfkit render --device gpu`, `crate::gpu`), which runs light sets
+//! and transfer tables but not light cuts, `auto` keeps `transfer` and gives the materials
+//! whose CPU choice is `lightcuts` the best light set of that sweep instead:
+//! [`GPU_AUTO_LIGHTS`] lights by Lloyd (the rendering default sampler), the only light set
+//! of the table under the RMSE bound for every glossy row; its 99th percentile is over
+//! the bound (highlights show the lights as spots), which the line [`choose`] returns
+//! says. The CPU's choice ([`Renderer::Cpu`]) is [`concrete_method`], unchanged.
 
 use super::MaterialSpec;
-use crate::env::prepare::{EnvMethod, EnvSpec};
+use crate::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use crate::library::{self, Representation};
+
+/// The renderer a frame is drawn by, as far as `auto` depends on it (module doc).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Renderer {
+    /// The CPU renderer: every method.
+    Cpu,
+    /// The wgpu renderer: light sets and transfer tables, no light cuts.
+    Gpu,
+}
+
+/// Lights of the Lloyd light set `auto` gives a GPU frame where the CPU would use light
+/// cuts: the "Lloyd 1024" column of docs/sweeps.md ("The `[env]` default per material"),
+/// relative RMSE 0.06-0.49% for the glossy class under the shipped probes, p99 14-33%.
+pub const GPU_AUTO_LIGHTS: usize = 1024;
 
 /// The method `auto` stands for under `material` (module doc).
 pub fn auto_method(material: &MaterialSpec) -> EnvMethod {
@@ -47,6 +69,35 @@ pub fn concrete_method(env: &EnvSpec, material: &MaterialSpec) -> EnvMethod {
         EnvMethod::Auto => auto_method(material),
         m => m,
     }
+}
+
+/// The `[env]` table `renderer` draws: `env` with `auto` replaced by its method
+/// ([`concrete_method`] on the CPU; on the GPU the same but light cuts, replaced by a
+/// light set of [`GPU_AUTO_LIGHTS`] lights by Lloyd, module doc), and the one line to print
+/// when the renderer changed the choice (`None` when it did not, or `env` is not `auto`).
+/// Nothing is read or built: the caller prepares the returned table.
+pub fn choose(
+    env: &EnvSpec,
+    material: &MaterialSpec,
+    renderer: Renderer,
+) -> (EnvSpec, Option<String>) {
+    let mut chosen = env.clone();
+    chosen.method = concrete_method(env, material);
+    if env.method != EnvMethod::Auto
+        || renderer == Renderer::Cpu
+        || chosen.method != EnvMethod::Lightcuts
+    {
+        return (chosen, None);
+    }
+    chosen.method = EnvMethod::Lights;
+    chosen.sampler = SamplerKind::Lloyd;
+    chosen.count = GPU_AUTO_LIGHTS;
+    let note = format!(
+        "auto: light cuts are CPU only; the GPU renders {GPU_AUTO_LIGHTS} Lloyd lights \
+         (under 1% relative RMSE on glossy lobes, but highlights may show them as spots: \
+         docs/sweeps.md; set [env] method or --env-method to choose)"
+    );
+    (chosen, Some(note))
 }
 
 #[cfg(test)]
@@ -102,6 +153,65 @@ mod tests {
         // A light set file is delta lights.
         let text = "[material]\nkind = \"lambert\"\n[env]\nlights = \"set.json\"\n";
         assert_eq!(method_of(text), EnvMethod::Lights);
+    }
+
+    #[test]
+    fn auto_on_the_gpu_replaces_light_cuts_by_lloyd_lights_and_says_so() {
+        let choice = |toml: &str, renderer| {
+            let f = SceneFile::parse(toml).unwrap();
+            choose(f.env.as_ref().unwrap(), &f.material, renderer)
+        };
+        let env = "[env]\nfile = \"p.exr\"\n";
+        for material in [
+            "kind = \"blinn-phong\"",
+            "kind = \"library\"\nname = \"lindt-paper\"",
+            "kind = \"dbrdf-file\"\npath = \"m.exr\"",
+        ] {
+            let text = format!("[material]\n{material}\n{env}");
+            // The CPU's choice is light cuts, said by no extra line.
+            let (cpu, note) = choice(&text, Renderer::Cpu);
+            assert_eq!(cpu.method, EnvMethod::Lightcuts, "{material}");
+            assert_eq!(note, None, "{material}");
+            // The GPU's: the Lloyd light set, and one line naming it and why.
+            let (gpu, note) = choice(&text, Renderer::Gpu);
+            assert_eq!(gpu.method, EnvMethod::Lights, "{material}");
+            assert_eq!(gpu.sampler, SamplerKind::Lloyd, "{material}");
+            assert_eq!(gpu.count, GPU_AUTO_LIGHTS, "{material}");
+            let note = note.expect("the GPU's choice is said");
+            assert!(
+                note.starts_with("auto: light cuts are CPU only")
+                    && note.contains(&format!("{GPU_AUTO_LIGHTS} Lloyd lights"))
+                    && !note.contains('\n'),
+                "{note}"
+            );
+        }
+        // Transfer runs on the GPU: kept, nothing said; so are light sets.
+        for material in [
+            "kind = \"lambert\"",
+            "kind = \"library\"\nname = \"teal-paint\"",
+        ] {
+            let text = format!("[material]\n{material}\n{env}");
+            let (gpu, note) = choice(&text, Renderer::Gpu);
+            assert_eq!(
+                (gpu.method, note),
+                (EnvMethod::Transfer, None),
+                "{material}"
+            );
+        }
+        // A stated method is never changed, on either renderer (the GPU refuses light cuts
+        // with its own error).
+        let stated = "[env]\nfile = \"p.exr\"\nmethod = \"lightcuts\"\n";
+        for renderer in [Renderer::Cpu, Renderer::Gpu] {
+            let (kept, note) = choice(stated, renderer);
+            assert_eq!((kept.method, note), (EnvMethod::Lightcuts, None));
+            assert_eq!(kept.count, 128);
+        }
+        let lights = "[env]\nfile = \"p.exr\"\ncount = 64\n";
+        let (kept, note) = choice(lights, Renderer::Gpu);
+        assert_eq!(
+            (kept.method, kept.count, note),
+            (EnvMethod::Lights, 64, None)
+        );
     }
 
     /// The module doc, its `//!` lines joined by single spaces.

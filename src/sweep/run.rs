@@ -106,7 +106,7 @@ impl Sweep {
         let env_lights = full.env.as_ref().map_or(0, |e| e.lights);
         let explicit = full.lights[..full.lights.len() - env_lights].to_vec();
         let sh = full.material.as_sh().cloned();
-        let notes = grid.fit_material(sh.as_ref().map(ShDataset::bands), |m| match m {
+        let mut notes = grid.fit_material(sh.as_ref().map(ShDataset::bands), |m| match m {
             super::MethodKind::Lights => None,
             super::MethodKind::Transfer => TransferBasis::for_material(&full.material)
                 .is_none()
@@ -182,8 +182,11 @@ impl Sweep {
             }
         };
         let covered = metrics::covered_pixels(&full);
-        let (probe, _) =
+        let (probe, report) =
             crate::env::prepare::load_probe(&base.join(&env.file), &env.load_options())?;
+        // The probe is loaded once per sweep (every row samples this one): its loader
+        // warning is one note, the file as the scene names it.
+        notes.extend(report.negative_warning(&env.file.display().to_string()));
         if grid.methods.contains(&super::MethodKind::Transfer) {
             if let Some(&(nu, _)) = grid
                 .transfer_grids

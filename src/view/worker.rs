@@ -21,8 +21,10 @@ use crate::image_io::Image;
 use crate::light::Light;
 use crate::render::{self, RenderOptions};
 use crate::scene::{resolve_camera, Scene, SceneFile};
-use std::path::Path;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 use std::sync::mpsc::{channel, Receiver, Sender};
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// One frame to render.
@@ -137,6 +139,38 @@ pub fn spawn(
     tx
 }
 
+/// Probes this run has warned about: every worker resolves the same probe again for each
+/// rotation, material and refinement step, and the loader's warning is printed once per
+/// probe per run.
+static WARNED: Mutex<BTreeSet<PathBuf>> = Mutex::new(BTreeSet::new());
+
+/// Prints the probe loader's warning ([`crate::env::LoadReport::negative_warning`]) for
+/// `scene`'s environment the first time this run sees that probe. The viewer holds paths
+/// absolute (`--env` joined to the working directory); the warning names the probe
+/// relative to the working directory when it lies under it, so a relative `--env` reads
+/// as typed.
+fn warn_once(scene: &Scene) {
+    let Some(env) = &scene.env else {
+        return;
+    };
+    let Some(report) = env.probe_report.filter(|r| r.negative_texels > 0) else {
+        return;
+    };
+    let first = WARNED
+        .lock()
+        .is_ok_and(|mut warned| warned.insert(env.file.clone()));
+    if !first {
+        return;
+    }
+    let shown = std::env::current_dir()
+        .ok()
+        .and_then(|d| env.file.strip_prefix(d).ok().map(Path::to_path_buf))
+        .unwrap_or_else(|| env.file.clone());
+    if let Some(w) = report.negative_warning(&shown.display().to_string()) {
+        eprintln!("warning: {w}");
+    }
+}
+
 /// The newest job waiting (blocking for one), or `None` when the window hung up.
 fn newest(rx: &Receiver<Job>) -> Option<Job> {
     let mut job = rx.recv().ok()?;
@@ -164,6 +198,7 @@ fn run_job(
     if !reuse {
         let scene = Scene::resolve_with_cache(&job.file, Path::new("."), cache)
             .map_err(|e| e.to_string())?;
+        warn_once(&scene);
         *kept = Some(Kept {
             key,
             rotation,

@@ -286,3 +286,126 @@ fn env_errors_name_the_field_or_file() {
     let e = SceneFile::parse("[env]\nfile = \"x.exr\"\ncuont = 3\n").unwrap_err();
     assert!(e.contains("cuont"), "{e}");
 }
+
+/// The lines of `stderr` that are the probe loader's negative-texel warning.
+fn negative_warnings(stderr: &str) -> Vec<&str> {
+    stderr
+        .lines()
+        .filter(|l| l.contains("texels with negative values"))
+        .collect()
+}
+
+#[test]
+fn a_dirty_probe_warns_once_naming_the_path_as_given() {
+    // The original DWAB sky (tests/data/probes/README.md), under relative paths: the
+    // probe in probes/, a scene naming it relative to itself in scenes/, all run from the
+    // temporary directory.
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    std::fs::create_dir_all(d.join("probes")).unwrap();
+    std::fs::create_dir_all(d.join("scenes")).unwrap();
+    let original = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/probes/sky-dwab.exr");
+    std::fs::copy(&original, d.join("probes/sky.exr")).unwrap();
+    std::fs::write(
+        d.join("scenes/scene.toml"),
+        "[env]\nfile = \"../probes/sky.exr\"\nsampler = \"median-cut\"\ncount = 8\n\n\
+         [render]\nwidth = 24\nheight = 18\n",
+    )
+    .unwrap();
+    let small = ["--width", "24", "--height", "18"];
+    let lights = ["--sampler", "median-cut", "--lights", "8"];
+    let cases: Vec<(&str, Vec<&str>, &str)> = vec![
+        (
+            "--env, light set",
+            [
+                &["render", "--env", "probes/sky.exr", "-o", "a.png"][..],
+                &small,
+                &lights,
+            ]
+            .concat(),
+            "warning: probes/sky.exr: ",
+        ),
+        // The same again: the light set from the cache, the warning from its entry.
+        (
+            "--env, cached",
+            [
+                &["render", "--env", "probes/sky.exr", "-o", "a.png"][..],
+                &small,
+                &lights,
+            ]
+            .concat(),
+            "warning: probes/sky.exr: ",
+        ),
+        // auto for a D-BRDF is light cuts, which load the probe on a path of their own.
+        (
+            "--env, light cuts",
+            [
+                &[
+                    "render",
+                    "--env",
+                    "probes/sky.exr",
+                    "--material",
+                    "lindt-paper",
+                ][..],
+                &["-o", "b.png"],
+                &small,
+            ]
+            .concat(),
+            "warning: probes/sky.exr: ",
+        ),
+        // Four frames, one warning.
+        (
+            "turntable",
+            [
+                &[
+                    "render",
+                    "--env",
+                    "probes/sky.exr",
+                    "--turntable",
+                    "4",
+                    "-o",
+                    "t.png",
+                ][..],
+                &small,
+                &lights,
+            ]
+            .concat(),
+            "warning: probes/sky.exr: ",
+        ),
+        (
+            "scene file",
+            vec!["render", "scenes/scene.toml", "-o", "c.png"],
+            "warning: scenes/scene.toml: env.file ../probes/sky.exr: ",
+        ),
+        (
+            "lights",
+            vec!["lights", "probes/sky.exr", "-n", "8"],
+            "warning: probes/sky.exr: ",
+        ),
+    ];
+    let root = d.display().to_string();
+    for (what, args, start) in cases {
+        let r = crate::common::brdfkit(d).run(&args);
+        assert!(r.success(), "{what}: {}", r.stderr);
+        if what == "--env, cached" {
+            assert!(r.stderr.contains("(cached)"), "{what}: {}", r.stderr);
+        }
+        let w = negative_warnings(&r.stderr);
+        assert_eq!(w.len(), 1, "{what}: one warning:\n{}", r.stderr);
+        assert!(w[0].starts_with(start), "{what}: {}", w[0]);
+        assert!(w[0].contains("% of the probe's"), "{what}: {}", w[0]);
+        assert!(!w[0].contains(&root), "{what}: an absolute path: {}", w[0]);
+    }
+    // The shipped (cleaned) sky: nothing to warn about.
+    let shipped = assets().join("sky.exr");
+    let r = crate::common::brdfkit(d).run(
+        &[
+            &["render", "--env", shipped.to_str().unwrap(), "-o", "s.png"][..],
+            &small,
+            &lights,
+        ]
+        .concat(),
+    );
+    assert!(r.success(), "{}", r.stderr);
+    assert!(!r.stderr.contains("warning"), "{}", r.stderr);
+}

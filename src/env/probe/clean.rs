@@ -2,7 +2,8 @@
 //! local signed integral.
 //!
 //! Lossy DWAB compression rings around bright sources with both overshoot and undershoot
-//! (assets/probes/README.md). Clamping the undershoot to zero keeps the overshoot and adds
+//! (the shipped probes are stored already cleaned by this code, assets/probes/README.md;
+//! tests/data/probes/sky-dwab.exr keeps one original for the tests). Clamping the undershoot to zero keeps the overshoot and adds
 //! energy (+0.1% to +6.3% of a whole image on six real probes); the signed integral is the
 //! better estimate of the true light. So each channel of each negative texel is treated as a
 //! negative mass `m = v x omega` (radiance in the file's units times the texel's exact solid

@@ -125,31 +125,36 @@ pub struct LoadReport {
 }
 
 impl LoadReport {
-    /// The warning for a probe whose negative texels were cleaned, `None` when there were
-    /// none: the texel count and the power moved, absolute (luminance-weighted with
-    /// [`crate::env::LUMINANCE_WEIGHTS`], W/m^2 for a probe in W/(m^2 sr)) and as a
-    /// percentage of the probe's signed luminance power.
-    pub fn negative_warning(&self, file: &Path) -> Option<String> {
+    /// The power the cleaning moved and the probe's signed power, both luminance-weighted
+    /// with [`crate::env::LUMINANCE_WEIGHTS`] (W/m^2 for a probe in W/(m^2 sr)):
+    /// `(moved, signed)`.
+    pub fn luminance_power_moved(&self) -> (f64, f64) {
+        (
+            luminance_of(self.negative_power_moved),
+            luminance_of(self.signed_power),
+        )
+    }
+
+    /// The one-line warning for a probe whose negative texels were cleaned, `None` when
+    /// there were none: the texel count and the power moved, absolute (luminance-weighted,
+    /// [`LoadReport::luminance_power_moved`]) and as a percentage of the probe's signed
+    /// luminance power. `probe` names the file as the user gave it (callers pass the path
+    /// as typed, not a resolved or canonical one).
+    pub fn negative_warning(&self, probe: &str) -> Option<String> {
         if self.negative_texels == 0 {
             return None;
         }
-        let lum = |p: [f64; 3]| {
-            (0..3)
-                .map(|c| crate::env::LUMINANCE_WEIGHTS[c] * p[c])
-                .sum::<f64>()
-        };
-        let (moved, total) = (lum(self.negative_power_moved), lum(self.signed_power));
+        let (moved, total) = self.luminance_power_moved();
         let mut msg = format!(
-            "{}: {} texels with negative values (lossy compression): their power, {:.4e} W/m^2 \
+            "{probe}: {} texels with negative values (lossy compression): their power, {:.4e} W/m^2 \
              ({:.3}% of the probe's {:.4e} W/m^2, luminance), was moved into nearby positive \
              texels, keeping the signed integral",
-            file.display(),
             self.negative_texels,
             moved,
             100.0 * moved / total.abs().max(f64::MIN_POSITIVE),
             total
         );
-        let unplaced = lum(self.negative_power_unplaced);
+        let unplaced = luminance_of(self.negative_power_unplaced);
         if unplaced > 0.0 {
             msg += &format!(
                 "; {unplaced:.4e} W/m^2 could not be placed (a channel's signed integral is negative) and was dropped"
@@ -157,6 +162,14 @@ impl LoadReport {
         }
         Some(msg)
     }
+}
+
+/// Luminance of per-channel powers ([`crate::env::LUMINANCE_WEIGHTS`], no clamping: a
+/// signed power stays signed).
+fn luminance_of(p: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| crate::env::LUMINANCE_WEIGHTS[c] * p[c])
+        .sum()
 }
 
 /// An equirectangular light probe: linear RGB radiance (units of the file, typically

@@ -6,28 +6,59 @@ pub(crate) fn assets() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/probes")
 }
 
+/// The one original (uncleaned, DWAB) probe kept as a fixture: the Poly Haven sky as
+/// `assets/probes/sky.exr` was before the cleaning (tests/data/probes/README.md).
+pub(crate) fn dwab_original() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/probes/sky-dwab.exr")
+}
+
 #[test]
-fn city_loads_clean_with_negatives_counted() {
-    let (p, rep) = Probe::load(&assets().join("city.exr"), &LoadOptions::default()).unwrap();
-    assert_eq!((p.width(), p.height()), (512, 256));
-    // assets/probes/README.md: 0.12% of texels have a negative channel.
-    let frac = rep.negative_texels as f64 / (512.0 * 256.0);
-    assert!(frac > 0.0005 && frac < 0.003, "{frac}");
-    assert!(p
-        .texels()
-        .iter()
-        .all(|t| t.iter().all(|c| c.is_finite() && *c >= 0.0)));
+fn shipped_probes_are_stored_clean() {
+    for name in ["city.exr", "studio.exr", "sky.exr"] {
+        let path = assets().join(name);
+        // The file itself holds no negative or non-finite channel: nothing for the loader
+        // to clean, nothing to warn about.
+        let (w, h, raw) = read::read_exr(&path, &LoadOptions::default()).unwrap();
+        assert_eq!((w, h), (512, 256), "{name}");
+        assert!(
+            raw.iter()
+                .all(|t| t.iter().all(|c| c.is_finite() && *c >= 0.0)),
+            "{name}: a stored texel is negative or not finite"
+        );
+        let (p, rep) = Probe::load(&path, &LoadOptions::default()).unwrap();
+        assert_eq!(rep.negative_texels, 0, "{name}");
+        assert_eq!(rep.negative_power_moved, [0.0; 3], "{name}");
+        assert_eq!(rep.negative_warning(name), None, "{name}");
+        assert_eq!(p.texels(), &raw[..], "{name}: loading changed a texel");
+    }
     // Sky above is brighter than ground below.
+    let (p, _) = Probe::load(&assets().join("city.exr"), &LoadOptions::default()).unwrap();
     let (top, bottom) = (p.total_power_rows(0..128), p.total_power_rows(128..256));
     assert!(top > bottom, "{top} {bottom}");
 }
 
 #[test]
+fn the_shipped_sky_is_its_original_cleaned_bit_for_bit() {
+    // examples/clean_probes.rs wrote assets/probes/sky.exr from the original: the loader's
+    // output on the original, stored losslessly. So renders keep the bits they had when the
+    // original was shipped.
+    let (cleaned, rep) = Probe::load(&dwab_original(), &LoadOptions::default()).unwrap();
+    assert!(rep.negative_texels > 0, "the fixture is the dirty original");
+    let (shipped, _) = Probe::load(&assets().join("sky.exr"), &LoadOptions::default()).unwrap();
+    let bits =
+        |p: &Probe| -> Vec<[u32; 3]> { p.texels().iter().map(|t| t.map(f32::to_bits)).collect() };
+    assert!(
+        bits(&cleaned) == bits(&shipped),
+        "assets/probes/sky.exr is not the cleaned original"
+    );
+}
+
+#[test]
 fn sky_loads_with_its_sun_and_high_dynamic_range() {
-    // assets/probes/README.md: 0.01% negative texels, max / median luminance 1.05e5.
+    // assets/probes/README.md: max / median luminance 1.05e5 (cleaned, as the original).
     let (p, rep) = Probe::load(&assets().join("sky.exr"), &LoadOptions::default()).unwrap();
     assert_eq!((p.width(), p.height()), (512, 256));
-    assert!(rep.negative_texels > 0);
+    assert_eq!(rep.negative_texels, 0);
     let mut lum: Vec<f64> = p
         .texels()
         .iter()
@@ -103,38 +134,45 @@ fn clamp_only(raw: &[[f32; 3]]) -> Vec<[f32; 3]> {
 }
 
 #[test]
-fn shipped_probes_keep_signed_power_and_end_non_negative() {
-    for name in ["city.exr", "studio.exr", "sky.exr"] {
-        let path = assets().join(name);
-        let (w, h, raw) = read::read_exr(&path, &LoadOptions::default()).unwrap();
-        let (p, rep) = Probe::load(&path, &LoadOptions::default()).unwrap();
-        check_cleaned(&raw, p.texels(), w, h).unwrap_or_else(|e| panic!("{name}: {e}"));
-        // The report: texels counted, power moved = the negative mass, computed here.
-        let negatives = raw.iter().filter(|t| t.iter().any(|&c| c < 0.0)).count();
-        assert_eq!(rep.negative_texels, negatives, "{name}");
-        for c in 0..3 {
-            let neg: f64 = raw
-                .iter()
-                .enumerate()
-                .map(|(i, v)| (-(v[c] as f64)).max(0.0) * omega(i / w, w, h))
-                .sum();
-            assert!(
-                (rep.negative_power_moved[c] - neg).abs() <= 1e-12 * neg.max(1.0),
-                "{name} channel {c}: {} vs {neg}",
-                rep.negative_power_moved[c]
-            );
-            assert_eq!(rep.negative_power_unplaced[c], 0.0, "{name}");
-        }
-        // The seeded fault, plain clamping, breaks the contract on every shipped probe.
-        let err = check_cleaned(&raw, &clamp_only(&raw), w, h)
-            .expect_err("clamping must not keep the signed power");
-        assert!(err.contains("relative change"), "{name}: {err}");
-        let warning = rep.negative_warning(&path).unwrap();
+fn dwab_ringing_keeps_signed_power_and_ends_non_negative() {
+    // The real DWAB ringing of the original sky probe (tests/data/probes/README.md: a few
+    // texels around the sun at -3394, 13.5% of the luminance power).
+    let path = dwab_original();
+    let (w, h, raw) = read::read_exr(&path, &LoadOptions::default()).unwrap();
+    let (p, rep) = Probe::load(&path, &LoadOptions::default()).unwrap();
+    check_cleaned(&raw, p.texels(), w, h).unwrap_or_else(|e| panic!("{e}"));
+    // The report: texels counted, power moved = the negative mass, computed here.
+    let negatives = raw.iter().filter(|t| t.iter().any(|&c| c < 0.0)).count();
+    assert!(negatives > 0, "the fixture has negative texels");
+    assert_eq!(rep.negative_texels, negatives);
+    for c in 0..3 {
+        let neg: f64 = raw
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (-(v[c] as f64)).max(0.0) * omega(i / w, w, h))
+            .sum();
         assert!(
-            warning.contains(name) && warning.contains("% of the probe's"),
-            "{warning}"
+            (rep.negative_power_moved[c] - neg).abs() <= 1e-12 * neg.max(1.0),
+            "channel {c}: {} vs {neg}",
+            rep.negative_power_moved[c]
         );
+        assert_eq!(rep.negative_power_unplaced[c], 0.0);
     }
+    // Ringing this strong moves a large share of the power: more than 10% of it.
+    let (moved, total) = rep.luminance_power_moved();
+    assert!(moved > 0.1 * total, "{moved} of {total}");
+    // The seeded fault, plain clamping, breaks the contract on the real file.
+    let err = check_cleaned(&raw, &clamp_only(&raw), w, h)
+        .expect_err("clamping must not keep the signed power");
+    assert!(err.contains("relative change"), "{err}");
+    // One line naming the probe as given.
+    let warning = rep.negative_warning("probes/sky-dwab.exr").unwrap();
+    assert!(
+        warning.starts_with("probes/sky-dwab.exr: ")
+            && warning.contains("% of the probe's")
+            && !warning.contains('\n'),
+        "{warning}"
+    );
 }
 
 #[test]
@@ -224,7 +262,7 @@ fn a_channel_with_negative_total_ends_black_and_reports_the_unplaced_power() {
         "{rep:?}"
     );
     assert!(rep
-        .negative_warning(Path::new("neg"))
+        .negative_warning("neg")
         .unwrap()
         .contains("could not be placed"));
 }
