@@ -41,6 +41,43 @@ impl Aov {
     pub fn needs_coverage(self) -> bool {
         self == Aov::Coverage
     }
+
+    /// The name `--aov` takes (`light-polar`, ...).
+    pub fn name(self) -> String {
+        use clap::ValueEnum;
+        self.to_possible_value()
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default()
+    }
+}
+
+/// Refuses an AOV that `scene` does not produce, with a field error naming `--aov`, the
+/// AOV and why. `light-polar` and `light-azimuth` show the first light of the scene's light
+/// list (`[[light]]` tables, then an environment's delta lights): an environment shaded by
+/// light cuts, or by a transfer table without exact lights, has no such list, and the
+/// image would be black everywhere.
+pub fn check_available(scene: &Scene, aov: Aov) -> crate::error::Result<()> {
+    if !matches!(aov, Aov::LightPolar | Aov::LightAzimuth) || !scene.lights.is_empty() {
+        return Ok(());
+    }
+    let why = if scene.lightcuts.is_some() {
+        "the environment method \"lightcuts\" shades light cuts through a tree of the probe's \
+         texels, not a list of lights; give --env-method lights (delta lights) or a [[light]] table"
+            .to_string()
+    } else if scene.transfer.is_some() {
+        "the environment method \"transfer\" shades a transfer table and here no exact \
+         lights; give --env-method lights (delta lights), [env] exact_lights > 0 or a [[light]] table"
+            .to_string()
+    } else {
+        "the scene has no lights".to_string()
+    };
+    Err(crate::error::Error::field(
+        "--aov",
+        format!(
+            "{} shows the scene's first light, and there is none: {why}",
+            aov.name()
+        ),
+    ))
 }
 
 /// Computes an AOV image from a visibility buffer.

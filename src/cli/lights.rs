@@ -40,7 +40,7 @@ pub struct LightsArgs {
     pub zero_non_finite: bool,
     /// Print the irradiance error against the full probe, and the per-pixel error of a
     /// small Lambert sphere and Blinn-Phong spheres (exponents 50 and 200) rendered with
-    /// the light set against the full probe ([`super::lights_report`]).
+    /// the light set against the full probe.
     #[arg(long)]
     pub report: bool,
 }

@@ -1,6 +1,9 @@
 //! The `brdfkit` command line. Every subcommand is a thin layer over the library: parse,
 //! load and check input, call the pipeline, write output atomically. One file per
-//! subcommand; this file holds the argument definitions and the dispatch.
+//! subcommand; this file holds the argument definitions and the dispatch, and stays whole
+//! past 400 lines so that the arguments (and so the help text) of every subcommand read
+//! in one place. `render` and `view` share `SceneArgs`; what only `render` takes is in
+//! `RenderArgs`, so `view --help` lists only what `view` accepts.
 
 mod acquire;
 pub mod cache;
@@ -133,7 +136,7 @@ renders it without the cache. The sweep reads no other cache (light sets and tab
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
     #[command(flatten)]
-    pub render: RenderArgs,
+    pub scene: SceneArgs,
     /// Drive the viewer from a file of timed input events (see below); it quits after the last.
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
@@ -275,14 +278,13 @@ pub struct FitDbrdfArgs {
     pub output: PathBuf,
 }
 
+/// What `render` and `view` both take: the scene file and the options that change it
+/// (`render::scene_file` applies them); `render`'s own options are in `RenderArgs`.
 #[derive(clap::Args, Debug)]
-pub struct RenderArgs {
+pub struct SceneArgs {
     /// Scene file (TOML). Every field has a default; the format (every field, its default,
     /// examples) is docs/scene-format.md in the brdfkit repository.
     pub scene: Option<PathBuf>,
-    /// Output image: .png (tone-mapped sRGB) or .exr (linear float). Default: out.png and out.exr.
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
     /// Image width in pixels (1 to 16384). Default 640.
     #[arg(long)]
     pub width: Option<u32>,
@@ -319,13 +321,10 @@ pub struct RenderArgs {
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
-    /// How the environment is shaded (with --env or a scene's [env]); overrides the scene's `[env] method`. `transfer`: SH data sets and Lambert only. --reference always shades the full probe.
+    /// How the environment is shaded (with --env or a scene's [env]); overrides the scene's `[env] method`. `transfer`: SH data sets and Lambert only. `render --reference` always shades the full probe.
     #[arg(long, value_enum, value_name = "METHOD")]
     pub env_method: Option<crate::env::prepare::EnvMethod>,
-    /// Render the converged reference: every texel of the probe a light (with an environment; --lights is ignored), every SH band, no skips, no culling, f64 shading. Minutes where the fast path takes milliseconds; shows a bar with an ETA on a terminal. The reference the fast path is measured against (golden bounds, sweep).
-    #[arg(long)]
-    pub reference: bool,
-    /// Material: a library name (`brdfkit materials`) or a path to an SH data set or D-BRDF file (.exr). Overrides the scene's `[material]`.
+    /// Material: a library name (`brdfkit materials`) or a file: .exr (an SH data set from `brdfkit acquire` or a D-BRDF from `brdfkit fit-dbrdf`) or .binary (a MERL table). Overrides the scene's `[material]`.
     #[arg(long)]
     pub material: Option<String>,
     /// Coefficient lookup of an SH material (library or file): nearest (GL_NEAREST) or bilinear (GL_LINEAR). Overrides the scene's `material.lookup` and the lookup the file records (acquired files record bilinear; files without one use nearest). An error for a material that is not an SH data set.
@@ -340,9 +339,26 @@ pub struct RenderArgs {
     /// Kernel path of the f32 shading: auto (the widest this CPU runs), portable, avx2 (an error where the CPU lacks AVX2+FMA) or avx512 (an error without AVX-512F+VL). Every path gives the same bits; only speed differs.
     #[arg(long, value_enum)]
     pub kernel: Option<crate::kernel::lanes::KernelPath>,
-    /// Print the work counters (tiles shaded/skipped, pixels, pixel x light pairs, the kernels' lane use, lights dropped, SH bands used) to stderr.
+    /// Print statistics to stderr: `render` the work counters (tiles shaded/skipped, pixels, pixel x light pairs, the kernels' lane use, lights dropped, SH bands used), `view` frames per second and refinement times at the end.
     #[arg(long)]
     pub stats: bool,
+    /// Neither read nor write the light-set cache: compute the environment's light set (or transfer table) every time.
+    #[arg(long)]
+    pub no_cache: bool,
+}
+
+/// `brdfkit render`: the scene options (`SceneArgs`, shared with `view`) and what only
+/// `render` takes (an output path, the reference, a turntable, the device).
+#[derive(clap::Args, Debug)]
+pub struct RenderArgs {
+    /// Output image: .png (tone-mapped sRGB) or .exr (linear float). Default: out.png and out.exr.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub common: SceneArgs,
+    /// Render the converged reference: every texel of the probe a light (with an environment; --lights is ignored), every SH band, no skips, no culling, f64 shading. Minutes where the fast path takes milliseconds; shows a bar with an ETA on a terminal. The reference the fast path is measured against (golden bounds, sweep).
+    #[arg(long)]
+    pub reference: bool,
     /// Render N frames with the camera orbiting the look-at point about world up (+y), one full turn: OUT_0000.png ... and OUT.gif (OUT from -o, default out).
     #[arg(long, value_name = "N")]
     pub turntable: Option<usize>,
@@ -358,16 +374,13 @@ pub struct RenderArgs {
     /// With --turntable: GIF frame rate (frames per second; GIF stores delays in 1/100 s).
     #[arg(long, default_value_t = 25, requires = "turntable")]
     pub fps: u32,
-    /// Neither read nor write the light-set cache: compute the environment's light set (see the cache note below).
-    #[arg(long)]
-    pub no_cache: bool,
     /// Renderer: cpu (the oracle, default), gpu (the wgpu renderer: needs the `gpu` cargo feature and an adapter), auto (gpu when it can, else cpu with one line saying why).
     #[arg(long, value_enum, default_value = "cpu")]
     pub device: device::Device,
 }
 
-/// `acquire --method`: how the hemisphere data is extended to the sphere
-/// ([`crate::acquire::Method`]; `lsq` takes its weight from `--lambda`).
+/// `acquire --method`: how the hemisphere data is extended to the sphere (the library's
+/// `acquire::Method`; `lsq` takes its weight from `--lambda`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq)]
 pub enum MethodArg {
     Zero,

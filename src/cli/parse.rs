@@ -1,15 +1,18 @@
 //! Reading the command line: clap parses and validates every argument (value enums, ranges,
-//! `NUxNV` grids) before any work starts, and a rejected argument is reported the way every
-//! other brdfkit error is: one line, `brdfkit: error: ...`, exit code 2.
+//! `NUxNV` grids) before any work starts.
 //!
-//! `--help` and `--version` print clap's own text and exit 0.
+//! Design rule: a rejected argument is reported as clap words it, in the brdfkit form:
+//! clap's first error line (`brdfkit: error: ...`, with the values or arguments clap lists
+//! under it and its "a similar argument exists" suggestion), then the usage line of the
+//! command that was typed, exit code 2. clap's other tips, blank lines and footer are
+//! left out. `--help` and `--version` print clap's own text and exit 0.
 
 use super::Cli;
 use clap::error::ErrorKind;
-use clap::Parser;
+use clap::{CommandFactory, Parser};
 
 /// The parsed command line of this process. Exits on `--help`/`--version` (code 0) and on a
-/// rejected argument (code 2, one line on stderr naming the option and the problem).
+/// rejected argument (code 2: the error line, then the usage line; [`usage_error`]).
 pub fn parse_args() -> Cli {
     match Cli::try_parse() {
         Ok(cli) => cli,
@@ -18,29 +21,65 @@ pub fn parse_args() -> Cli {
             | ErrorKind::DisplayVersion
             | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
             _ => {
-                eprintln!("brdfkit: error: {}", one_line(&e.render().to_string()));
+                let args: Vec<String> = std::env::args().collect();
+                let (line, usage) = usage_error(&e.render().to_string(), &args);
+                eprintln!("brdfkit: error: {line}");
+                eprintln!("{usage}");
                 std::process::exit(2);
             }
         },
     }
 }
 
-/// clap's multi-line report as one line: the message, then any "possible values" or tip
-/// lines after a `; `, without the usage block and the "For more information" footer.
-pub fn one_line(rendered: &str) -> String {
-    let mut parts: Vec<String> = Vec::new();
-    for line in rendered.lines() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with("For more information") {
-            continue;
+/// clap's report of a rejected command line `args` (`argv`, program name first) as two
+/// lines: the error (the first paragraph of `rendered` on one line, without clap's
+/// `error: ` prefix, plus a "similar argument" tip when clap gives one) and the usage line
+/// of the (sub)command typed, with where to read more.
+pub fn usage_error(rendered: &str, args: &[String]) -> (String, String) {
+    let mut paragraphs = rendered
+        .split("\n\n")
+        .map(|p| p.lines().map(str::trim).filter(|l| !l.is_empty()))
+        .map(|lines| lines.collect::<Vec<_>>())
+        .filter(|p| !p.is_empty());
+    let mut line = String::new();
+    if let Some(first) = paragraphs.next() {
+        let head = first[0].strip_prefix("error: ").unwrap_or(first[0]);
+        line.push_str(head);
+        // What clap lists under its first line: required arguments (after a colon), the
+        // possible values (in brackets).
+        let rest = &first[1..];
+        if !rest.is_empty() {
+            line.push(' ');
+            line.push_str(&rest.join(if head.ends_with(':') { ", " } else { " " }));
         }
-        if line.starts_with("Usage:") {
+    }
+    for p in paragraphs {
+        for l in p {
+            if let Some(tip) = l.strip_prefix("tip: ").filter(|t| t.contains("similar")) {
+                line.push_str(&format!(" ({tip})"));
+            }
+        }
+    }
+    (line, usage_line(args))
+}
+
+/// The usage line of the deepest subcommand that `args` names (`brdfkit golden check ...`
+/// gives golden check's), then where the full help is.
+fn usage_line(args: &[String]) -> String {
+    let mut cmd = Cli::command();
+    cmd.build();
+    let mut current = &mut cmd;
+    let mut names = vec!["brdfkit".to_string()];
+    for a in args.iter().skip(1) {
+        if current.find_subcommand(a).is_none() {
             break;
         }
-        let line = line.strip_prefix("error: ").unwrap_or(line);
-        parts.push(line.to_string());
+        names.push(a.clone());
+        current = current.find_subcommand_mut(a).expect("found above");
     }
-    parts.join("; ")
+    let usage = current.render_usage().to_string();
+    let usage = usage.lines().next().unwrap_or_default().trim().to_string();
+    format!("{usage} (more: {} --help)", names.join(" "))
 }
 
 /// clap value parser for `NUxNV` grids (each side 1 to 1024), e.g. `16x8`.
@@ -59,19 +98,51 @@ mod tests {
     use super::*;
     use clap::Parser;
 
+    /// [`usage_error`] of `argv` as clap rejects it.
+    fn report(argv: &[&str]) -> (String, String) {
+        let e = Cli::try_parse_from(argv).unwrap_err();
+        let args: Vec<String> = argv.iter().map(|a| a.to_string()).collect();
+        usage_error(&e.render().to_string(), &args)
+    }
+
     #[test]
-    fn a_rejected_value_is_one_line_naming_option_and_choices() {
-        let e = Cli::try_parse_from(["brdfkit", "render", "--cull", "sideways"]).unwrap_err();
-        let line = one_line(&e.render().to_string());
-        assert!(!line.contains('\n'), "{line}");
+    fn a_rejected_value_is_clap_s_line_then_the_usage_line() {
+        let (line, usage) = report(&["brdfkit", "render", "--cull", "sideways"]);
+        for s in [&line, &usage] {
+            assert!(!s.contains('\n') && !s.contains("; "), "{s}");
+        }
         assert!(
             line.contains("--cull") && line.contains("sideways"),
             "{line}"
         );
         assert!(line.contains("none") && line.contains("back"), "{line}");
         assert!(
-            !line.contains("Usage") && !line.contains("For more"),
+            !line.starts_with("error:") && !line.contains("Usage"),
             "{line}"
+        );
+        assert!(usage.starts_with("Usage: brdfkit render "), "{usage}");
+        assert!(usage.contains("brdfkit render --help"), "{usage}");
+    }
+
+    #[test]
+    fn required_arguments_similar_names_and_nested_subcommands() {
+        let (line, usage) = report(&["brdfkit", "acquire", "teal-paint"]);
+        assert!(
+            line.contains("required") && line.contains("--output"),
+            "{line}"
+        );
+        assert!(usage.starts_with("Usage: brdfkit acquire "), "{usage}");
+        let (line, _) = report(&["brdfkit", "render", "--widht", "3"]);
+        assert!(
+            line.contains("'--widht'") && line.contains("'--width'"),
+            "{line}"
+        );
+        let (line, usage) = report(&["brdfkit", "golden", "check", "--nope"]);
+        assert!(line.contains("--nope"), "{line}");
+        assert!(usage.starts_with("Usage: brdfkit golden check "), "{usage}");
+        assert!(
+            usage.contains("(more: brdfkit golden check --help)"),
+            "{usage}"
         );
     }
 

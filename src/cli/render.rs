@@ -1,6 +1,9 @@
-//! `brdfkit render`.
+//! `brdfkit render`: the run (outputs checked first, the scene resolved, rendered,
+//! written) and `scene_file`, the command-line options applied to a scene file, which
+//! `brdfkit view` shares. It stays one file past 400 lines: both halves are the command
+//! line of one command, and `run` reads `scene_file`'s result field by field.
 
-use super::{CullArg, RenderArgs};
+use super::{CullArg, RenderArgs, SceneArgs};
 use crate::aov;
 use crate::env::prepare::{CacheDir, EnvSpec};
 use crate::error::{Error, Result};
@@ -43,9 +46,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
             return Ok(());
         }
     }
-    let (mut file, base) = scene_file(&a)?;
+    let (mut file, base) = scene_file(&a.common, a.reference)?;
     // How the probe's warnings name it: as the user gave it.
-    let probe_name = file.env.as_ref().map(|env| probe_label(&a, env));
+    let probe_name = file.env.as_ref().map(|env| probe_label(&a.common, env));
     // `[env] method = "auto"` made concrete for this material and renderer before anything
     // is prepared (the progress bar below names the method's preparation); `--device gpu`
     // gets a method the GPU runs, with one line saying so.
@@ -95,7 +98,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         .map(|p| image_io::format_of(p))
         .collect::<Result<Vec<_>>>()?;
     // The user's light-set cache (crate::env::prepare), unless --no-cache.
-    let cache = if a.no_cache {
+    let cache = if a.common.no_cache {
         CacheDir::None
     } else {
         CacheDir::user()?
@@ -128,7 +131,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let scene = Scene::resolve_with_progress(&file, resolve_base, &cache, &light_set);
     light_set.finish();
-    let scene = match &a.scene {
+    let scene = match &a.common.scene {
         Some(p) => scene.map_err(|e| match e {
             Error::Field { .. } => Error::format(p, e.to_string()),
             other => other,
@@ -193,11 +196,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
         a.device,
         &scene,
         &super::device::Request {
-            aov: a.aov,
+            aov: a.common.aov,
             reference: a.reference,
             turntable: a.turntable.is_some(),
         },
     )?;
+    if let Some(aov) = a.common.aov {
+        aov::check_available(&scene, aov)?;
+    }
     if let Some(n) = a.turntable {
         return super::turntable::run_turntable(
             &a,
@@ -207,20 +213,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
         );
     }
     let start = std::time::Instant::now();
-    let reference = a.reference && a.aov.is_none();
+    let reference = a.reference && a.common.aov.is_none();
     let mut opts = if reference {
         render::RenderOptions::converged_reference()
     } else {
         render::RenderOptions::default()
     };
-    opts.aov = a.aov;
+    opts.aov = a.common.aov;
     opts.threads = Some(scene.render.threads);
-    opts.stats = a.stats && !reference;
+    opts.stats = a.common.stats && !reference;
     // Tiles counted by the shading loop: a bar with an ETA on a terminal, nothing off one,
     // for the renders that can take more than about a second (the reference takes
     // minutes, the f64 path seconds; the kernels only at FAST_BAR_PIXELS and beyond).
     let what = match (reference, scene.render.precision) {
-        _ if a.aov.is_some() => None,
+        _ if a.common.aov.is_some() => None,
         (true, _) => Some("reference"),
         (false, Precision::F64) => Some("render (f64)"),
         (false, Precision::F32) => {
@@ -233,7 +239,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let rendered = match &gpu {
         Some(g) => render::Rendered {
-            image: super::device::render(g, &scene, a.aov)?,
+            image: super::device::render(g, &scene, a.common.aov)?,
             stats: None,
         },
         None => render::render(&scene, &opts),
@@ -241,7 +247,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     opts.shading.progress.finish();
     let (img, stats) = (rendered.image, rendered.stats);
     let elapsed = start.elapsed();
-    if a.stats {
+    if a.common.stats {
         match &stats {
             Some(s) => eprintln!("{s}"),
             None if gpu.is_some() => eprintln!("stats: gpu frame (upload, draw, read-back)"),
@@ -259,7 +265,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
     for (path, fmt) in outputs.iter().zip(formats) {
-        match (fmt, a.aov) {
+        match (fmt, a.common.aov) {
             (Format::Exr, _) => image_io::write_exr(path, &img)?,
             (Format::Png, None) => {
                 image_io::write_png(path, &img, scene.output.exposure, scene.output.tonemap)?
@@ -283,7 +289,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 /// (relative to the working directory); a scene file's `[env] file` as written there
 /// (relative to the scene file), after the scene file's path as given; the default scene's
 /// probe path. `env` is the scene's `[env]` after [`scene_file`].
-fn probe_label(a: &RenderArgs, env: &EnvSpec) -> String {
+fn probe_label(a: &SceneArgs, env: &EnvSpec) -> String {
     match (&a.env, &a.scene) {
         (Some(given), _) => given.display().to_string(),
         (None, Some(scene)) => format!("{}: env.file {}", scene.display(), env.file.display()),
@@ -292,9 +298,10 @@ fn probe_label(a: &RenderArgs, env: &EnvSpec) -> String {
 }
 
 /// The scene file `render` renders: the scene's file (or the default scene) with every
-/// command-line option applied, and the directory its relative paths resolve against.
-/// `brdfkit view` starts from the same ([`crate::cli::view`]).
-pub(super) fn scene_file(a: &RenderArgs) -> Result<(SceneFile, PathBuf)> {
+/// command-line option applied, and the directory its relative paths resolve against;
+/// `reference` is `render --reference` (the full probe). `brdfkit view` starts from the
+/// same, without the reference ([`crate::cli::view`]).
+pub(super) fn scene_file(a: &SceneArgs, reference: bool) -> Result<(SceneFile, PathBuf)> {
     let (mut file, base) = match &a.scene {
         Some(p) => (
             SceneFile::load(p)?,
@@ -365,6 +372,12 @@ pub(super) fn scene_file(a: &RenderArgs) -> Result<(SceneFile, PathBuf)> {
         let abs = std::env::current_dir()
             .map(|d| d.join(p))
             .unwrap_or_else(|_| p.clone());
+        if std::fs::metadata(&abs).is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound) {
+            return Err(Error::field(
+                "--env",
+                format!("{}: no such file", p.display()),
+            ));
+        }
         file.env = Some(EnvSpec::new(abs));
     }
     if a.sampler.is_some() || a.lights.is_some() {
@@ -388,7 +401,7 @@ pub(super) fn scene_file(a: &RenderArgs) -> Result<(SceneFile, PathBuf)> {
             env.method = crate::env::prepare::EnvMethod::Lights;
         }
         if a.lights.is_some()
-            && (a.reference || env.sampler == crate::env::prepare::SamplerKind::Full)
+            && (reference || env.sampler == crate::env::prepare::SamplerKind::Full)
         {
             eprintln!(
                 "warning: --lights is ignored with the full probe (--sampler full or --reference): every texel is a light"
@@ -404,7 +417,7 @@ pub(super) fn scene_file(a: &RenderArgs) -> Result<(SceneFile, PathBuf)> {
         };
         env.method = m;
     }
-    if a.reference {
+    if reference {
         if let Some(env) = file.env.as_mut() {
             env.use_full_probe();
         }
@@ -445,6 +458,9 @@ fn set_lookup(material: &mut MaterialSpec, mode: Lookup) -> Result<()> {
         }
         MaterialSpec::DbrdfFile { path } => {
             Err(not_sh(&format!("the D-BRDF file {}", path.display())))
+        }
+        MaterialSpec::MerlFile { path } => {
+            Err(not_sh(&format!("the MERL table {}", path.display())))
         }
         MaterialSpec::Lambert { .. } => Err(not_sh("analytic (lambert)")),
         MaterialSpec::BlinnPhong { .. } => Err(not_sh("analytic (blinn-phong)")),

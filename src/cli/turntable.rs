@@ -58,8 +58,8 @@ pub(super) fn run_turntable(
         .build()
         .expect("thread pool");
     let opts = render::RenderOptions {
-        aov: a.aov,
-        ..if a.reference && a.aov.is_none() {
+        aov: a.common.aov,
+        ..if a.reference && a.common.aov.is_none() {
             render::RenderOptions::converged_reference()
         } else {
             render::RenderOptions::default()
@@ -72,7 +72,7 @@ pub(super) fn run_turntable(
         let s = turntable::frame_scene(scene, env_lights, motion, k, n);
         let img = pool.install(|| render::render(&s, &opts)).image;
         let path = turntable::frame_path(&out, k, n);
-        match a.aov {
+        match a.common.aov {
             None => image_io::write_png(&path, &img, s.output.exposure, s.output.tonemap)?,
             Some(aov) => {
                 image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(&img, aov))?

@@ -32,9 +32,9 @@ fn absolute_paths(file: &mut SceneFile, base: &Path) {
         file.mesh.source = base.join(&file.mesh.source).to_string_lossy().into_owned();
     }
     match &mut file.material {
-        MaterialSpec::ShFile { path, .. } | MaterialSpec::DbrdfFile { path } => {
-            *path = base.join(&*path)
-        }
+        MaterialSpec::ShFile { path, .. }
+        | MaterialSpec::DbrdfFile { path }
+        | MaterialSpec::MerlFile { path } => *path = base.join(&*path),
         _ => {}
     }
     if let Some(env) = file.env.as_mut() {
@@ -43,16 +43,9 @@ fn absolute_paths(file: &mut SceneFile, base: &Path) {
 }
 
 pub fn run(a: ViewArgs) -> Result<()> {
-    let r = &a.render;
-    for (given, flag, why) in [
-        (r.output.is_some(), "--output", "the viewer writes --screenshot PATH"),
-        (r.turntable.is_some(), "--turntable", "drag to turn, or use `brdfkit render --turntable`"),
-        (r.reference, "--reference", "the viewer refines towards it when the view is still; `brdfkit render --reference` renders it"),
-    ] {
-        if given {
-            return Err(Error::field(flag, format!("not an option of view: {why}")));
-        }
-    }
+    // `render`'s own options (-o, --turntable, --reference, ...) are not in SceneArgs:
+    // clap refuses them, and `view --help` does not list them.
+    let r = &a.scene;
     if let Some(p) = &a.screenshot {
         image_io::check_output(p, &["png"], "--screenshot")?;
     }
@@ -63,7 +56,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
         image_io::check_output(p, &["toml"], "--write-scene")?;
     }
     let script = a.script.as_deref().map(Script::load).transpose()?;
-    let (mut file, base) = super::render::scene_file(r)?;
+    let (mut file, base) = super::render::scene_file(r, false)?;
     absolute_paths(&mut file, &base);
     let cwd = std::env::current_dir().unwrap_or_default();
     let mut probes: Vec<PathBuf> = a.probe.iter().map(|p| cwd.join(p)).collect();

@@ -73,26 +73,27 @@ impl SamplerKind {
     }
 }
 
-/// How an environment is shaded (`[env] method`).
+/// How an environment is shaded (`[env] method`): the choice of `auto` is
+/// [`crate::scene::env_method`]'s (from the sweep), the transfer table
+/// [`crate::env::transfer`], the light cuts [`crate::env::lightcuts`]. The variants' docs
+/// are the `--env-method` help text (plain text: clap prints them).
 #[derive(
     Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize, serde::Serialize, clap::ValueEnum,
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum EnvMethod {
     /// Chosen per material (the default): `transfer` for Lambert and SH data sets,
-    /// `lightcuts` for analytic lobes and D-BRDFs; `lights` when the `[env]` table states
-    /// `sampler` or `count` or names a light set file (`lights`)
-    /// ([`crate::scene::env_method`] says why, from the sweep).
+    /// `lightcuts` for analytic lobes and D-BRDFs, `lights` for MERL tables; `lights` when
+    /// the `[env]` table states `sampler` or `count` or names a light set file (`lights`).
     #[default]
     Auto,
     /// The probe collapsed into delta lights by `sampler`.
     Lights,
     /// A transfer table over normals from the full probe plus the `exact_lights`
-    /// brightest texels as delta lights ([`crate::env::transfer`]); SH data sets and
-    /// Lambert only.
+    /// brightest texels as delta lights; SH data sets and Lambert only.
     Transfer,
-    /// Every texel a light in a light tree, a cut refined per pixel to `cut_error`
-    /// ([`crate::env::lightcuts`]); analytic models and D-BRDFs (not SH data sets or MERL).
+    /// Every texel a light in a light tree, a cut refined per pixel to `cut_error`;
+    /// analytic models and D-BRDFs (not SH data sets or MERL).
     Lightcuts,
 }
 

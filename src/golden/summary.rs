@@ -35,6 +35,7 @@ pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
         MaterialSpec::Library { name, .. } => format!("library {name}{representation}"),
         MaterialSpec::ShFile { path, .. } => format!("sh-file {}{representation}", file_name(path)),
         MaterialSpec::DbrdfFile { path } => format!("dbrdf-file {}", file_name(path)),
+        MaterialSpec::MerlFile { path } => format!("merl-file {}", file_name(path)),
     });
     let specs = file.light_specs();
     let count = |point: bool| {

@@ -52,17 +52,35 @@ pub fn replace_via_temp<E>(
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
+    // The user gave `path`: an error names it (through `io_err`), never the temporary file.
+    let io_err = |e: std::io::Error| io_err(without_temporary_path(e));
     // Dropped (and so removed) on every early return below.
-    let tmp = LiveTemp::create(&builder, dir).map_err(&io_err)?;
+    let tmp = LiveTemp::create(&builder, dir).map_err(io_err)?;
     write(tmp.path())?;
     pause_for_tests(tmp.path());
     std::fs::OpenOptions::new()
         .write(true)
         .open(tmp.path())
         .and_then(|f| f.sync_all())
-        .map_err(&io_err)?;
+        .map_err(io_err)?;
     tmp.persist(path).map_err(io_err)?;
     Ok(())
+}
+
+/// `e` without the temporary file's name: `tempfile` appends ` at path "DIR/.NAME.tmp"` to
+/// the errors it returns (creating the file), which would show the user a name they never
+/// gave; the kind and the system's message ("Permission denied (os error 13)") are kept.
+/// Errors without that suffix are returned unchanged. Used for every temporary file
+/// (this module's, and the writability probe of `check_output`).
+pub(crate) fn without_temporary_path(e: std::io::Error) -> std::io::Error {
+    if e.raw_os_error().is_some() {
+        return e;
+    }
+    let text = e.to_string();
+    match text.rfind(" at path ") {
+        Some(i) => std::io::Error::new(e.kind(), text[..i].to_string()),
+        None => e,
+    }
 }
 
 /// Removes `.<name>.<pid>-*.tmp` files in `dir` left by processes that no longer exist
@@ -202,6 +220,25 @@ mod tests {
         expected.push("x.exr".into());
         expected.sort();
         assert_eq!(listing(dir.path()), expected);
+    }
+
+    #[test]
+    fn an_error_creating_the_temporary_file_does_not_name_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("no/such/dir/x.exr");
+        let e = replace_via_temp(&target, |tmp| std::fs::write(tmp, "x"), |e| e).unwrap_err();
+        let text = e.to_string();
+        assert_eq!(e.kind(), std::io::ErrorKind::NotFound, "{text}");
+        assert!(!text.contains(".tmp") && !text.contains("x.exr"), "{text}");
+        assert!(!text.is_empty());
+        // The writability probe of check_output gets the same treatment.
+        let e = tempfile::NamedTempFile::new_in(dir.path().join("gone")).unwrap_err();
+        assert!(
+            e.to_string().contains(".tmp"),
+            "tempfile names its file: {e}"
+        );
+        let text = without_temporary_path(e).to_string();
+        assert!(!text.contains(".tmp") && !text.is_empty(), "{text}");
     }
 
     #[test]

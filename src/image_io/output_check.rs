@@ -41,6 +41,7 @@ pub fn check_output(path: &Path, allowed: &[&str], flag: &str) -> Result<()> {
         _ => Path::new("."),
     };
     tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+        let e = super::atomic::without_temporary_path(e);
         Error::format(
             path,
             format!("{flag}: cannot create a file in {}: {e}", dir.display()),

@@ -16,6 +16,8 @@
 //!   that meets 1% RMSE for a narrow lobe (Lloyd, 1024 lights) is faster, but its 99th
 //!   percentile is tens of percent: the highlight shows the lights as spots. The cuts bound
 //!   every pixel's error instead.
+//! - MERL tables: `lights` (delta lights; neither a transfer table nor a cone bound for
+//!   light cuts exists for a measured table).
 //!
 //! A table that states `sampler` or `count` and no `method` asks for a delta light set:
 //! its method is then `lights` ([`super::SceneFile::parse`]; a stated `method = "auto"`
@@ -52,6 +54,7 @@ pub fn auto_method(material: &MaterialSpec) -> EnvMethod {
     match material {
         MaterialSpec::Lambert { .. } | MaterialSpec::ShFile { .. } => EnvMethod::Transfer,
         MaterialSpec::BlinnPhong { .. } | MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
+        MaterialSpec::MerlFile { .. } => EnvMethod::Lights,
         MaterialSpec::Library { name, .. } => match library::find(name).map(|e| e.representation) {
             Some(Representation::Sh { .. }) => EnvMethod::Transfer,
             Some(Representation::Dbrdf) => EnvMethod::Lightcuts,

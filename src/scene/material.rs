@@ -1,8 +1,8 @@
 //! The material of a scene: its spec in the scene file, what a `--material` value names
-//! (file sniffing), and building the material a spec names.
+//! (the file's extension, then its header), and building the material a spec names.
 //!
 //! Design rule: every way a scene names a material (analytic model, library name, SH file,
-//! D-BRDF file) is one [`MaterialSpec`] variant, and [`resolve_material`] is the one place
+//! D-BRDF file, MERL table) is one [`MaterialSpec`] variant, and [`resolve_material`] is the one place
 //! that turns a spec into a [`Material`] (the renderer's closed set of models), checking its
 //! values once with errors naming the `material.*` field.
 
@@ -49,12 +49,22 @@ pub enum MaterialSpec {
     /// A D-BRDF file ([`crate::brdf::dbrdf::file::read_dbrdf`]), path relative to the
     /// scene file.
     DbrdfFile { path: PathBuf },
+    /// A MERL table (`.binary`, [`crate::brdf::MerlBrdf::read`]), path relative to the
+    /// scene file. Under an environment it is shaded with delta lights (`[env] method =
+    /// "auto"` is `lights`).
+    MerlFile { path: PathBuf },
 }
 
+/// The material files `--material` (and `[material] path`) take, by extension, as one
+/// clause of an error message.
+pub const MATERIAL_FILE_KINDS: &str = ".exr (an SH data set from `brdfkit acquire` or a \
+     D-BRDF from `brdfkit fit-dbrdf`) or .binary (a MERL table)";
+
 impl MaterialSpec {
-    /// The spec for a `--material` value: a library name, else a file path whose kind (SH
-    /// data set or D-BRDF) is read from its `brdfkit.format` header. Fails with a field
-    /// error naming `--material` when the value is neither.
+    /// The spec for a `--material` value: a library name, else a file path: a MERL table by
+    /// its `.binary` extension, an SH data set or D-BRDF by the `brdfkit.format` attribute
+    /// of its EXR header (`MATERIAL_FILE_KINDS`). Fails with a field error naming
+    /// `--material` when the value is none of these (one line saying which kinds it takes).
     pub fn from_cli(value: &str) -> Result<MaterialSpec> {
         if crate::library::find(value).is_some() {
             return Ok(MaterialSpec::Library {
@@ -78,6 +88,24 @@ impl MaterialSpec {
                 ),
             ));
         }
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            // Read (and its size checked) when the scene is resolved.
+            Some("binary") => return Ok(MaterialSpec::MerlFile { path }),
+            Some("exr") => {}
+            _ => {
+                return Err(Error::field(
+                    "--material",
+                    format!(
+                    "{}: not a material file brdfkit reads (by extension: {MATERIAL_FILE_KINDS})",
+                    path.display()
+                ),
+                ))
+            }
+        }
         // The kind is the `brdfkit.format` header attribute: only the headers are read here
         // (after the regular-file and size checks); the file is read whole, once, when the
         // scene is resolved.
@@ -99,7 +127,8 @@ impl MaterialSpec {
                 "--material",
                 format!(
                     "{}: not a brdfkit material file (brdfkit.format is {}; expected '{sh}' \
-                     from `brdfkit acquire` or '{dbrdf}' from `brdfkit fit-dbrdf`)",
+                     from `brdfkit acquire` or '{dbrdf}' from `brdfkit fit-dbrdf`; a MERL \
+                     table is a .binary file)",
                     path.display(),
                     found.map_or("missing".to_string(), |f| format!("'{f}'"))
                 ),
@@ -176,6 +205,10 @@ pub(super) fn resolve_material(spec: &MaterialSpec, base: &Path) -> Result<Mater
             crate::brdf::dbrdf::file::read_dbrdf(&base.join(path))
                 .map_err(|e| Error::field("material.path", e.to_string()))?
                 .0,
+        ),
+        MaterialSpec::MerlFile { path } => Material::from(
+            crate::brdf::MerlBrdf::read(&base.join(path))
+                .map_err(|e| Error::field("material.path", e.to_string()))?,
         ),
     })
 }

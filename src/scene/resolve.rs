@@ -230,6 +230,20 @@ impl Scene {
             s.method = super::env_method::concrete_method(&s, &file.material);
             s
         });
+        // A probe that is not there: named as the scene wrote it, under its field (every
+        // method reads the probe, unless `[env] lights` names a light set file instead).
+        // An empty `file` is reported as missing where the probe is read.
+        let named = |s: &&prepare::EnvSpec| s.lights.is_none() && !s.file.as_os_str().is_empty();
+        if let Some(spec) = env_spec.as_ref().filter(named) {
+            if let Err(e) = std::fs::metadata(base.join(&spec.file)) {
+                if e.kind() == std::io::ErrorKind::NotFound {
+                    return Err(Error::field(
+                        "env.file",
+                        format!("\"{}\": no such file", spec.file.display()),
+                    ));
+                }
+            }
+        }
         if let Some(spec) = env_spec
             .as_ref()
             .filter(|s| s.method == EnvMethod::Lightcuts)

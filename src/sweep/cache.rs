@@ -40,9 +40,9 @@ pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
         files.push(base.join(&env.file));
     }
     match &file.material {
-        MaterialSpec::ShFile { path, .. } | MaterialSpec::DbrdfFile { path } => {
-            files.push(base.join(path))
-        }
+        MaterialSpec::ShFile { path, .. }
+        | MaterialSpec::DbrdfFile { path }
+        | MaterialSpec::MerlFile { path } => files.push(base.join(path)),
         _ => {}
     }
     for f in files {

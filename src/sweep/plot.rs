@@ -120,8 +120,8 @@ fn tick(v: f64) -> String {
     }
 }
 
-fn plot_err<E: std::fmt::Debug>(path: &Path) -> impl Fn(E) -> Error + '_ {
-    move |e| Error::format(path, format!("cannot draw the plot: {e:?}"))
+fn plot_err<E: std::fmt::Display>(path: &Path) -> impl Fn(E) -> Error + '_ {
+    move |e| Error::format(path, format!("cannot draw the plot: {e}"))
 }
 
 /// Draws the rows (with their `pareto` and `default` flags set) to a PNG at `path`.

@@ -73,7 +73,9 @@ pub struct ViewState {
 pub fn material_name(m: &MaterialSpec) -> String {
     match m {
         MaterialSpec::Library { name, .. } => name.clone(),
-        MaterialSpec::ShFile { path, .. } | MaterialSpec::DbrdfFile { path } => path
+        MaterialSpec::ShFile { path, .. }
+        | MaterialSpec::DbrdfFile { path }
+        | MaterialSpec::MerlFile { path } => path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default(),

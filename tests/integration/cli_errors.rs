@@ -8,7 +8,7 @@ use crate::common;
 /// Runs `brdfkit args` in `dir`, killed after 60 s; never the user's light-set cache
 /// (`render --env` looks an entry up before it decodes the probe), and nothing is written
 /// there by a failing run.
-fn brdfkit(dir: &Path, args: &[&str]) -> common::Run {
+pub(crate) fn brdfkit(dir: &Path, args: &[&str]) -> common::Run {
     common::brdfkit(dir)
         .cache(&dir.join(".brdfkit-cache"))
         .timeout(60)
@@ -17,7 +17,7 @@ fn brdfkit(dir: &Path, args: &[&str]) -> common::Run {
 
 /// Asserts an error run: exit 2, exactly one stderr line, containing every `needle`, and
 /// the directory holds only the files that were there before.
-fn assert_error(dir: &Path, args: &[&str], needles: &[&str]) {
+pub(crate) fn assert_error(dir: &Path, args: &[&str], needles: &[&str]) {
     let before: Vec<PathBuf> = list(dir);
     let r = brdfkit(dir, args);
     assert_eq!(
@@ -45,7 +45,7 @@ fn assert_error(dir: &Path, args: &[&str], needles: &[&str]) {
     assert_eq!(list(dir), before, "{args:?}: files were written");
 }
 
-fn list(dir: &Path) -> Vec<PathBuf> {
+pub(crate) fn list(dir: &Path) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -378,40 +378,4 @@ fn unreadable_sweep_csv_in_merge() {
         &["sweep", "--merge", "a.csv", "a.csv", "-o", "all.csv"],
         &["a.csv", "row index 0"],
     );
-}
-
-#[test]
-fn rejected_arguments_are_one_line_naming_the_option() {
-    // clap rejects these before any work starts; the report is one line like every other
-    // brdfkit error (no usage block), exit 2, nothing written.
-    let d = tempfile::tempdir().unwrap();
-    let dir = d.path();
-    assert_error(
-        dir,
-        &["render", "--cull", "sideways", "-o", "x.png"],
-        &["--cull", "sideways", "none", "back"],
-    );
-    assert_error(
-        dir,
-        &[
-            "acquire",
-            "teal-paint",
-            "--method",
-            "fourier",
-            "-o",
-            "x.exr",
-        ],
-        &["--method", "fourier", "zero", "lsq", "even"],
-    );
-    assert_error(
-        dir,
-        &["acquire", "teal-paint", "--grid", "16x0", "-o", "x.exr"],
-        &["--grid", "16x0", "NUxNV"],
-    );
-    assert_error(
-        dir,
-        &["fit-dbrdf", "teal-paint", "--grid", "big", "-o", "y.exr"],
-        &["--grid", "big"],
-    );
-    assert_error(dir, &["render", "--no-such-flag"], &["--no-such-flag"]);
 }

@@ -195,7 +195,9 @@ pth = \"typo-caught-even-when-parse-only.exr\"
             "faults.md:19",
             "faults.md:24",
             "faults.md:29",
-            "faults.md:44"
+            // The `pth` line itself, not its table's header (an unknown field of
+            // `[material]` is looked up by its key: crate::error::toml_message).
+            "faults.md:46"
         ],
         "failures: {failures:#?}"
     );

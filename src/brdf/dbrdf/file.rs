@@ -52,7 +52,10 @@ pub enum DbrdfFileError {
     },
     #[error("{path}: not a readable OpenEXR file: {message}")]
     Exr { path: PathBuf, message: String },
-    #[error("{path}: not a brdfkit D-BRDF file (brdfkit.format is {found:?})")]
+    #[error(
+        "{path}: not a brdfkit D-BRDF file (brdfkit.format is {}; expected '{FORMAT_NAME}' from `brdfkit fit-dbrdf`)",
+        .found.as_deref().map_or("missing".to_string(), |f| format!("'{f}'"))
+    )]
     NotDbrdf {
         path: PathBuf,
         found: Option<String>,

@@ -218,7 +218,7 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
                 path: path.to_owned(),
                 layer: COEFF_LAYER,
                 name: "brdfkit.band_threshold",
-                value: format!("{other:?} (need a float in [0, 1))"),
+                value: format!("{} (need a float in [0, 1))", shown(other)),
             })
         }
     };
@@ -232,7 +232,7 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
                 path: path.to_owned(),
                 layer: COEFF_LAYER,
                 name: LOOKUP_ATTRIBUTE,
-                value: format!("{v:?} (need the string \"nearest\" or \"bilinear\")"),
+                value: format!("{} (need the string \"nearest\" or \"bilinear\")", shown(v)),
             })?,
     };
     let nt = num_terms(bands);
@@ -269,4 +269,19 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
         ds.set_basis_table(Some(tb)).map_err(data_err)?;
     }
     Ok(ds)
+}
+
+/// An attribute's value as an error message shows it: the number, the text in quotes, or
+/// the attribute's type for anything else (never Rust's debug form of the value).
+fn shown(v: &AttributeValue) -> String {
+    match v {
+        AttributeValue::F32(x) => x.to_string(),
+        AttributeValue::F64(x) => x.to_string(),
+        AttributeValue::I32(x) => x.to_string(),
+        AttributeValue::Text(t) => format!("\"{t}\""),
+        other => format!(
+            "an attribute of type {}",
+            String::from_utf8_lossy(other.kind_name())
+        ),
+    }
 }
