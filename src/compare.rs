@@ -1,47 +1,40 @@
 //! Image comparison: the measurements `brdfkit compare` reports and the pass/fail rule a
 //! GPU build's CI relies on. The pixel measures are [`crate::metrics`]'s; FLIP is here.
 //!
-//! Design rule: like is compared with like. Two EXR files are compared as linear floats;
-//! two PNG files as their 8-bit sRGB values scaled to [0, 1]. A size, colour-layout
-//! (RGB against L) or kind mismatch is *unusable input*, never a silent conversion. An
-//! alpha channel (RGBA EXR or PNG, what most GPU read-backs produce) is ignored by default
+//! Design rule: like is compared with like, and the object is measured, not the
+//! background. Two EXR files are compared as linear floats; two PNG files as their 8-bit
+//! sRGB values scaled to [0, 1]. A size, colour-layout (RGB against L) or kind mismatch is
+//! *unusable input*, never a silent conversion. Every statistic (errors, RMSE, PSNR, FLIP
+//! mean and percentiles, the histogram) is taken over the **covered pixels**
+//! ([`coverage`]: non-black in either image; the renderer's background is exactly 0), so a
+//! frame that is mostly background does not dilute an error on the object; [`Pixels::All`]
+//! keeps the whole frame for the measurements recorded that way. A NaN or infinite value
+//! fails the comparison before any statistic ([`Metrics::bounds`]). An alpha channel
+//! (RGBA EXR or PNG, what most GPU read-backs produce) is ignored by default
 //! ([`AlphaMode::Ignore`]): RGBA is compared with RGB on its colour channels, never
 //! premultiplied. [`AlphaMode::Compare`] compares it as a fourth channel, an image without
 //! one counting as opaque (alpha 1). FLIP (NVIDIA's perceptual
 //! difference, through the `nv-flip` crate) is computed on what a person sees: PNGs as they
-//! are, EXRs after [`crate::image_io::display_u8`] (exposure 0, ACES, sRGB).
+//! are, EXRs after [`crate::image_io::display_u8`] (exposure 0, ACES, sRGB), over the whole
+//! frame (it filters across neighbours), then pooled over the covered pixels.
 //!
 //! Thresholds follow wgpu's image tests: a FLIP mean and a FLIP value at a high percentile,
 //! each with a reason (see [`Thresholds::DEFAULT`]).
 
 mod alpha;
+pub mod coverage;
+mod load;
+mod verdict;
 
 pub use alpha::AlphaMetrics;
+pub use coverage::Pixels;
+pub use load::{load, Layout, Loaded, MAX_SIDE, PNG_ALLOC_SLACK, PNG_MAX_EXPANSION};
+pub use verdict::{decimal, percentile_label, Bound};
 
 use crate::error::{Error, Result};
-use crate::image_io::{self, Image, Tonemap};
+use crate::image_io::{self, Image};
 use glam::Vec3;
 use std::path::Path;
-
-/// What kind of file an image came from, with its channel layout.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Layout {
-    /// "EXR" or "PNG".
-    pub kind: &'static str,
-    /// Channel names, e.g. "RGB", "RGBA", "L".
-    pub channels: String,
-}
-
-impl Layout {
-    /// The colour channels without a trailing alpha: "RGB" for "RGB" and "RGBA", "L" for
-    /// "L" and "LA".
-    pub fn colour(&self) -> &str {
-        self.channels
-            .strip_suffix('A')
-            .filter(|c| !c.is_empty())
-            .unwrap_or(&self.channels)
-    }
-}
 
 /// What `compare` does with an alpha channel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -55,171 +48,8 @@ pub enum AlphaMode {
     Compare,
 }
 
-/// A loaded image for comparison: RGB values (linear for EXR, encoded/255 for PNG) and,
-/// for FLIP, 8-bit display bytes.
-#[derive(Clone, Debug)]
-pub struct Loaded {
-    pub image: Image,
-    pub display: Vec<u8>,
-    pub layout: Layout,
-    /// Alpha per pixel (row-major; linear for EXR, value/255 for PNG), when the file has
-    /// an alpha channel.
-    pub alpha: Option<Vec<f32>>,
-}
-
-impl Loaded {
-    /// A linear image as if loaded from an EXR (display bytes through the same encoding).
-    pub fn from_linear(image: Image) -> Loaded {
-        let display = image
-            .pixels
-            .iter()
-            .flat_map(|p| {
-                p.to_array()
-                    .map(|c| image_io::display_u8(c, 0.0, Tonemap::Aces))
-            })
-            .collect();
-        Loaded {
-            image,
-            display,
-            layout: Layout {
-                kind: "EXR",
-                channels: "RGB".into(),
-            },
-            alpha: None,
-        }
-    }
-}
-
-/// Largest image side accepted for comparison.
-pub const MAX_SIDE: u32 = 1 << 15;
-
-/// Bytes a PNG's decoder may allocate per byte of file (deflate's worst ratio, 1032:1,
-/// rounded up).
-pub const PNG_MAX_EXPANSION: u64 = 1100;
-/// Bytes a PNG's decoder may allocate whatever the file's length.
-pub const PNG_ALLOC_SLACK: u64 = 16 << 20;
-
-/// Loads an EXR (R, G, B, optional A) or PNG (any 8/16-bit colour type, alpha kept in
-/// [`Loaded::alpha`]). Errors name the
-/// file: not a regular file or over [`crate::image_io::MAX_EXR_FILE_BYTES`], unreadable, unknown extension, undecodable or truncated, over [`MAX_SIDE`] per
-/// side, missing R/G/B (EXR), or a PNG whose declared size needs more memory than
-/// [`PNG_MAX_EXPANSION`] x its length + [`PNG_ALLOC_SLACK`].
-pub fn load(path: &Path) -> Result<Loaded> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if matches!(ext.as_deref(), Some("exr" | "png")) {
-        crate::image_io::check_regular_file(path, crate::image_io::MAX_EXR_FILE_BYTES, "image")?;
-    }
-    match ext.as_deref() {
-        Some("exr") => {
-            let meta = exr::meta::MetaData::read_from_file(path, false)
-                .map_err(|e| Error::format(path, format!("cannot read EXR: {e}")))?;
-            let header = meta
-                .headers
-                .first()
-                .ok_or_else(|| Error::format(path, "EXR has no layers"))?;
-            let names: Vec<String> = header
-                .channels
-                .list
-                .iter()
-                .map(|c| c.name.to_string())
-                .collect();
-            let size = header.layer_size;
-            if size.0 as u64 > MAX_SIDE as u64 || size.1 as u64 > MAX_SIDE as u64 {
-                return Err(Error::format(
-                    path,
-                    format!(
-                        "EXR is {}x{}, larger than {MAX_SIDE} per side",
-                        size.0, size.1
-                    ),
-                ));
-            }
-            for c in ["R", "G", "B"] {
-                if !names.iter().any(|n| n == c) {
-                    return Err(Error::format(
-                        path,
-                        format!("EXR has channels {names:?}: an R, G and B channel are needed"),
-                    ));
-                }
-            }
-            let has_alpha = names.iter().any(|n| n == "A");
-            let (image, alpha) = image_io::read_exr_rgba(path)?;
-            let mut loaded = Loaded::from_linear(image);
-            if has_alpha {
-                loaded.layout.channels = "RGBA".into();
-                loaded.alpha = Some(alpha);
-            }
-            Ok(loaded)
-        }
-        Some("png") => {
-            let reader = image::ImageReader::open(path)
-                .map_err(|e| Error::io(path, "cannot read PNG", e))?;
-            let mut reader = reader
-                .with_guessed_format()
-                .map_err(|e| Error::io(path, "cannot read PNG", e))?;
-            let mut limits = image::Limits::default();
-            // Decoded bytes are bounded by what the file's length can hold (deflate expands
-            // at most 1032:1) plus a fixed slack, before the decoder allocates.
-            let file_len = std::fs::metadata(path)
-                .map_err(|e| Error::io(path, "cannot read PNG", e))?
-                .len();
-            limits.max_alloc = Some(
-                file_len
-                    .saturating_mul(PNG_MAX_EXPANSION)
-                    .saturating_add(PNG_ALLOC_SLACK),
-            );
-            limits.max_image_width = Some(MAX_SIDE);
-            limits.max_image_height = Some(MAX_SIDE);
-            reader.limits(limits);
-            let img = reader
-                .decode()
-                .map_err(|e| Error::format(path, format!("cannot decode PNG: {e}")))?;
-            let channels = match img.color() {
-                image::ColorType::L8 | image::ColorType::L16 => "L",
-                image::ColorType::La8 | image::ColorType::La16 => "LA",
-                image::ColorType::Rgb8 | image::ColorType::Rgb16 => "RGB",
-                image::ColorType::Rgba8 | image::ColorType::Rgba16 => "RGBA",
-                _ => "other",
-            }
-            .to_string();
-            let alpha = img.color().has_alpha().then(|| {
-                img.to_rgba8()
-                    .pixels()
-                    .map(|p| p[3] as f32 / 255.0)
-                    .collect()
-            });
-            let rgb = img.to_rgb8();
-            let (w, h) = rgb.dimensions();
-            let display = rgb.into_raw();
-            let pixels = display
-                .chunks_exact(3)
-                .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) / 255.0)
-                .collect();
-            Ok(Loaded {
-                image: Image {
-                    width: w,
-                    height: h,
-                    pixels,
-                },
-                display,
-                layout: Layout {
-                    kind: "PNG",
-                    channels,
-                },
-                alpha,
-            })
-        }
-        _ => Err(Error::format(
-            path,
-            "unknown image format: compare reads .exr and .png",
-        )),
-    }
-}
-
 /// Pass thresholds: FLIP mean and the FLIP value at a percentile (both in [0, 1]).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Thresholds {
     pub flip_mean: f32,
     /// Percentile in (0, 1), e.g. 0.99.
@@ -230,11 +60,14 @@ pub struct Thresholds {
 impl Thresholds {
     /// Defaults for a GPU build against this oracle, from tests/integration/perturbation.rs
     /// (blue silk and a 45-degree-turned anisotropic lobe, 160x120, city probe, 64 median-cut
-    /// lights + a key light). Measured FLIP mean / 99th percentile of the seeded faults:
-    /// half-texel lookup shift 0.032 / 0.36, wrong cosine factor 0.080 / 0.60, flipped azimuth
-    /// 0.109 / 0.96; the unperturbed render 0 / 0, and our own f32 kernel against the scalar
-    /// oracle differs by at most 1.3e-4 relative, which does not change an 8-bit display
-    /// value. The mean bound (0.01) sits at a third of the smallest fault's mean, leaving room
+    /// lights + a key light). Measured FLIP mean / 99th percentile of the seeded faults over
+    /// the covered pixels (3,322 of 19,200), as `brdfkit compare` measures: half-texel lookup
+    /// shift 0.156 / 0.48, wrong cosine factor 0.380 / 0.67, flipped azimuth 0.557 / 0.97
+    /// (over the whole frame they were 0.032 / 0.36, 0.080 / 0.60 and 0.109 / 0.96: the
+    /// background diluted the means); the unperturbed render 0 / 0, and our own f32 kernel
+    /// against the scalar oracle differs by at most 1.3e-4 relative, which does not change an
+    /// 8-bit display value. The mean bound (0.01) sits at a fifteenth of the smallest fault's
+    /// mean (a third over the whole frame, where it was chosen), leaving room
     /// for a GPU port's legitimate differences (8-bit sub-texel filtering weights, fp32
     /// evaluation order; not measured here: this machine has no GPU). The 99th-percentile
     /// bound (0.1) keeps a small bad region (a seam, a few hundred wrong pixels) from hiding
@@ -247,13 +80,21 @@ impl Thresholds {
     };
 }
 
-/// The measurements of one comparison: the pixel differences of
-/// [`crate::metrics::differences`] (see [`crate::metrics::Differences`] for each
-/// definition) and the FLIP statistics.
+/// The measurements of one comparison over the pixels of [`Metrics::pixels`]: the pixel
+/// differences of [`crate::metrics::differences`] (see [`crate::metrics::Differences`] for
+/// each definition) and the FLIP statistics, over the measured pixels (covered and
+/// finite). Values are linear radiance for EXR, encoded/255 for PNG; FLIP is in [0, 1].
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Metrics {
     pub width: u32,
     pub height: u32,
+    /// The pixel set the statistics are taken over.
+    pub pixels: Pixels,
+    /// Pixels in that set ([`coverage::covered`] for [`Pixels::Covered`], every pixel for
+    /// [`Pixels::All`]).
+    pub covered: usize,
+    /// Covered pixels without a non-finite value: the ones the statistics are taken over.
+    pub measured: usize,
     /// Largest absolute channel difference.
     pub max_abs: f32,
     /// Largest relative channel difference `|a - b| / max(|a|, 1e-3)`.
@@ -274,11 +115,17 @@ pub struct Metrics {
     /// Histogram of the per-pixel largest absolute difference: `(upper bound, count)`,
     /// the first bucket holding exact zeros.
     pub histogram: Vec<(f32, usize)>,
-    /// NaN or infinite values in either image.
+    /// Pixels with a NaN or infinite value in either image (always covered, never
+    /// measured): any fails the comparison.
     pub non_finite: usize,
+    /// The first [`NON_FINITE_LISTED`] of them, row-major, as `[x, y]` (row 0 at the top).
+    pub non_finite_at: Vec<[u32; 2]>,
     /// The alpha channel's measures under [`AlphaMode::Compare`].
     pub alpha: Option<AlphaMetrics>,
 }
+
+/// How many non-finite pixels [`Metrics::non_finite_at`] lists.
+pub const NON_FINITE_LISTED: usize = 5;
 
 /// FLIP of `expected` against `actual` (8-bit RGB display bytes): the per-pixel error
 /// and its pool.
@@ -290,18 +137,63 @@ fn flip_of(w: u32, h: u32, expected: &[u8], actual: &[u8]) -> (Vec<f32>, nv_flip
     (err.to_vec(), pool)
 }
 
-/// Compares `expected` with `actual` on their colour channels ([`AlphaMode::Ignore`]).
-/// Fails (unusable input) when sizes, kinds or colour layouts differ.
-pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(Metrics, Vec<f32>)> {
-    compare_with_alpha(expected, actual, th, AlphaMode::Ignore)
+/// FLIP statistics of a pool: mean, then the values at the 95th, 99th and 99.9th
+/// percentiles and at the threshold's.
+#[derive(Clone, Copy, Debug, Default)]
+struct FlipStats {
+    mean: f32,
+    p95: f32,
+    p99: f32,
+    p999: f32,
+    at_percentile: f32,
 }
 
-/// [`compare`], with the alpha channel ignored or compared ([`AlphaMode`]).
-pub fn compare_with_alpha(
+impl FlipStats {
+    fn of(pool: &mut nv_flip::FlipPool, th: &Thresholds) -> FlipStats {
+        FlipStats {
+            mean: pool.mean(),
+            p95: pool.get_percentile(0.95, false),
+            p99: pool.get_percentile(0.99, false),
+            p999: pool.get_percentile(0.999, false),
+            at_percentile: pool.get_percentile(th.percentile, false),
+        }
+    }
+
+    /// The statistics of the per-pixel FLIP values `flip` where `keep` is true (all zero
+    /// when none is kept).
+    fn masked(flip: &[f32], keep: &[bool], th: &Thresholds) -> FlipStats {
+        let values: Vec<f32> = flip
+            .iter()
+            .zip(keep)
+            .filter(|p| *p.1)
+            .map(|(&v, _)| v)
+            .collect();
+        if values.is_empty() {
+            return FlipStats::default();
+        }
+        let row = nv_flip::FlipImageFloat::with_data(values.len() as u32, 1, &values);
+        FlipStats::of(&mut nv_flip::FlipPool::from_image(&row), th)
+    }
+}
+
+/// Compares `expected` with `actual` on their colour channels ([`AlphaMode::Ignore`]) over
+/// every pixel ([`Pixels::All`]: the sweep's and the golden fast-vs-reference bounds'
+/// measurement). Fails (unusable input) when sizes, kinds or colour layouts differ.
+pub fn compare(expected: &Loaded, actual: &Loaded, th: &Thresholds) -> Result<(Metrics, Vec<f32>)> {
+    compare_with(expected, actual, th, AlphaMode::Ignore, Pixels::All)
+}
+
+/// Compares `expected` with `actual` over the pixel set `pixels` ([`Pixels::Covered`]: what
+/// `brdfkit compare` and `golden check --device gpu` measure), with the alpha channel
+/// ignored or compared ([`AlphaMode`]). Returns the metrics and the per-pixel FLIP of the
+/// whole frame (row-major, for the heatmap). Fails (unusable input) when sizes, kinds or
+/// colour layouts differ.
+pub fn compare_with(
     expected: &Loaded,
     actual: &Loaded,
     th: &Thresholds,
     alpha: AlphaMode,
+    pixels: Pixels,
 ) -> Result<(Metrics, Vec<f32>)> {
     let (e, a) = (&expected.image, &actual.image);
     if (e.width, e.height) != (a.width, a.height) {
@@ -327,41 +219,72 @@ pub fn compare_with_alpha(
             ),
         ));
     }
-    let d = crate::metrics::differences(e, a);
+    let bad: Vec<bool> = e
+        .pixels
+        .iter()
+        .zip(&a.pixels)
+        .map(|(&pe, &pa)| coverage::non_finite(pe, pa))
+        .collect();
+    let non_finite_at: Vec<[u32; 2]> = bad
+        .iter()
+        .enumerate()
+        .filter(|p| *p.1)
+        .take(NON_FINITE_LISTED)
+        .map(|(i, _)| [i as u32 % e.width, i as u32 / e.width])
+        .collect();
     let (flip, mut pool) = flip_of(e.width, e.height, &expected.display, &actual.display);
+    let (d, stats, covered, mask) = match pixels {
+        Pixels::All => {
+            let stats = FlipStats::of(&mut pool, th);
+            (crate::metrics::differences(e, a), stats, bad.len(), None)
+        }
+        Pixels::Covered => {
+            let covered = coverage::covered(expected, actual);
+            let keep: Vec<bool> = covered.iter().zip(&bad).map(|(&c, &b)| c && !b).collect();
+            let only = |img: &Image| {
+                let pixels: Vec<Vec3> = img
+                    .pixels
+                    .iter()
+                    .zip(&keep)
+                    .filter(|p| *p.1)
+                    .map(|(&p, _)| p)
+                    .collect();
+                Image {
+                    width: pixels.len() as u32,
+                    height: 1,
+                    pixels,
+                }
+            };
+            let d = crate::metrics::differences(&only(e), &only(a));
+            let stats = FlipStats::masked(&flip, &keep, th);
+            let n = covered.iter().filter(|&&c| c).count();
+            (d, stats, n, Some(covered))
+        }
+    };
+    let non_finite = bad.iter().filter(|&&b| b).count();
     let metrics = Metrics {
         width: e.width,
         height: e.height,
+        pixels,
+        covered,
+        measured: covered - non_finite,
         max_abs: d.max_abs,
         max_rel: d.max_rel,
         rmse: d.rmse,
         psnr: d.psnr,
-        flip_mean: pool.mean(),
-        flip_p95: pool.get_percentile(0.95, false),
-        flip_p99: pool.get_percentile(0.99, false),
-        flip_p999: pool.get_percentile(0.999, false),
-        flip_at_percentile: pool.get_percentile(th.percentile, false),
+        flip_mean: stats.mean,
+        flip_p95: stats.p95,
+        flip_p99: stats.p99,
+        flip_p999: stats.p999,
+        flip_at_percentile: stats.at_percentile,
         differing_pixels: d.differing_pixels,
         histogram: d.histogram,
-        non_finite: d.non_finite,
-        alpha: (alpha == AlphaMode::Compare).then(|| alpha::measure(expected, actual, th)),
+        non_finite,
+        non_finite_at,
+        alpha: (alpha == AlphaMode::Compare)
+            .then(|| alpha::measure(expected, actual, th, mask.as_deref())),
     };
     Ok((metrics, flip))
-}
-
-impl Metrics {
-    /// Whether the comparison passes: no non-finite values, and both FLIP bounds hold (on
-    /// the colour, and on the alpha when it is compared).
-    pub fn passes(&self, th: &Thresholds) -> bool {
-        self.non_finite == 0
-            && self.flip_mean <= th.flip_mean
-            && self.flip_at_percentile <= th.flip_at_percentile
-            && self.alpha.as_ref().is_none_or(|a| {
-                a.non_finite == 0
-                    && a.flip_mean <= th.flip_mean
-                    && a.flip_at_percentile <= th.flip_at_percentile
-            })
-    }
 }
 
 /// Writes `expected | FLIP heatmap (magma) | actual` side by side as a PNG.

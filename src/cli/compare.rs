@@ -1,9 +1,11 @@
 //! `brdfkit compare A B`: exit 0 on pass, 1 on fail, 2 on unusable input. A failure stays
 //! exit 1 whatever happens to the diff image: one that cannot be written is a warning line.
+//! The report (text, or `--json`) is over the covered pixels ([`crate::compare::coverage`]);
+//! a non-finite pixel is reported first and fails, and no measure is printed beside it.
 
-use crate::compare::{self, AlphaMode, Thresholds};
+use crate::compare::{self, coverage, AlphaMode, Loaded, Metrics, Pixels, Thresholds};
 use crate::error::Result;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct CompareArgs {
@@ -11,53 +13,74 @@ pub struct CompareArgs {
     pub expected: PathBuf,
     /// The image under test (e.g. a GPU build's render).
     pub actual: PathBuf,
-    /// Golden manifest to take the FLIP thresholds from (with --entry).
-    #[arg(long, requires = "entry")]
-    pub manifest: Option<PathBuf>,
-    /// Manifest entry whose thresholds apply (its `flip`, else its tolerance's); flags below still override.
-    #[arg(long, requires = "manifest")]
+    /// File to take the FLIP bounds from (with --entry): golden/gpu-bounds.toml (the bounds `golden check --device gpu` applies: the file's own for the entries it lists, the manifest's beside it for the others) or a golden manifest such as golden/manifest.toml (the entry's `flip`, else its tolerance's).
+    #[arg(long, visible_alias = "manifest", requires = "entry")]
+    pub bounds: Option<PathBuf>,
+    /// Golden entry whose bounds apply (with --bounds); the flags below still override.
+    #[arg(long, requires = "bounds")]
     pub entry: Option<String>,
-    /// Largest passing FLIP mean (default 0.01, or the entry's).
+    /// Largest passing FLIP mean over the covered pixels (default 0.01, or the entry's).
     #[arg(long)]
     pub max_flip_mean: Option<f32>,
     /// Percentile for the second FLIP bound, in (0, 1) (default 0.99, or the entry's).
     #[arg(long)]
     pub percentile: Option<f32>,
-    /// Largest passing FLIP value at --percentile (default 0.1, or the entry's).
+    /// Largest passing FLIP value at --percentile over the covered pixels (default 0.1, or the entry's).
     #[arg(long)]
     pub max_flip_at_percentile: Option<f32>,
     /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png). A diff that cannot be written is a warning; the exit status stays 1.
     #[arg(long)]
     pub diff: Option<PathBuf>,
-    /// The alpha channel of RGBA images: ignored (RGBA compares with RGB on colour), or compared as a fourth channel (an image without alpha counts as opaque).
+    /// The alpha channel of RGBA images: ignored (RGBA compares with RGB on colour), or compared as a fourth channel (an image without alpha counts as opaque). Alpha never decides which pixels are covered.
     #[arg(long, value_enum, default_value = "ignore")]
     pub alpha: AlphaMode,
     /// Print the error histogram even when the comparison passes.
     #[arg(long)]
     pub histogram: bool,
+    /// Print one JSON object on stdout instead of the report: verdict, pixel counts, every measure (null where not measured), every bound with its value, limit and outcome, and the failed bounds' names. The exit status is the same.
+    #[arg(long)]
+    pub json: bool,
 }
 
-pub fn run(a: CompareArgs) -> Result<bool> {
-    // Thresholds: the flags, else the manifest entry's (its `flip`, else its tolerance's),
-    // else the defaults.
-    let base = match (&a.manifest, &a.entry) {
-        (Some(m), Some(name)) => {
-            let manifest = crate::golden::load_manifest_file(m)?;
-            let entry = crate::golden::Entry::find(&manifest, m, name)?;
-            let th = entry
-                .thresholds()
-                .expect("tolerance checked by the manifest parser");
-            println!(
-                "thresholds of {} entry '{}': FLIP mean <= {}, p{} <= {}",
-                m.display(),
-                name,
-                th.flip_mean,
-                th.percentile * 100.0,
-                th.flip_at_percentile
-            );
-            th
+/// Where the bounds came from, for the report.
+struct Source {
+    /// "defaults", or the file and entry.
+    text: String,
+    file: Option<PathBuf>,
+    entry: Option<String>,
+}
+
+/// The thresholds: the flags, else the bounds file's entry, else the defaults.
+fn thresholds(a: &CompareArgs) -> Result<(Thresholds, Source)> {
+    let (base, source) = match (&a.bounds, &a.entry) {
+        (Some(file), Some(name)) => {
+            let r = crate::golden::bounds_from_file(file, name)?;
+            let text = if r.from == *file {
+                format!("{} entry '{name}'", file.display())
+            } else {
+                format!(
+                    "{} entry '{name}' (not in {})",
+                    r.from.display(),
+                    file.display()
+                )
+            };
+            (
+                r.thresholds,
+                Source {
+                    text,
+                    file: Some(r.from),
+                    entry: Some(name.clone()),
+                },
+            )
         }
-        _ => Thresholds::DEFAULT,
+        _ => (
+            Thresholds::DEFAULT,
+            Source {
+                text: "defaults".into(),
+                file: None,
+                entry: None,
+            },
+        ),
     };
     let th = Thresholds {
         flip_mean: a.max_flip_mean.unwrap_or(base.flip_mean),
@@ -70,6 +93,11 @@ pub fn run(a: CompareArgs) -> Result<bool> {
             format!("{} must be in (0, 1)", th.percentile),
         ));
     }
+    Ok((th, source))
+}
+
+pub fn run(a: CompareArgs) -> Result<bool> {
+    let (th, source) = thresholds(&a)?;
     // An explicit --diff with a wrong extension is a usage error, refused before the
     // comparison. Where it cannot be written is found only when a failure writes it, and
     // is a warning then: the comparison's verdict does not depend on the diff image.
@@ -83,8 +111,62 @@ pub fn run(a: CompareArgs) -> Result<bool> {
     }
     let expected = compare::load(&a.expected)?;
     let actual = compare::load(&a.actual)?;
-    let (m, flip) = compare::compare_with_alpha(&expected, &actual, &th, a.alpha)?;
+    let (m, flip) = compare::compare_with(&expected, &actual, &th, a.alpha, Pixels::Covered)?;
     let pass = m.passes(&th);
+    if !a.json && source.file.is_some() {
+        println!(
+            "thresholds of {}: FLIP mean <= {}, {} <= {}",
+            source.text,
+            th.flip_mean,
+            compare::percentile_label(th.percentile),
+            th.flip_at_percentile
+        );
+    }
+    if !a.json {
+        print_report(&a, &expected, &actual, &m, &th, pass);
+    }
+    let mut diff_written = None;
+    if !pass {
+        let out = a.diff.clone().unwrap_or_else(|| {
+            let stem = a
+                .actual
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            a.actual.with_file_name(format!("{stem}.diff.png"))
+        });
+        match compare::write_report_image(&out, &expected, &actual, &flip) {
+            Ok(()) => {
+                if !a.json {
+                    println!(
+                        "  expected | FLIP heatmap | actual written to {}",
+                        out.display()
+                    );
+                }
+                diff_written = Some(out);
+            }
+            Err(e) => eprintln!("warning: diff image not written: {e}"),
+        }
+    }
+    if a.json {
+        let doc = json_report(&a, &m, &th, &source, pass, diff_written.as_deref());
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&doc).expect("serialisable")
+        );
+    }
+    Ok(pass)
+}
+
+/// The text report: header, non-finite pixels first, pixel counts, measures, verdict.
+fn print_report(
+    a: &CompareArgs,
+    expected: &Loaded,
+    actual: &Loaded,
+    m: &Metrics,
+    th: &Thresholds,
+    pass: bool,
+) {
     println!(
         "{} vs {} ({}x{} {} {} vs {}, alpha {})",
         a.expected.display(),
@@ -99,41 +181,66 @@ pub fn run(a: CompareArgs) -> Result<bool> {
             AlphaMode::Compare => "compared",
         }
     );
-    println!("  max abs error   {:.6e}", m.max_abs);
-    println!("  max rel error   {:.6e}", m.max_rel);
-    println!("  RMSE            {:.6e}", m.rmse);
-    println!("  PSNR            {:.2} dB", m.psnr);
+    if m.non_finite > 0 {
+        println!(
+            "  non-finite      {} pixel{} with a NaN or infinite value, at {}{}",
+            m.non_finite,
+            if m.non_finite == 1 { "" } else { "s" },
+            m.non_finite_at
+                .iter()
+                .map(|[x, y]| format!("({x}, {y})"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            if m.non_finite > m.non_finite_at.len() {
+                ", ..."
+            } else {
+                ""
+            }
+        );
+    }
     println!(
-        "  FLIP mean       {:.6}  (max {})",
-        m.flip_mean, th.flip_mean
+        "  covered pixels  {} of {} ({}), {} measured",
+        m.covered,
+        m.width as u64 * m.height as u64,
+        coverage::COVERAGE_RULE,
+        m.measured
     );
-    println!(
-        "  FLIP p{:<5}     {:.6}  (max {})",
-        th.percentile * 100.0,
-        m.flip_at_percentile,
-        th.flip_at_percentile
-    );
-    println!(
-        "  FLIP p95/p99/p99.9  {:.6} / {:.6} / {:.6}",
-        m.flip_p95, m.flip_p99, m.flip_p999
-    );
-    println!(
-        "  differing pixels {} of {}{}",
-        m.differing_pixels,
-        m.width * m.height,
-        if m.non_finite > 0 {
-            format!(", {} non-finite", m.non_finite)
+    if m.non_finite > 0 {
+        println!("  measures        not computed: a non-finite pixel has no error to measure");
+    } else {
+        let p = compare::percentile_label(th.percentile);
+        println!("  max abs error   {:.6e}", m.max_abs);
+        println!("  max rel error   {:.6e}", m.max_rel);
+        println!("  RMSE            {:.6e}", m.rmse);
+        if m.psnr.is_finite() {
+            println!("  PSNR            {:.2} dB", m.psnr);
         } else {
-            String::new()
+            println!("  PSNR            inf (identical)");
         }
-    );
+        println!(
+            "  FLIP mean       {:.6}  (max {})",
+            m.flip_mean, th.flip_mean
+        );
+        println!(
+            "  FLIP {:<10} {:.6}  (max {})",
+            p, m.flip_at_percentile, th.flip_at_percentile
+        );
+        println!(
+            "  FLIP p95/p99/p99.9  {:.6} / {:.6} / {:.6}",
+            m.flip_p95, m.flip_p99, m.flip_p999
+        );
+        println!(
+            "  differing pixels {} of {} measured",
+            m.differing_pixels, m.measured
+        );
+    }
     if let Some(al) = &m.alpha {
         println!(
-            "  alpha: max abs error {:.6e}, differing pixels {}, FLIP mean {:.6}, p{} {:.6}{}",
+            "  alpha: max abs error {:.6e}, differing pixels {}, FLIP mean {:.6}, {} {:.6}{}",
             al.max_abs,
             al.differing_pixels,
             al.flip_mean,
-            th.percentile * 100.0,
+            compare::percentile_label(th.percentile),
             al.flip_at_percentile,
             if al.non_finite > 0 {
                 format!(", {} non-finite", al.non_finite)
@@ -142,9 +249,9 @@ pub fn run(a: CompareArgs) -> Result<bool> {
             }
         );
     }
-    if !pass || a.histogram {
-        println!("  error histogram (largest channel difference per pixel):");
-        let total = (m.width * m.height).max(1) as f64;
+    if m.non_finite == 0 && (!pass || a.histogram) {
+        println!("  error histogram (largest channel difference per measured pixel):");
+        let total = m.measured.max(1) as f64;
         let mut lower = 0.0f32;
         for &(ub, count) in &m.histogram {
             let label = if ub == 0.0 {
@@ -160,26 +267,98 @@ pub fn run(a: CompareArgs) -> Result<bool> {
         }
     }
     if pass {
-        println!("PASS");
+        println!("PASS ({})", m.pixels.label());
     } else {
-        let out = a.diff.clone().unwrap_or_else(|| {
-            let stem = a
-                .actual
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            a.actual.with_file_name(format!("{stem}.diff.png"))
-        });
-        match compare::write_report_image(&out, &expected, &actual, &flip) {
-            Ok(()) => println!(
-                "FAIL: expected | FLIP heatmap | actual written to {}",
-                out.display()
-            ),
-            Err(e) => {
-                println!("FAIL");
-                eprintln!("warning: diff image not written: {e}");
+        let failed = m.failures(th);
+        let flip_failed = failed.iter().any(|b| !b.measure.ends_with("non_finite"));
+        println!(
+            "FAIL: {}{}",
+            failed
+                .iter()
+                .map(|b| b.failure_text())
+                .collect::<Vec<_>>()
+                .join(", "),
+            if flip_failed {
+                format!(" ({})", m.pixels.label())
+            } else {
+                String::new()
             }
-        }
+        );
     }
-    Ok(pass)
+}
+
+/// The `--json` document.
+fn json_report(
+    a: &CompareArgs,
+    m: &Metrics,
+    th: &Thresholds,
+    source: &Source,
+    pass: bool,
+    diff: Option<&Path>,
+) -> serde_json::Value {
+    // f32 values go through their shortest decimal form (serde_json widens an f32 to the
+    // f64 of its bits: 0.01 would read 0.009999999776482582).
+    let d = compare::decimal;
+    let finite = m.non_finite == 0;
+    let measures = finite.then(|| {
+        serde_json::json!({
+            "max_abs": d(m.max_abs),
+            "max_rel": d(m.max_rel),
+            "rmse": m.rmse,
+            "psnr_db": m.psnr.is_finite().then_some(m.psnr),
+            "flip_mean": d(m.flip_mean),
+            "flip_p95": d(m.flip_p95),
+            "flip_p99": d(m.flip_p99),
+            "flip_p999": d(m.flip_p999),
+            "flip_at_percentile": d(m.flip_at_percentile),
+            "differing_pixels": m.differing_pixels,
+            "histogram": m.histogram.iter().map(|&(ub, n)| serde_json::json!({
+                "upper": d(ub),
+                "count": n,
+            })).collect::<Vec<_>>(),
+        })
+    });
+    let alpha = m.alpha.as_ref().map(|al| {
+        serde_json::json!({
+            "max_abs": d(al.max_abs),
+            "differing_pixels": al.differing_pixels,
+            "flip_mean": d(al.flip_mean),
+            "flip_at_percentile": d(al.flip_at_percentile),
+            "non_finite": al.non_finite,
+        })
+    });
+    let bounds = m.bounds(th);
+    let failed: Vec<&str> = bounds
+        .iter()
+        .filter(|b| b.passed == Some(false))
+        .map(|b| b.measure)
+        .collect();
+    serde_json::json!({
+        "expected": a.expected,
+        "actual": a.actual,
+        "verdict": if pass { "pass" } else { "fail" },
+        "width": m.width,
+        "height": m.height,
+        "pixels": {
+            "over": m.pixels,
+            "rule": coverage::COVERAGE_RULE,
+            "total": m.width as u64 * m.height as u64,
+            "covered": m.covered,
+            "measured": m.measured,
+            "non_finite": m.non_finite,
+            "non_finite_at": m.non_finite_at,
+        },
+        "measures": measures,
+        "alpha": alpha,
+        "thresholds": {
+            "flip_mean": d(th.flip_mean),
+            "percentile": d(th.percentile),
+            "flip_at_percentile": d(th.flip_at_percentile),
+            "from": source.file,
+            "entry": source.entry,
+        },
+        "bounds": bounds,
+        "failed": failed,
+        "diff": diff,
+    })
 }

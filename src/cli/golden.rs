@@ -1,4 +1,4 @@
-//! `brdfkit golden check|bless`.
+//! `brdfkit golden check|list|bless`.
 
 use super::{GoldenAction, GoldenDevice};
 use crate::error::{Error, Result};
@@ -87,6 +87,31 @@ pub fn run(action: GoldenAction) -> Result<bool> {
                 );
             }
             Ok(ok)
+        }
+        GoldenAction::List { dir, json } => {
+            let entries = crate::golden::list(&dir)?;
+            if json {
+                // Serialised directly (not through serde_json::Value, which widens an f32 to
+                // the f64 of its bits), so the bounds read as written: 0.004, not 0.00400000019.
+                #[derive(serde::Serialize)]
+                struct Doc<'a> {
+                    dir: &'a std::path::Path,
+                    entries: &'a [crate::golden::Listed],
+                }
+                let doc = Doc {
+                    dir: &dir,
+                    entries: &entries,
+                };
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&doc).expect("serialisable")
+                );
+            } else {
+                for e in &entries {
+                    println!("{}", e.line());
+                }
+            }
+            Ok(true)
         }
         GoldenAction::Bless { names, dir, kernel } => {
             if Dispatch::choose(kernel).is_none() {

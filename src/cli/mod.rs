@@ -60,10 +60,10 @@ pub enum Command {
     Lights(LightsArgs),
     /// Compare two images (EXR with EXR, PNG with PNG): error metrics, FLIP, pass or fail.
     #[command(
-        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or colour layouts).\nOn failure an expected | FLIP heatmap | actual image is written (see --diff; one that cannot be written is a warning, the status stays 1) and the error histogram printed.\nRGBA images (EXR or PNG) compare with RGB ones on colour; --alpha compare compares alpha too.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01\n  brdfkit compare golden/fig3-13-teal-paint.exr gpu-out.exr --manifest golden/manifest.toml --entry fig3-13-teal-paint"
+        after_help = "Exit status: 0 pass, 1 fail, 2 unusable input (missing file, different sizes or colour layouts).\nEvery measure is over the covered pixels: those non-black in either image (the renderer's background is exactly 0), not the whole frame; the report says how many pixels were covered and measured. A NaN or infinite pixel fails first, listed with its coordinates.\nOn failure the FAIL line names each failed bound with its value and limit, an expected | FLIP heatmap | actual image is written (see --diff; one that cannot be written is a warning, the status stays 1) and the error histogram printed. --json prints one JSON object instead.\nRGBA images (EXR or PNG) compare with RGB ones on colour; --alpha compare compares alpha too.\n\nExample (a GPU build's CI):\n  brdfkit compare golden/default-160x120.exr gpu-out.exr --max-flip-mean 0.01\n  brdfkit compare golden/fig3-13-teal-paint.exr gpu-out.exr --bounds golden/gpu-bounds.toml --entry fig3-13-teal-paint"
     )]
     Compare(CompareArgs),
-    /// Check or update the golden reference images in golden/.
+    /// Check, list or update the golden reference images in golden/.
     Golden {
         #[command(subcommand)]
         action: GoldenAction,
@@ -427,6 +427,15 @@ pub enum GoldenAction {
         /// Seeded GPU fault (half-texel, no-cosine, mirrored-azimuth, srgb-twice), to show that the check fails on it.
         #[arg(long, hide = true)]
         gpu_fault: Option<String>,
+    },
+    /// List the golden entries for scripts: one line per entry, tab-separated: name, scene file, FLIP bounds of the manifest (mean=M,p99=V), FLIP bounds a GPU build is held to (golden/gpu-bounds.toml's, else the manifest's), AOV (- for a shaded image).
+    List {
+        /// Golden directory.
+        #[arg(long, default_value = "golden")]
+        dir: PathBuf,
+        /// Print the entries as one JSON object on stdout instead.
+        #[arg(long)]
+        json: bool,
     },
     /// Re-render and overwrite golden images (all, or the named entries), their hashes, configuration summaries and measured fast-vs-reference bounds (the reference render with the full probe is slow), and the table in golden/README.md. The only command that writes golden/. Reads and writes no cache.
     Bless {

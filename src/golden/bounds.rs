@@ -130,8 +130,11 @@ pub fn check_bounds(dir: &Path, names: &[String]) -> Result<Vec<BoundOutcome>> {
 }
 
 /// The [`MeasuredBound`] between two images of one size (a size difference is an error):
-/// the largest absolute difference and FLIP mean as [`compare::compare`] measures them,
-/// the relative RMSE of [`crate::metrics::relative_rmse`] over every pixel.
+/// the largest absolute difference and FLIP mean as [`compare::compare`] measures them over
+/// every pixel ([`compare::Pixels::All`], not `brdfkit compare`'s covered pixels: the
+/// stored bounds were measured so, and only `golden bless` may re-measure them), the
+/// relative RMSE of [`crate::metrics::relative_rmse`] over every pixel (background adds
+/// nothing to either of its sums).
 pub fn bound(fast: &Image, reference: &Image) -> Result<MeasuredBound> {
     let (m, _) = compare::compare(
         &Loaded::from_linear(reference.clone()),

@@ -1,67 +1,17 @@
 //! `brdfkit golden check --device gpu` (cargo feature `gpu`): every entry the wgpu renderer
 //! ([`crate::gpu`]) supports rendered on the GPU and compared with the stored oracle image
-//! at the entry's FLIP bounds ([`Entry::thresholds`], unless `golden/gpu-bounds.toml` sets
-//! GPU-side bounds for it, each with its reason); every other entry listed as skipped with
-//! the reason. A GPU build never matches bits (another rasterizer, another evaluation
-//! order), so only the FLIP bounds apply, plus: no non-finite value.
-//!
-//! `golden/gpu-bounds.toml` (optional):
-//! ```toml
-//! [fig3-10-blue-silk-nearest]
-//! mean = 0.004          # FLIP mean bound
-//! percentile = 0.99
-//! at_percentile = 0.05  # FLIP bound at that percentile
-//! why = "..."           # the measurement behind the change
-//! ```
+//! at the entry's FLIP bounds ([`entry_bounds`]: [`Entry::thresholds`], unless
+//! `golden/gpu-bounds.toml` sets GPU-side bounds for it, each with its reason); every other
+//! entry listed as skipped with the reason. A GPU build never matches bits (another
+//! rasterizer, another evaluation order), so only the FLIP bounds apply, plus: no
+//! non-finite value. The comparison is `brdfkit compare`'s ([`compare::compare_with`] over
+//! the covered pixels), so `brdfkit compare --bounds golden/gpu-bounds.toml --entry NAME`
+//! of the same two images gives the same verdict. The bounds file's format:
+//! src/golden/gpu_bounds.rs.
 
 use super::*;
+use crate::compare::{AlphaMode, Pixels};
 use crate::gpu::{self, Faults, Gpu};
-use std::collections::BTreeMap;
-
-/// GPU-side FLIP bounds of one entry (golden/gpu-bounds.toml), with the reason.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GpuBound {
-    pub mean: f32,
-    pub percentile: f32,
-    pub at_percentile: f32,
-    pub why: String,
-}
-
-/// The file of GPU-side bounds beside the manifest.
-pub const GPU_BOUNDS_FILE: &str = "gpu-bounds.toml";
-
-/// Reads `dir/gpu-bounds.toml` (none: no overrides). Errors name the file; an entry name
-/// not in `manifest` is an error.
-pub fn load_gpu_bounds(dir: &Path, manifest: &Manifest) -> Result<BTreeMap<String, GpuBound>> {
-    let path = dir.join(GPU_BOUNDS_FILE);
-    let text = match std::fs::read_to_string(&path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(BTreeMap::new()),
-        Err(e) => return Err(Error::io(&path, "cannot read", e)),
-    };
-    let bounds: BTreeMap<String, GpuBound> = toml::from_str(&text)
-        .map_err(|e| Error::format(&path, e.to_string().trim().to_string()))?;
-    for (name, b) in &bounds {
-        if !manifest.entries.iter().any(|e| &e.name == name) {
-            return Err(Error::format(
-                &path,
-                format!("[{name}]: no such golden entry"),
-            ));
-        }
-        let in_range = (0.0..=1.0).contains(&b.mean)
-            && b.percentile > 0.0
-            && b.percentile < 1.0
-            && (0.0..=1.0).contains(&b.at_percentile);
-        if !in_range {
-            return Err(Error::format(
-                &path,
-                format!("[{name}]: bounds out of range (mean, at_percentile in [0, 1]; percentile in (0, 1))"),
-            ));
-        }
-    }
-    Ok(bounds)
-}
 
 /// One entry of the GPU check.
 #[derive(Debug)]
@@ -99,20 +49,7 @@ pub fn check_gpu(
             continue;
         }
         let (_, scene) = load_scene(dir, entry, KernelPath::Auto)?;
-        let (bounds, gpu_side) = match overrides.get(&entry.name) {
-            Some(b) => (
-                Thresholds {
-                    flip_mean: b.mean,
-                    percentile: b.percentile,
-                    flip_at_percentile: b.at_percentile,
-                },
-                true,
-            ),
-            None => (
-                entry.thresholds().expect("checked by parse_manifest"),
-                false,
-            ),
-        };
+        let (bounds, gpu_side) = entry_bounds(entry, &overrides);
         let mut o = GpuOutcome {
             name: entry.name.clone(),
             passed: None,
@@ -132,7 +69,7 @@ pub fn check_gpu(
         let expected = image_io::read_exr(&dir.join(format!("{}.exr", entry.name)))?;
         let actual = gpu.render_aov(&scene, entry.aov, faults)?;
         let (e, a) = (Loaded::from_linear(expected), Loaded::from_linear(actual));
-        let (m, flip) = compare::compare(&e, &a, &bounds)?;
+        let (m, flip) = compare::compare_with(&e, &a, &bounds, AlphaMode::Ignore, Pixels::Covered)?;
         let passed = m.passes(&bounds);
         o.passed = Some(passed);
         o.flip_mean = m.flip_mean;
@@ -140,12 +77,13 @@ pub fn check_gpu(
         o.flip_at_percentile = m.flip_at_percentile;
         o.max_abs = m.max_abs;
         o.message = format!(
-            "FLIP mean {:.4} (<= {}), p{} {:.4} (<= {}){}{}",
+            "FLIP mean {:.4} (<= {}), p{} {:.4} (<= {}) over {} covered pixels{}{}",
             m.flip_mean,
             bounds.flip_mean,
             (bounds.percentile * 100.0).round(),
             m.flip_at_percentile,
             bounds.flip_at_percentile,
+            m.covered,
             if m.non_finite > 0 {
                 format!(", {} non-finite values", m.non_finite)
             } else {

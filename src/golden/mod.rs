@@ -41,16 +41,20 @@
 //! set that makes the fast path drift from the converged reference is caught in CI.
 
 mod bounds;
+mod gpu_bounds;
 #[cfg(feature = "gpu")]
 mod gpu_check;
+mod list;
 mod manifest;
 mod report;
 mod summary;
 mod tolerance;
 
 pub use bounds::*;
+pub use gpu_bounds::*;
 #[cfg(feature = "gpu")]
 pub use gpu_check::*;
+pub use list::*;
 pub use manifest::*;
 pub use report::*;
 pub use summary::*;

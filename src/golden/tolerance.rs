@@ -4,7 +4,7 @@
 use super::*;
 
 /// A per-pixel tolerance for the golden check, plus the FLIP bounds `brdfkit compare
-/// --manifest --entry` applies to a GPU build's image of the entry.
+/// --bounds golden/manifest.toml --entry` applies to a GPU build's image of the entry.
 ///
 /// Per channel: `|actual - expected| <= abs + rel * max(|expected|, peak_floor * peak)`,
 /// `peak` being the largest channel value of the expected image. `peak_floor` keeps the

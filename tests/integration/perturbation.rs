@@ -71,10 +71,22 @@ fn rebuild(ds: &ShDataset, coeffs: Vec<f32>, includes_cosine: bool) -> ShDataset
 fn verdict(expected: &Scene, actual: &Scene) -> (bool, compare::Metrics) {
     let e = Loaded::from_linear(render::render(expected, &Default::default()).image);
     let a = Loaded::from_linear(render::render(actual, &Default::default()).image);
-    let (m, _) = compare::compare(&e, &a, &Thresholds::DEFAULT).unwrap();
+    // Over the covered pixels, as `brdfkit compare` measures.
+    let (m, _) = compare::compare_with(
+        &e,
+        &a,
+        &Thresholds::DEFAULT,
+        compare::AlphaMode::Ignore,
+        compare::Pixels::Covered,
+    )
+    .unwrap();
     eprintln!(
-        "FLIP mean {:.4}, p99 {:.4}, max abs {:.3e}",
-        m.flip_mean, m.flip_at_percentile, m.max_abs
+        "FLIP mean {:.4}, p99 {:.4}, max abs {:.3e} over {} of {} pixels",
+        m.flip_mean,
+        m.flip_at_percentile,
+        m.max_abs,
+        m.covered,
+        m.width * m.height
     );
     (m.passes(&Thresholds::DEFAULT), m)
 }
