@@ -55,9 +55,9 @@ fn frames(c: &mut Criterion) {
     };
     for (name, material, env) in [
         ("sh5-point", lib("magenta-plastic"), None),
-        ("sh8-point", lib("gold-dust-paint"), None),
+        ("sh8-point", lib("gold-dust-paint-sh-ringing"), None),
         ("sh5-128", lib("magenta-plastic"), Some(128)),
-        ("sh8-128", lib("gold-dust-paint"), Some(128)),
+        ("sh8-128", lib("gold-dust-paint-sh-ringing"), Some(128)),
         ("dbrdf-point", lib("lindt-paper"), None),
         ("dbrdf-128", lib("lindt-paper"), Some(128)),
     ] {

@@ -216,12 +216,12 @@ fn frames(c: &mut Criterion) {
         name: n.into(),
         lookup: None,
     };
-    // magenta-plastic: 5 orders; gold-dust-paint: 8 orders; lindt-paper: D-BRDF.
+    // magenta-plastic: 5 orders; gold-dust-paint-sh-ringing: 8 orders; lindt-paper: D-BRDF.
     for (name, material, env) in [
         ("sh5-point", lib("magenta-plastic"), None),
-        ("sh8-point", lib("gold-dust-paint"), None),
+        ("sh8-point", lib("gold-dust-paint-sh-ringing"), None),
         ("sh5-128", lib("magenta-plastic"), Some(128)),
-        ("sh8-128", lib("gold-dust-paint"), Some(128)),
+        ("sh8-128", lib("gold-dust-paint-sh-ringing"), Some(128)),
         ("dbrdf-point", lib("lindt-paper"), None),
         ("dbrdf-128", lib("lindt-paper"), Some(128)),
     ] {
@@ -256,12 +256,24 @@ fn frames_per_path(c: &mut Criterion) {
             Scene::resolve(&SceneFile::default(), Path::new("/")).unwrap(),
         ),
         ("sh5-point", scene(lib("magenta-plastic"), None)),
-        ("sh8-128", scene(lib("gold-dust-paint"), Some(128))),
-        ("sh8-512", scene(lib("gold-dust-paint"), Some(512))),
+        (
+            "sh8-128",
+            scene(lib("gold-dust-paint-sh-ringing"), Some(128)),
+        ),
+        (
+            "sh8-512",
+            scene(lib("gold-dust-paint-sh-ringing"), Some(512)),
+        ),
         ("dbrdf-128", scene(lib("lindt-paper"), Some(128))),
         ("sphere-sh5-point", sphere(lib("magenta-plastic"), None)),
-        ("sphere-sh8-128", sphere(lib("gold-dust-paint"), Some(128))),
-        ("sphere-sh8-512", sphere(lib("gold-dust-paint"), Some(512))),
+        (
+            "sphere-sh8-128",
+            sphere(lib("gold-dust-paint-sh-ringing"), Some(128)),
+        ),
+        (
+            "sphere-sh8-512",
+            sphere(lib("gold-dust-paint-sh-ringing"), Some(512)),
+        ),
         ("sphere-dbrdf-128", sphere(lib("lindt-paper"), Some(128))),
     ];
     for (name, s) in &scenes {

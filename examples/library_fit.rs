@@ -52,16 +52,19 @@ fn main() {
             ("nonneg", LIBRARY_METHOD),
             ("positive", Method::Positive),
         ] {
-            let ds = acquire(
-                src.as_ref(),
-                &AcquireOptions::new(bands, nu, nv, method),
-            )
-            .expect("library acquisitions succeed");
+            let ds = acquire(src.as_ref(), &AcquireOptions::new(bands, nu, nv, method))
+                .expect("library acquisitions succeed");
             let r = hemisphere_error(src.as_ref(), &ds, nu, nv, grid);
-            let chosen = m.representation == (Representation::Sh { bands }) && method == LIBRARY_METHOD;
+            let chosen =
+                m.representation == (Representation::Sh { bands }) && method == LIBRARY_METHOD;
             row(m.name, &format!("SH {bands} bands, {label}"), &r, chosen);
         }
         let fit = fit_dbrdf(src.as_ref(), &FitOptions::default()).expect("library fits succeed");
-        row(m.name, "D-BRDF fit", &fit.report, m.representation == Representation::Dbrdf);
+        row(
+            m.name,
+            "D-BRDF fit",
+            &fit.report,
+            m.representation == Representation::Dbrdf,
+        );
     }
 }

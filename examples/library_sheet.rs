@@ -6,7 +6,7 @@
 //! cargo run --release --example library_sheet -- [OUT.png]
 //! ```
 //!
-//! Each cell is `brdfkit render --material NAME --width 240 --height 140`, shown with the
+//! Each cell is `brdfkit render --material NAME --width 240 --height 180`, shown with the
 //! scene's default exposure and tone map; OUT defaults to `assets/readme/materials.png`.
 
 use brdfkit::image_io::display::display_u8;
@@ -15,7 +15,7 @@ use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
 use std::path::{Path, PathBuf};
 
-const CELL: (u32, u32) = (240, 140);
+const CELL: (u32, u32) = (240, 180);
 const PER_ROW: u32 = 4;
 
 fn main() {

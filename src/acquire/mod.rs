@@ -305,7 +305,8 @@ pub fn acquire_with_progress(
         }
         _ => (Vec::new(), None),
     };
-    let constraints = matches!(method, Method::NonNegative { .. }).then(|| nonneg::Constraints::new(t));
+    let constraints =
+        matches!(method, Method::NonNegative { .. }).then(|| nonneg::Constraints::new(t));
     let window = positive_window(bands);
     let texels: Vec<(usize, usize)> = (0..nv).flat_map(|j| (0..nu).map(move |i| (i, j))).collect();
     let blocks: Vec<Result<Vec<f32>, AcquireError>> = texels

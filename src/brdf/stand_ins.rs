@@ -81,7 +81,9 @@ pub fn stand_in(name: &str) -> Option<StandIn> {
         // at 8 bands rings (rel L2 0.85, -14 %), as the thesis's Fig. 3.12 shows on purpose:
         // the library renders it from its D-BRDF fit, and keeps the SH version under the
         // name `gold-dust-paint-sh-ringing`.
-        "gold-dust-paint" | "gold-dust-paint-sh-ringing" => asx(250.0, 250.0, [0.7, 0.5, 0.15], [0.3, 0.2, 0.04]),
+        "gold-dust-paint" | "gold-dust-paint-sh-ringing" => {
+            asx(250.0, 250.0, [0.7, 0.5, 0.15], [0.3, 0.2, 0.04])
+        }
         // Glossy dielectric paint: white highlight over teal. Changed from A-S with exponent
         // 200 for the reason of blue-silk: the thesis shows teal paint in SH at 8 bands
         // (Fig. 3.13), and that lobe fitted at rel L2 0.95 with ringing -12 % (negative

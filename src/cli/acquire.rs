@@ -4,8 +4,8 @@ use super::source::parse_source;
 use super::{AcquireArgs, FitDbrdfArgs, MethodArg};
 use crate::acquire::fit::{fit_dbrdf_with_progress, FitOptions};
 use crate::acquire::{
-    acquire_with_progress, hemisphere_error_with_progress, ringing_flagged, AcquireOptions, ErrorGrid,
-    ErrorReport, Method, RINGING_THRESHOLD,
+    acquire_with_progress, hemisphere_error_with_progress, ringing_flagged, AcquireOptions,
+    ErrorGrid, ErrorReport, Method, RINGING_THRESHOLD,
 };
 use crate::brdf::dbrdf::file::write_dbrdf;
 use crate::error::{Error, Result};

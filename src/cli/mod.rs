@@ -123,7 +123,7 @@ renders it without the cache. The sweep reads no other cache (light sets and tab
     Sweep(SweepArgs),
     /// Write what a GPU build needs to draw a scene's frame: camera matrices, mesh, lights, material, resolved scene.
     #[command(
-        after_help = "Example:\n  brdfkit export golden/default-160x120.toml -o gpu-scene\n\nWrites camera.json (eye, target, up, fov, near, viewport, view/projection matrices, conventions),\nmesh.obj (triangles, per-vertex normals), scene_lights.json (every light, in shading order),\nlights.json + lights.csv (an [env]'s delta lights, after rotation and intensity), material.json\n(+ material.exr for SH data sets and D-BRDFs), scene.toml (renders the same frame) and export.json.\nSee docs/file-formats.md."
+        after_help = "Example:\n  brdfkit export golden/default-160x120.toml -o gpu-scene\n\nWrites camera.json (eye, target, up, fov, near, viewport, view/projection matrices, conventions),\nmesh.obj (triangles, per-vertex normals), scene_lights.json (the scene's own lights; env_lights\nnames lights.json), lights.json (an [env]'s delta lights, once, after rotation and intensity),\ntransfer.json + transfer.bin (a transfer table), material.json (+ material.exr for SH data sets\nand D-BRDFs), scene.toml (renders the same bits: `brdfkit render scene.toml`, with --aov NAME\nfor an AOV export) and export.json. Light cuts are not exported. See docs/file-formats.md."
     )]
     Export(ExportArgs),
     /// Open a window on a scene: orbit, zoom, swap material and probe, watch it refine (X11).

@@ -254,7 +254,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             None => eprintln!("stats: none for --reference (every light, every band, no skips)"),
         }
         // Of the image itself, whatever rendered it: a PNG clips these to black.
-        if a.aov.is_none() {
+        if a.common.aov.is_none() {
             let neg = crate::metrics::negative_pixels(&img);
             eprintln!(
                 "negative pixels: {} of {} (min {:.3e})",

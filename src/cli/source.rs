@@ -128,10 +128,7 @@ mod tests {
         let b = parse_source("ashikhmin-shirley:nu=10,nv=200,rs=0.1/0.2/0.3").unwrap();
         assert_eq!(b.name(), "ashikhmin-shirley");
         assert_eq!(parse_source("lambert").unwrap().name(), "lambert");
-        assert_eq!(
-            parse_source("blue-silk").unwrap().name(),
-            "ashikhmin-shirley"
-        );
+        assert_eq!(parse_source("blue-silk").unwrap().name(), "lambert-dbrdf");
         let e = err("lambert:kd=1");
         assert!(e.contains("`kd`"), "{e}");
         let e = err("phong:exponent=x");

@@ -314,13 +314,15 @@ fn library_representations_follow_their_acquisition() {
         let r = hemisphere_error(src.as_ref(), &ds, nu, nv, SMALL);
         let sh_fits = !ringing_flagged(&r) && r.rel_l2 < 0.1;
         if let Representation::Sh { .. } = m.representation {
-            // What the library renders: the same fit held to f cos >= 0, which costs some
-            // accuracy (a dip pinned to zero), bounded here.
+            // What the library renders: the same fit held to f cos >= 0, which costs
+            // accuracy (dips pinned to zero flatten the lobe's skirt): at most 0.25 here
+            // (blue silk, the sharpest, measures 0.20; examples/library_fit.rs). What a
+            // user sees is the render's error, examples/library_error.rs.
             let opts = AcquireOptions::new(bands, nu, nv, brdfkit::library::LIBRARY_METHOD);
             let lib = acquire(src.as_ref(), &opts).unwrap();
             let rl = hemisphere_error(src.as_ref(), &lib, nu, nv, SMALL);
             if m.name != brdfkit::library::THESIS_RINGING {
-                assert!(rl.rel_l2 < 0.15, "{}: {rl:?}", m.name);
+                assert!(rl.rel_l2 < 0.25, "{}: {rl:?}", m.name);
                 assert!(rl.min_over_peak > -0.01, "{}: {rl:?}", m.name);
             }
         }
@@ -346,7 +348,10 @@ fn library_representations_follow_their_acquisition() {
 fn positive_window_does_not_ring() {
     use brdfkit::brdf::stand_ins::source_model;
     let w = brdfkit::acquire::positive_window(8);
-    assert!((w[0] - 1.0).abs() < 1e-15 && (w[1] - 7.0 / 9.0).abs() < 1e-15, "{w:?}");
+    assert!(
+        (w[0] - 1.0).abs() < 1e-15 && (w[1] - 7.0 / 9.0).abs() < 1e-15,
+        "{w:?}"
+    );
     let w7 = (1..=7).product::<u64>() as f64 * (1..=8).product::<u64>() as f64
         / (1..=15).product::<u64>() as f64;
     assert!((w[7] - w7).abs() < 1e-15 * w7, "{} vs {w7}", w[7]);
@@ -359,7 +364,11 @@ fn positive_window_does_not_ring() {
     .unwrap();
     let r = hemisphere_error(src.as_ref(), &lsq, nu, nv, SMALL);
     assert!(ringing_flagged(&r), "{r:?}");
-    let pos = acquire(src.as_ref(), &AcquireOptions::new(8, nu, nv, Method::Positive)).unwrap();
+    let pos = acquire(
+        src.as_ref(),
+        &AcquireOptions::new(8, nu, nv, Method::Positive),
+    )
+    .unwrap();
     let r = hemisphere_error(src.as_ref(), &pos, nu, nv, SMALL);
     assert!(r.worst_min_over_peak > -1e-5, "{r:?}");
     assert!(r.share_below_zero < 1e-3, "{r:?}");

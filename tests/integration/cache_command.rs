@@ -54,8 +54,19 @@ fn the_user_cache_evicts_the_least_recently_used_past_its_cap() {
             .cache(&cache)
             .env("BRDFKIT_CACHE_MAX_MB", cap)
             .run(&[
-                "render", "--env", &probe, "--env-method", "lights", "--lights", count,
-                "--width", "16", "--height", "12", "-o", "x.png",
+                "render",
+                "--env",
+                &probe,
+                "--env-method",
+                "lights",
+                "--lights",
+                count,
+                "--width",
+                "16",
+                "--height",
+                "12",
+                "-o",
+                "x.png",
             ]);
         assert!(out.success(), "{}", out.stderr);
     };
@@ -77,7 +88,10 @@ fn the_user_cache_evicts_the_least_recently_used_past_its_cap() {
     render("16", &cap);
     let second = entries();
     assert_eq!(second.len(), 1, "{second:?}");
-    assert_ne!(second, first, "the new entry was evicted instead of the old one");
+    assert_ne!(
+        second, first,
+        "the new entry was evicted instead of the old one"
+    );
     let shown = common::brdfkit(tmp.path())
         .cache(&cache)
         .env("BRDFKIT_CACHE_MAX_MB", "250")

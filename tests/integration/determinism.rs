@@ -123,9 +123,21 @@ fn every_kernel_path_gives_the_same_bits() {
 #[test]
 fn every_environment_method_is_deterministic() {
     let cases = [
-        ("lights", "kind = \"blinn-phong\"\nexponent = 200", "method = \"lights\"\ncount = 32"),
-        ("transfer", "kind = \"library\"\nname = \"magenta-plastic\"", "method = \"transfer\""),
-        ("lightcuts", "kind = \"blinn-phong\"\nexponent = 200", "method = \"lightcuts\""),
+        (
+            "lights",
+            "kind = \"blinn-phong\"\nexponent = 200",
+            "method = \"lights\"\ncount = 32",
+        ),
+        (
+            "transfer",
+            "kind = \"library\"\nname = \"magenta-plastic\"",
+            "method = \"transfer\"",
+        ),
+        (
+            "lightcuts",
+            "kind = \"blinn-phong\"\nexponent = 200",
+            "method = \"lightcuts\"",
+        ),
         ("auto", "kind = \"library\"\nname = \"lindt-paper\"", ""),
     ];
     for (method, material, env) in cases {

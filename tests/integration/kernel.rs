@@ -121,7 +121,7 @@ fn sh_kernel_matches_scalar_oracle_for_library_materials() {
     for name in [
         "blue-silk",
         "magenta-plastic",
-        "gold-dust-paint",
+        "gold-dust-paint-sh-ringing",
         "red-velvet",
     ] {
         let s = scene(

@@ -35,8 +35,15 @@ fn scene(material: &str, probe: &str) -> Scene {
 /// `(most negative channel / mean covered radiance, negative pixels, covered pixels)`.
 fn negativity(material: &str, probe: &str) -> (f32, usize, usize) {
     let img = render(&scene(material, probe), &RenderOptions::default()).image;
-    let covered: Vec<_> = img.pixels.iter().filter(|p| **p != glam::Vec3::ZERO).collect();
-    assert!(!covered.is_empty(), "{material} under {probe}: nothing covered");
+    let covered: Vec<_> = img
+        .pixels
+        .iter()
+        .filter(|p| **p != glam::Vec3::ZERO)
+        .collect();
+    assert!(
+        !covered.is_empty(),
+        "{material} under {probe}: nothing covered"
+    );
     let mean = covered.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / (3 * covered.len()) as f32;
     assert!(mean > 0.0, "{material} under {probe}: black (mean {mean})");
     let neg = brdfkit::metrics::negative_pixels(&img);

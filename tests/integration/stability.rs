@@ -129,7 +129,7 @@ struct RandomScene {
 const MATERIALS: [&str; 5] = [
     "lambert",
     "blinn-phong",
-    "gold-dust-paint",
+    "gold-dust-paint-sh-ringing",
     "lindt-paper",
     "red-velvet",
 ];
@@ -258,7 +258,13 @@ fn all_brdfs() -> Vec<(&'static str, Material)> {
             }),
         ),
     ];
-    for name in ["lindt-paper", "gold-dust-paint", "red-velvet", "blue-silk"] {
+    for name in [
+        "lindt-paper",
+        "gold-dust-paint-sh-ringing",
+        "gold-dust-paint",
+        "red-velvet",
+        "blue-silk",
+    ] {
         v.push((name, library(name)));
     }
     v
@@ -356,7 +362,7 @@ fn degenerate_triangles_and_the_teapot_lid_knob() {
     // The lid knob's top is a degenerate patch row (every control point at the apex):
     // zero-area triangles and normals from the patch derivative limit. Seen from straight
     // above (view along -up) and lit from straight above.
-    for material in ["lambert", "library\"\nname = \"gold-dust-paint"] {
+    for material in ["lambert", "library\"\nname = \"gold-dust-paint-sh-ringing"] {
         let s = scene_from(
             &format!(
                 "[mesh]\nsource = \"teapot\"\nsegments = 16\n[material]\nkind = \"{material}\"\n\
@@ -430,10 +436,14 @@ fn gold_dust_10_bands() -> &'static ShDataset {
     DS.get_or_init(|| {
         let src = brdfkit::brdf::stand_ins::source_model("gold-dust-paint").unwrap();
         let (nu, nv) = brdfkit::library::VIEW_GRID;
-        let opts =
-            brdfkit::acquire::AcquireOptions::new(10, nu, nv, brdfkit::acquire::Method::Lsq {
+        let opts = brdfkit::acquire::AcquireOptions::new(
+            10,
+            nu,
+            nv,
+            brdfkit::acquire::Method::Lsq {
                 lambda: brdfkit::acquire::DEFAULT_LAMBDA,
-            });
+            },
+        );
         brdfkit::acquire::acquire(src.as_ref(), &opts).unwrap()
     })
 }

@@ -172,6 +172,10 @@ mod tests {
         f.set_modified(t0).unwrap();
         touch(&name(4));
         let removed = enforce_cap(d, 100, &name(9));
-        assert_eq!(removed, vec![keep.clone()], "the untouched, older entry goes first");
+        assert_eq!(
+            removed,
+            vec![keep.clone()],
+            "the untouched, older entry goes first"
+        );
     }
 }
