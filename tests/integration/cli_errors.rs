@@ -54,7 +54,8 @@ pub(crate) fn list(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
-fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
+/// A temporary directory holding `files` (name, text).
+pub(crate) fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
     let d = tempfile::tempdir().unwrap();
     for (name, text) in files {
         std::fs::write(d.path().join(name), text).unwrap();

@@ -5,16 +5,8 @@
 //! method does not produce refused (naming both) instead of written black; and no Rust
 //! debug text (`Some("...")`) in a material file's error.
 
-use crate::cli_errors::{assert_error, brdfkit};
+use crate::cli_errors::{assert_error, brdfkit, dir_with};
 use crate::common;
-
-fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
-    let d = tempfile::tempdir().unwrap();
-    for (name, text) in files {
-        std::fs::write(d.path().join(name), text).unwrap();
-    }
-    d
-}
 
 #[test]
 fn a_bad_field_is_named_at_its_line_with_the_scene_file() {
