@@ -5,7 +5,8 @@
 //! thesis renders it with, built at run time by one function, [`build`]: an SH data set
 //! acquired from the source ([`crate::acquire::acquire`], about 5 bands for diffuse
 //! materials, 8 for specular ones, thesis 3.3) or a D-BRDF fit of the source
-//! ([`crate::acquire::fit::fit_dbrdf`], thesis Fig. 3.11). Nothing is cached on disk; the
+//! ([`crate::acquire::fit::fit_dbrdf`], thesis Fig. 3.11). Nothing is cached on disk (a process
+//! keeps what it built, [`build`]); the
 //! view grid is coarse ([`VIEW_GRID`]) so a build takes well under a second.
 //!
 //! Which representation (the rule `examples/library_fit.rs` prints the evidence for, and
@@ -136,6 +137,27 @@ pub fn source_material(name: &str) -> Option<Material> {
 /// `material` for an unknown name, or when acquisition or fitting fails (neither happens
 /// for the built-in parameters).
 pub fn build(name: &str) -> Result<Material> {
+    let index = LIBRARY.iter().position(|m| m.name == name);
+    if let Some(built) = index.and_then(|i| BUILT[i].get()) {
+        return Ok(built.clone());
+    }
+    let material = build_uncached(name)?;
+    if let Some(i) = index {
+        // A concurrent first build of the same entry computes the same bits; either is kept.
+        let _ = BUILT[i].set(material.clone());
+    }
+    Ok(material)
+}
+
+/// Each entry's representation once built, for the rest of the process: acquisition is
+/// deterministic, so a second build would give the same bits, and a process that renders
+/// one entry many times (a sweep, the viewer's material switch, the test binary) pays for it
+/// once. A [`Material`] shares its tables ([`Arc`](std::sync::Arc)), so handing out a clone
+/// is cheap.
+static BUILT: [std::sync::OnceLock<Material>; LIBRARY.len()] =
+    [const { std::sync::OnceLock::new() }; LIBRARY.len()];
+
+fn build_uncached(name: &str) -> Result<Material> {
     let m = find(name).ok_or_else(|| {
         let names: Vec<&str> = LIBRARY.iter().map(|m| m.name).collect();
         Error::field(
