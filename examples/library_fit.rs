@@ -16,7 +16,7 @@
 //! rendered from the `nonneg` fit), else the D-BRDF fit.
 //! The entry marked `(thesis)` keeps the thesis's own choice on purpose.
 
-use brdfkit::acquire::fit::{fit_dbrdf, FitOptions};
+use brdfkit::acquire::fit::{fit_dbrdf, fit_lambert_dbrdf, FitOptions};
 use brdfkit::acquire::{
     acquire, hemisphere_error, ringing_flagged, AcquireOptions, ErrorGrid, ErrorReport, Method,
 };
@@ -60,9 +60,15 @@ fn main() {
             row(m.name, &format!("SH {bands} bands, {label}"), &r, chosen);
         }
         let fit = fit_dbrdf(src.as_ref(), &FitOptions::default()).expect("library fits succeed");
+        row(m.name, "D-BRDF fit", &fit.report, false);
+        let fit =
+            fit_lambert_dbrdf(src.as_ref(), &FitOptions::default()).expect("library fits succeed");
         row(
             m.name,
-            "D-BRDF fit",
+            &format!(
+                "Lambert (rd {:.3} {:.3} {:.3}) + D-BRDF fit",
+                fit.brdf.rd.x, fit.brdf.rd.y, fit.brdf.rd.z
+            ),
             &fit.report,
             m.representation == Representation::Dbrdf,
         );

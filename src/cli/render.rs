@@ -68,6 +68,19 @@ pub fn run(a: RenderArgs) -> Result<()> {
         file.env = Some(chosen);
     }
     file.resolve_env_method();
+    // Light cuts stated for the GPU: refused before the tree is built (seconds for a large
+    // probe), in the words the GPU renderer uses.
+    if a.device == super::device::Device::Gpu
+        && file
+            .env
+            .as_ref()
+            .is_some_and(|e| e.method == crate::env::prepare::EnvMethod::Lightcuts)
+    {
+        return Err(Error::Message(format!(
+            "--device gpu: {}",
+            env_method::LIGHTCUTS_NOT_ON_GPU
+        )));
+    }
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
         None => vec![PathBuf::from("out.png"), PathBuf::from("out.exr")],

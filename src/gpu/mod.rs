@@ -62,12 +62,7 @@ pub fn unsupported(scene: &Scene, aov: Option<Aov>) -> Option<String> {
         );
     }
     if scene.lightcuts.is_some() {
-        return Some(
-            "[env] method = \"lightcuts\" refines an adaptive cut of a light tree per pixel, \
-             which the GPU path does not do; on a GPU use \"transfer\" or a light set \
-             (\"lights\")"
-                .into(),
-        );
+        return Some(crate::scene::env_method::LIGHTCUTS_NOT_ON_GPU.into());
     }
     match &scene.material {
         Material::AshikhminShirley(_) | Material::Merl(_) => Some(format!(

@@ -85,9 +85,8 @@ pub const KERNEL_TOLERANCE: f32 = 1e-4;
 /// so two f32 summation orders differ by more. Measured against the oracle
 /// (tests/integration/kernel_mutation.rs, every golden scene with an SH data set, both
 /// instruction-set paths, which give the same bits): at most 1.94e-4
-/// (`fig3-10-blue-silk-nearest`; 1.87e-4
-/// on `fig3-12-gold-dust-paint-median-cut`, 129 lights), so 1e-3 leaves a margin of 5.
-/// (With the portable path's `mul_add` unfused, as before, gold-dust reached 4.4e-4.) Seeded
+/// (`fig3-10-blue-silk-nearest`), so 1e-3 leaves a margin of 5. (With the portable path's
+/// `mul_add` unfused, as before, the ringing gold dust reached 4.4e-4.) Seeded
 /// kernel faults exceed it by far (same test, 8-band blue-silk and teal-paint under a
 /// 64-light environment set and under one point light, both paths): the last band dropped
 /// 5.1e0 and more, one lane of each group dropped 7.8e-1 and more, the last padded group

@@ -35,6 +35,12 @@ use super::MaterialSpec;
 use crate::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
 use crate::library::{self, Representation};
 
+/// Why the GPU renderer does not draw `[env] method = "lightcuts"`: said by the GPU build
+/// (`crate::gpu::unsupported`) and by `render --device gpu` before the light tree is built.
+pub const LIGHTCUTS_NOT_ON_GPU: &str =
+    "[env] method = \"lightcuts\" refines an adaptive cut of a light tree per pixel, which \
+     the GPU path does not do; on a GPU use \"transfer\" or a light set (\"lights\")";
+
 /// The renderer a frame is drawn by, as far as `auto` depends on it (module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Renderer {

@@ -68,7 +68,10 @@ pub struct EnvSummary {
 pub(super) fn vec3(field: &str, v: [f32; 3]) -> Result<Vec3> {
     let v = Vec3::from(v);
     if !v.is_finite() {
-        return Err(Error::field(field, format!("{v:?} is not finite")));
+        return Err(Error::field(
+            field,
+            format!("[{}, {}, {}] is not finite", v.x, v.y, v.z),
+        ));
     }
     Ok(v)
 }

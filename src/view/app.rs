@@ -153,10 +153,15 @@ impl App {
             None => "scene lights".to_string(),
             Some(e) => {
                 let probe = e.file.file_name().unwrap_or_default().to_string_lossy();
-                let m = format!("{:?}", e.method).to_lowercase();
+                // The names a scene file and the command line spell (`median-cut`), never
+                // Rust's (`MedianCut`).
+                let m = e.method.name();
                 match e.method {
                     crate::env::prepare::EnvMethod::Lights => {
-                        format!("{probe} {m} {:?} {}", e.sampler, e.count).to_lowercase()
+                        let sampler = clap::ValueEnum::to_possible_value(&e.sampler)
+                            .map(|v| v.get_name().to_string())
+                            .unwrap_or_default();
+                        format!("{probe} {m} {sampler} {}", e.count)
                     }
                     _ => format!("{probe} {m}"),
                 }
@@ -179,7 +184,9 @@ impl App {
                     self.state.material_name(),
                     method,
                     f.lights,
-                    f.aov.map(|a| format!("  aov {a:?}")).unwrap_or_default()
+                    f.aov
+                        .map(|a| format!("  aov {}", a.name()))
+                        .unwrap_or_default()
                 ));
             }
             None => lines.push(format!(

@@ -95,6 +95,31 @@ fn gpu_that_cannot_be_had_is_a_one_line_error() {
         assert!(r.stderr.contains("--device gpu:"), "{}", r.stderr);
         assert!(!out.exists(), "nothing written");
     }
+    // Light cuts stated for the GPU are refused as such, with or without the feature: before
+    // the scene (and its light tree) is prepared, not by the GPU renderer after it.
+    let probe = format!("{}/assets/probes/studio.exr", env!("CARGO_MANIFEST_DIR"));
+    let args = small(&[
+        "--device",
+        "gpu",
+        "--env",
+        &probe,
+        "--env-method",
+        "lightcuts",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    {
+        let r = run(tmp.path(), &args);
+        assert_eq!(r.code, Some(2), "{args:?}: {}", r.stderr);
+        assert_eq!(r.stderr.trim().lines().count(), 1, "{args:?}: {}", r.stderr);
+        assert!(
+            r.stderr
+                .contains("--device gpu: [env] method = \"lightcuts\" refines"),
+            "{}",
+            r.stderr
+        );
+        assert!(!out.exists(), "nothing written");
+    }
 }
 
 /// With the feature and an adapter, `--device gpu` renders the default scene (small) close
