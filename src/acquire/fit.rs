@@ -18,6 +18,10 @@
 //!    vector (`GL_NEAREST` texel, [`crate::conventions::hemi_nearest_texel`]) with
 //!    `p = sum f k / sum k^2`, `k = c F cos / D`; texels no sample reaches keep step 1's value.
 //!    The table is renormalised and step 2 is repeated.
+//!
+//! [`fit_lambert_dbrdf`] adds a Lambert base under the lobe (the thesis fits the lobe alone).
+//! The file stays whole past 400 lines because that fit is these steps run on the source
+//! less the base, sharing their sample set.
 
 use super::{acquired_value, cholesky, cholesky_solve, hemisphere_error, ErrorGrid, ErrorReport};
 use crate::brdf::ashikhmin_shirley::schlick_fresnel;
