@@ -276,44 +276,32 @@ fn gpu_bounds_toml_gives_the_bounds_the_gpu_check_applies() {
 
     // Errors: one line naming the file and the problem.
     std::fs::copy(&manifest, p.join("manifest.toml")).unwrap();
-    std::fs::write(
-        p.join("gpu-bounds.toml"),
-        format!("[{listed}]\nmean = 0.004\npercentile = 0.99\nat_percentil = 0.04\nwhy = \"x\"\n"),
-    )
-    .unwrap();
-    let (code, _, err) = run(
-        p,
-        &[
-            "compare",
-            &e,
-            &a,
-            "--bounds",
-            "gpu-bounds.toml",
-            "--entry",
-            listed,
-        ],
-    );
+    // `compare --bounds gpu-bounds.toml --entry LISTED` with `text` as the bounds file.
+    let with_bounds = |text: &str| {
+        std::fs::write(p.join("gpu-bounds.toml"), text).unwrap();
+        run(
+            p,
+            &[
+                "compare",
+                &e,
+                &a,
+                "--bounds",
+                "gpu-bounds.toml",
+                "--entry",
+                listed,
+            ],
+        )
+    };
+    let (code, _, err) = with_bounds(&format!(
+        "[{listed}]\nmean = 0.004\npercentile = 0.99\nat_percentil = 0.04\nwhy = \"x\"\n"
+    ));
     assert_eq!(code, 2, "{err}");
     assert!(
         err.lines().count() == 1 && err.contains("gpu-bounds.toml") && err.contains("at_percentil"),
         "{err}"
     );
-    std::fs::write(
-        p.join("gpu-bounds.toml"),
+    let (code, _, err) = with_bounds(
         "[no-such-entry]\nmean = 0.004\npercentile = 0.99\nat_percentile = 0.04\nwhy = \"x\"\n",
-    )
-    .unwrap();
-    let (code, _, err) = run(
-        p,
-        &[
-            "compare",
-            &e,
-            &a,
-            "--bounds",
-            "gpu-bounds.toml",
-            "--entry",
-            listed,
-        ],
     );
     assert_eq!(code, 2, "{err}");
     assert!(
