@@ -4,6 +4,10 @@
 //! them to [0, 1] linearly (no exposure, no tone map, no sRGB curve) so that grey levels
 //! read as values, as in the thesis's Figures 3.1-3.3. Angles are shown as the texture
 //! coordinates of `conventions::hemi_texcoord`: polar / (pi/2) and azimuth / (2 pi).
+//! Azimuths are measured in the world-up frame ([`ShadingFrame::from_normal`], the frame of
+//! the thesis's figures), whatever the material: an isotropic tabulated material is shaded
+//! in a frame turned to its view (`conventions`, "Frame of isotropic tabulated
+//! materials"), where the view azimuth would be one constant.
 //! Pixels without a surface are 0.
 
 use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};

@@ -22,6 +22,7 @@
 use crate::brdf::{
     AshikhminShirley, BlinnPhong, Brdf, DBrdf, Lambert, LambertDbrdf, MerlBrdf, Phong,
 };
+use crate::conventions::{texel_center, FrameRule};
 use crate::sh::dataset::ShDataset;
 use glam::{DVec3, Vec3};
 use std::sync::Arc;
@@ -111,6 +112,23 @@ impl Material {
     /// 1/sr, or `None` when the model has none.
     pub fn max_cosine_weighted(&self) -> Option<Vec3> {
         dispatch!(self, m => m.max_cosine_weighted())
+    }
+
+    /// The shading frame the material is evaluated in ([`crate::conventions`], "Frame of
+    /// isotropic tabulated materials"): the view-aligned frame for the isotropic tabulated
+    /// models (an isotropic SH data set with the view at azimuth texel 0's centre, an
+    /// isotropic D-BRDF or Lambert + D-BRDF with the view at azimuth 0), the world-up frame
+    /// for every other material (anisotropic tables, and the analytic models and MERL,
+    /// which are exact functions of the angles).
+    pub fn frame_rule(&self) -> FrameRule {
+        match self {
+            Material::Sh(ds) if ds.isotropic => {
+                FrameRule::view_at(texel_center(0, ds.grid().0) * std::f32::consts::TAU)
+            }
+            Material::DBrdf(d) if d.is_isotropic_table() => FrameRule::view_at(0.0),
+            Material::LambertDbrdf(d) if d.lobe.is_isotropic_table() => FrameRule::view_at(0.0),
+            _ => FrameRule::UP,
+        }
     }
 
     /// The SH data set, when the material is one (the renderer then uses the SH kernel).

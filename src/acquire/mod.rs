@@ -378,5 +378,6 @@ pub fn acquire_with_progress(
     );
     let mut ds = ShDataset::new(nu, nv, bands, true, provenance, coeffs)?;
     ds.coeff_lookup = crate::sh::Lookup::Bilinear;
+    ds.isotropic = src.is_isotropic();
     Ok(ds)
 }

@@ -85,6 +85,10 @@ impl Brdf for AshikhminShirley {
         "ashikhmin-shirley"
     }
 
+    fn is_isotropic(&self) -> bool {
+        self.nu == self.nv
+    }
+
     /// The same formula (module doc) in f64, with the same guards ([`AshikhminShirley::f`]).
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
         self.f(wi, wo)

@@ -44,6 +44,10 @@ impl Brdf for BlinnPhong {
         self.f(wi, wo)
     }
 
+    fn is_isotropic(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &str {
         "blinn-phong"
     }

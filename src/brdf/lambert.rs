@@ -29,6 +29,10 @@ impl Brdf for Lambert {
         self.f(wi, wo)
     }
 
+    fn is_isotropic(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &str {
         "lambert"
     }

@@ -71,6 +71,10 @@ impl Brdf for LambertDbrdf {
         "lambert-dbrdf"
     }
 
+    fn is_isotropic(&self) -> bool {
+        self.lobe.is_isotropic_table()
+    }
+
     /// `rd / pi` plus the D-BRDF part's f64 evaluation.
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
         if wi.z <= 0.0 || wo.z <= 0.0 {

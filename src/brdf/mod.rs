@@ -72,6 +72,14 @@ pub trait Brdf: Send + Sync {
     /// A short human-readable name ("lambert", "blinn-phong", ...).
     fn name(&self) -> &str;
 
+    /// True when the model is isotropic: [`Brdf::eval`] depends on the azimuths of `wi`
+    /// and `wo` only through their difference, so the tangent frame does not matter
+    /// ([`crate::conventions`], "Frame of isotropic tabulated materials"). The default is
+    /// the safe answer, false.
+    fn is_isotropic(&self) -> bool {
+        false
+    }
+
     /// [`Brdf::eval`] in f64, for reference renders (`render.precision = "f64"`). The
     /// default promotes the f32 result; every model of this crate overrides it with an f64
     /// evaluation (Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley, the D-BRDF except its f32

@@ -47,6 +47,10 @@ impl Brdf for Phong {
         self.f(wi, wo)
     }
 
+    fn is_isotropic(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> &str {
         "phong"
     }

@@ -34,6 +34,25 @@
 //! `t = (0, 0, -n.y)`. This is a documented, deterministic choice, not a continuous one:
 //! no tangent field on the sphere is continuous (hairy-ball theorem).
 //!
+//! # Frame of isotropic tabulated materials
+//! An isotropic BRDF depends on the light and view only through their polar angles and the
+//! difference of their azimuths, so its image cannot depend on the tangent. A tabulated
+//! lookup can: an SH data set's coefficients are a table over the view's azimuth, the
+//! D-BRDF's `p(h)` an octahedral table over the half vector, and each interpolates
+//! differently at different azimuths. Near `n = +-y` the world-up tangent turns quickly
+//! from pixel to pixel, so there the lookup's error jumps between neighbours (radial streaks
+//! on the teapot's lid). Isotropic tabulated materials are therefore shaded in the frame
+//! turned about `n` until the view lies at one fixed azimuth ([`FrameRule::view_at`],
+//! [`ShadingFrame::turned_to_view`]): the frame is then a function of `n` and the view
+//! alone, and the lookup is always made at the same azimuth. For an SH data set that azimuth
+//! is the centre of azimuth texel 0 (`pi / nu`), where both filters return the stored
+//! texel exactly; for a D-BRDF it is 0. Anisotropic materials keep the world-up tangent, and
+//! analytic models (Lambert, Phong, Blinn-Phong, isotropic Ashikhmin-Shirley, MERL's
+//! half-difference lookup) are exact functions of the angles, so they keep it too.
+//! A transfer table stores its environment in the world-up frame of its grid: a pixel in a
+//! turned frame rotates its coefficients back by the turn before the dot product
+//! ([`crate::sh::rotate_about_z`]).
+//!
 //! # Texels of hemispherical tables (thesis 3.1.3-3.1.4)
 //! A table over the hemisphere with `nu` azimuth texels and `nv` polar texels maps
 //! texture coordinates `s = azimuth / 2 pi`, `t = polar / (pi / 2)`. Texel `(i, j)` covers
@@ -103,9 +122,18 @@
 //!    thesis's factorials (Def. 11), which overflow f32 near l = 17. Coefficient tables are
 //!    sampled like GL textures (texel centres, azimuth `GL_REPEAT`, polar
 //!    `GL_CLAMP_TO_EDGE`; see above).
+//! 10. **Isotropic tabulated materials in the view-aligned frame**: an isotropic SH data
+//!     set (file attribute `brdfkit.isotropic`), an isotropic D-BRDF or Lambert + D-BRDF
+//!     lobe is shaded in the frame turned about the normal until the view lies at azimuth
+//!     `pi / nu` (SH; the centre of azimuth texel 0) or 0 (D-BRDF), the transfer term's
+//!     coefficients turned back into the world-up frame ("Frame of isotropic tabulated
+//!     materials" above); the thesis uses one frame for every material, and its tables'
+//!     interpolation then depends on the tangent (streaks where the tangent turns fast).
 
+mod frame;
 mod octahedral;
 
+pub use frame::*;
 pub use octahedral::*;
 
 use glam::{DVec3, Vec3};
@@ -113,50 +141,6 @@ use std::f32::consts::{PI, TAU};
 
 /// The world up vector, +y.
 pub const UP: Vec3 = Vec3::Y;
-
-/// A right-handed orthonormal shading frame at a surface point (see the module doc).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShadingFrame {
-    /// Tangent: world up projected onto the tangent plane (azimuth 0).
-    pub t: Vec3,
-    /// Bitangent `n x t` (azimuth pi/2).
-    pub b: Vec3,
-    /// Unit normal (polar 0, local +z).
-    pub n: Vec3,
-}
-
-impl ShadingFrame {
-    /// Builds the frame for a unit normal `n`.
-    ///
-    /// Fails by documented fallback: a zero or non-finite `n` is replaced by +z (whose frame
-    /// is `t = +y`, `b = -x`); a non-unit `n` is normalised first.
-    #[inline]
-    pub fn from_normal(n: Vec3) -> Self {
-        let n = n.try_normalize().unwrap_or(Vec3::Z);
-        let s2 = n.x * n.x + n.z * n.z;
-        let t = if s2 > 0.0 {
-            let s = s2.sqrt();
-            let inv = 1.0 / s;
-            Vec3::new(-n.x * n.y * inv, s, -n.z * n.y * inv)
-        } else {
-            Vec3::new(0.0, 0.0, -n.y.signum())
-        };
-        let b = n.cross(t);
-        ShadingFrame { t, b, n }
-    }
-
-    /// World direction to local coordinates (local +z is the normal): `local_from_world`.
-    #[inline]
-    pub fn to_local(&self, d: Vec3) -> Vec3 {
-        Vec3::new(d.dot(self.t), d.dot(self.b), d.dot(self.n))
-    }
-
-    /// Local coordinates back to a world direction: `world_from_local`.
-    #[inline]
-    pub fn to_world(&self, l: Vec3) -> Vec3 {
-        self.t * l.x + self.b * l.y + self.n * l.z
-    }
-}
 
 /// Polar angle and azimuth of a unit direction given in local shading coordinates.
 ///

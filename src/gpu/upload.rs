@@ -258,6 +258,12 @@ impl Uploads {
             }
             None => ([0; 4], [0.0; 4], Vec::new()),
         };
+        // The material's frame rule (crate::conventions, "Frame of isotropic tabulated
+        // materials"): the view's azimuth in a view-aligned frame, as a unit pair, and 1.
+        let mut xfer_rot = xfer_rot;
+        if let Some((c, s)) = scene.material.frame_rule().view_azimuth {
+            xfer_rot[1..].copy_from_slice(&[c, s, 1.0]);
+        }
         if transfer.is_empty() {
             transfer.push(0.0);
         }

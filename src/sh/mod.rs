@@ -8,6 +8,7 @@
 //! # Layout
 //! - [`basis`] -- the real SH basis `Y_lm` (f32 and f64), its indexing and convention;
 //! - [`quadrature`] -- quadrature for projecting onto the basis;
+//! - [`rotate`] -- coefficients turned about the normal between two shading frames;
 //! - [`dataset`] -- the data set [`ShDataset`] (one file per concern: coefficient lookups,
 //!   evaluation and the [`Brdf`](crate::brdf::Brdf) impl, the optional basis table, the
 //!   band skip policy);
@@ -19,7 +20,9 @@ pub mod basis;
 pub mod dataset;
 pub mod file;
 pub mod quadrature;
+pub mod rotate;
 
 pub use basis::{eval_sh_f32, eval_sh_f64, num_terms, sh_index, sh_lm};
 pub use dataset::{Lookup, ShBasisTable, ShDataError, ShDataset, MAX_BANDS};
 pub use file::{read_sh_dataset, write_sh_dataset, ShFileError};
+pub use rotate::rotate_about_z;

@@ -11,6 +11,7 @@ use super::scalar_oracle::shade_scalar_oracle;
 use super::tile::shade_kernels;
 use super::transfer::{add_transfer, fits};
 use super::{FramePrep, ShadeCounts, ShadeOptions, ShadingPath};
+use crate::conventions::FrameRule;
 use crate::image_io::Image;
 use crate::kernel::lanes::Dispatch;
 use crate::raster::VisBuffer;
@@ -52,7 +53,8 @@ pub struct Shaded {
 /// If the kernel path chosen (by `opts.kernel` or the scene's `render.kernel`) is not
 /// available on this CPU; [`Scene::resolve`] refuses such a scene file.
 pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
-    let mut shaded = shade_lights(scene, vis, opts);
+    let rule = opts.frame_rule(&scene.material);
+    let mut shaded = shade_lights(scene, vis, opts, &rule);
     if let Some(table) = &scene.transfer {
         assert!(
             fits(table, &scene.material),
@@ -61,7 +63,7 @@ pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
         // The fast path added the term in its tile loop (`pixel.rs`); the others add it in
         // a pass of their own.
         if shaded.path != ShadingPath::Kernels {
-            add_transfer(scene, vis, table, &mut shaded.image);
+            add_transfer(scene, vis, table, &mut shaded.image, &rule);
         }
     }
     if let Some(cuts) = &scene.lightcuts {
@@ -72,17 +74,17 @@ pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
             Dispatch::choose(kernel)
                 .unwrap_or_else(|| panic!("kernel {}: not available on this CPU", kernel.name()))
         });
-        shaded.cuts = add_lightcuts(scene, vis, cuts, &mut shaded.image, shared);
+        shaded.cuts = add_lightcuts(scene, vis, cuts, &mut shaded.image, shared, &rule);
     }
     shaded
 }
 
 /// [`shade`] without the transfer term: the scene's lights only.
-fn shade_lights(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
+fn shade_lights(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions, rule: &FrameRule) -> Shaded {
     let path = opts.path_for(scene);
     if path == ShadingPath::F64NoSkips {
         return Shaded {
-            image: shade_f64_no_skips(scene, vis, &opts.progress),
+            image: shade_f64_no_skips(scene, vis, &opts.progress, rule),
             path,
             counts: ShadeCounts::default(),
             lights: scene.lights.len(),

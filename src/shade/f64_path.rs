@@ -2,16 +2,18 @@
 //! the BRDF and the light sum in f64, rounded to f32 once per pixel.
 //!
 //! Design rule: it restates no shading rule. The surface comes from `gbuffer.rs`, the
-//! shading frame from [`ShadingFrame::from_normal`] (widened exactly to f64), the view
-//! lifting from [`lift_above_horizon_f64`] (one body with [`super::local_view`]'s) and the
+//! shading frame from [`crate::conventions::ShadingFrame::from_normal`] (widened exactly to
+//! f64, then turned in f64 under the material's [`FrameRule`]: [`super::frame_and_view_f64`]),
+//! the view lifting from [`super::lift_above_horizon_f64`] (one body with
+//! [`super::local_view`]'s) and the
 //! point-light falloff from [`crate::light::Light::at_f64`] (one body with
 //! [`crate::light::Light::at`]); only the arithmetic (and the skips) differ from the scalar
 //! oracle (`scalar_oracle.rs`). The tile loop is the one the scalar oracle uses
 //! (`tile.rs`).
 
-use super::lift_above_horizon_f64;
+use super::frame_and_view_f64;
 use super::tile::shade_per_pixel;
-use crate::conventions::ShadingFrame;
+use crate::conventions::FrameRule;
 use crate::image_io::Image;
 use crate::progress::Progress;
 use crate::raster::VisBuffer;
@@ -24,15 +26,18 @@ use glam::DVec3;
 /// rounded to f32 once per pixel; every tile counted into `progress`. On a scene whose light
 /// set is the full probe this is the converged reference (`brdfkit render --reference`, the
 /// golden bounds, the sweep's error measurements).
-pub(super) fn shade_f64_no_skips(scene: &Scene, vis: &VisBuffer, progress: &Progress) -> Image {
+pub(super) fn shade_f64_no_skips(
+    scene: &Scene,
+    vis: &VisBuffer,
+    progress: &Progress,
+    rule: &FrameRule,
+) -> Image {
     let brdf = scene.material.as_brdf();
     let eye = scene.camera.position.as_dvec3();
     shade_per_pixel(scene, vis, progress, |s| {
-        let f = ShadingFrame::from_normal(s.normal);
-        let (t, b, n) = (f.t.as_dvec3(), f.b.as_dvec3(), f.n.as_dvec3());
+        let ([t, b, n], wo) = frame_and_view_f64(s, eye, rule);
         let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
         let p = s.position.as_dvec3();
-        let wo = lift_above_horizon_f64(local((eye - p).normalize_or(n)));
         let mut sum = DVec3::ZERO;
         for light in &scene.lights {
             let (l, e) = light.at_f64(p);

@@ -92,9 +92,12 @@ pub use {
     entry::{shade, Shaded},
     gbuffer::{surface_at, surface_at_index, tile_pixels, tile_surfaces, Surface},
     lightcuts::CutStats,
-    options::{ShadeOptions, ShadingPath},
+    options::{FrameCheck, ShadeOptions, ShadingPath},
     packed_analytic::PACKED_MAX_LIGHTS,
     prep::FramePrep,
     scalar_oracle::shade_point,
-    view::{lift_above_horizon, lift_above_horizon_f64, local_view, MIN_VIEW_COS},
+    view::{
+        frame_and_view, frame_and_view_f64, lift_above_horizon, lift_above_horizon_f64, local_view,
+        MIN_VIEW_COS,
+    },
 };

@@ -10,7 +10,9 @@
 //! `shade` does not depend on `render` (or on `aov`).
 
 use super::KernelFault;
+use crate::conventions::FrameRule;
 use crate::kernel::lanes::KernelPath;
+use crate::material::Material;
 use crate::progress::Progress;
 use crate::scene::Precision;
 
@@ -73,6 +75,29 @@ pub struct ShadeOptions {
     /// command-line option reaches it.
     #[doc(hidden)]
     pub fault: Option<KernelFault>,
+    /// **Test only**: what the frame-invariance test does to the shading frames
+    /// ([`FrameCheck`]). No scene setting or command-line option reaches it.
+    #[doc(hidden)]
+    pub frame_check: FrameCheck,
+}
+
+/// **Test only**: the shading-frame changes of the test that an isotropic material's image
+/// does not depend on the tangent frame (tests/integration/frame_invariance.rs).
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FrameCheck {
+    /// The material's own frame rule.
+    #[default]
+    None,
+    /// The world-up frame turned by a pseudo-random angle per pixel before the material's
+    /// rule applies ([`crate::conventions::FrameRule::scramble`]).
+    Scramble,
+    /// The seeded fault the test must catch: scrambled, and the material's view alignment
+    /// left out (the frame then stays scrambled).
+    ScrambleUnaligned,
+    /// The world-up frame for every material, as before isotropic tabulated materials
+    /// were aligned to the view (the pictures of the lid before and after).
+    Unaligned,
 }
 
 impl Default for ShadeOptions {
@@ -83,6 +108,7 @@ impl Default for ShadeOptions {
             cull_lights: true,
             progress: Progress::hidden(),
             fault: None,
+            frame_check: FrameCheck::None,
         }
     }
 }
@@ -92,6 +118,24 @@ impl ShadeOptions {
     pub fn with_path(mut self, path: ShadingPath) -> ShadeOptions {
         self.path = Some(path);
         self
+    }
+
+    /// The frame rule pixels of `material` are shaded with: the material's
+    /// ([`Material::frame_rule`]), changed only by the test-only [`ShadeOptions::frame_check`].
+    pub fn frame_rule(&self, material: &Material) -> FrameRule {
+        let rule = material.frame_rule();
+        match self.frame_check {
+            FrameCheck::None => rule,
+            FrameCheck::Scramble => FrameRule {
+                scramble: true,
+                ..rule
+            },
+            FrameCheck::ScrambleUnaligned => FrameRule {
+                scramble: true,
+                view_azimuth: None,
+            },
+            FrameCheck::Unaligned => FrameRule::UP,
+        }
     }
 
     /// The path these options shade `scene` with: [`ShadeOptions::path`] or the scene's

@@ -48,7 +48,7 @@ impl FramePrep<'_> {
         let mut table_basis = [None; MAX_LANES];
         // Frames, view directions and view angles of the whole batch in lanes (the
         // per-pixel path's bits: `pixel_lanes.rs`, `kernel::approx::view_angles`).
-        let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye);
+        let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye, &self.rule);
         let (mut polar, mut azimuth) = ([0.0f32; MAX_LANES], [0.0f32; MAX_LANES]);
         for o in (0..batch.len()).step_by(LANES) {
             let (x, y, z) = (

@@ -65,7 +65,7 @@ impl FramePrep<'_> {
         s: S,
         batch: &[(usize, Surface)],
     ) -> [Vec3; LANES] {
-        let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye);
+        let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye, &self.rule);
         let includes_cosine = self.brdf.includes_cosine();
         let zero = s.zero();
         let [tx, ty, tz] = [s.load(&px.t[0]), s.load(&px.t[1]), s.load(&px.t[2])];

@@ -8,8 +8,8 @@
 //! alternative for point lights only is `packed.rs`.
 
 use super::fault::{seed_fault, shift_one_azimuth_node};
-use super::{local_view, FramePrep, KernelFault, Surface};
-use crate::conventions::{hemi_texcoord, ShadingFrame};
+use super::{frame_and_view, FramePrep, KernelFault, Surface};
+use crate::conventions::{hemi_texcoord, FrameRule, ShadingFrame};
 use crate::kernel::{self, lanes::Isa};
 use glam::Vec3;
 
@@ -31,8 +31,7 @@ impl FramePrep<'_> {
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::gather::Scratch,
     ) -> Vec3 {
-        let frame = ShadingFrame::from_normal(surf.normal);
-        let wo = local_view(&frame, surf, self.eye);
+        let (frame, wo) = frame_and_view(surf, self.eye, &self.rule);
         scratch.clear();
         let includes_cosine = self.brdf.includes_cosine();
         kernel::gather::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
@@ -43,7 +42,7 @@ impl FramePrep<'_> {
                 scratch.push(wi, if includes_cosine { e } else { e * wi.z });
             }
         }
-        self.sum_gathered(s, wo, Some(surf.normal), coeff_buf, scratch)
+        self.sum_gathered(s, wo, Some((surf.normal, &frame)), coeff_buf, scratch)
     }
 
     /// Radiance of one surface point lit by the dropped lights only
@@ -58,8 +57,7 @@ impl FramePrep<'_> {
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::gather::Scratch,
     ) -> Vec3 {
-        let frame = ShadingFrame::from_normal(surf.normal);
-        let wo = local_view(&frame, surf, self.eye);
+        let (frame, wo) = frame_and_view(surf, self.eye, &self.rule);
         scratch.clear();
         let includes_cosine = self.brdf.includes_cosine();
         kernel::gather::gather_dir(
@@ -85,15 +83,17 @@ impl FramePrep<'_> {
     }
 
     /// The gathered lights of `scratch` summed by the SH kernel or the material's lane
-    /// model, at local view direction `wo`; with `transfer_at` (the world normal) and a
-    /// transfer table (`[env] method = "transfer"`), plus the table's term at that normal
-    /// with the same coefficients `c(wo)` (SH) or `albedo / pi` (Lambert) (`transfer.rs`).
+    /// model, at local view direction `wo`; with `transfer_at` (the world normal and the
+    /// pixel's frame) and a transfer table (`[env] method = "transfer"`), plus the table's
+    /// term at that normal with the same coefficients `c(wo)` (SH; turned back into the
+    /// table's world-up frame when the pixel's frame is turned, [`super::transfer::to_table_frame`])
+    /// or `albedo / pi` (Lambert) (`transfer.rs`).
     #[inline(always)]
     fn sum_gathered<S: Isa>(
         &self,
         s: S,
         wo: Vec3,
-        transfer_at: Option<Vec3>,
+        transfer_at: Option<(Vec3, &ShadingFrame)>,
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::gather::Scratch,
     ) -> Vec3 {
@@ -121,10 +121,16 @@ impl FramePrep<'_> {
             None => self.model.sum(s, wo, scratch),
         };
         match transfer {
-            Some((term, mut n)) => {
+            Some((term, (mut n, frame))) => {
                 let c = match &term.lambert {
                     Some(k) => &k[..],
-                    None => &coeff_buf[..],
+                    None => {
+                        if self.rule != FrameRule::UP {
+                            let bands = self.sh.as_ref().map_or(1, |(ds, _)| ds.bands());
+                            super::transfer::to_table_frame(coeff_buf, bands, frame);
+                        }
+                        &coeff_buf[..]
+                    }
                 };
                 if self.fault == Some(KernelFault::TransferAzimuthShift) {
                     n = shift_one_azimuth_node(term.table, n);

@@ -11,7 +11,7 @@
 //! horizon).
 
 use super::{Surface, MIN_VIEW_COS};
-use crate::conventions::ShadingFrame;
+use crate::conventions::{FrameRule, ShadingFrame};
 use crate::kernel::lanes::{F32x8, Isa, LANES, MAX_LANES};
 use glam::Vec3;
 
@@ -27,15 +27,21 @@ pub struct PixelLanes {
 }
 
 impl PixelLanes {
-    /// The frames and view directions of `surfaces` (at most [`MAX_LANES`]) seen from `eye`.
+    /// The frames and view directions of `surfaces` (at most [`MAX_LANES`]) seen from `eye`,
+    /// under `rule`: the world-up frame ([`FrameRule::UP`]) in lanes, any other rule
+    /// (view-aligned frames) pixel by pixel through [`super::frame_and_view`] itself.
     #[inline(always)]
     pub fn of<'s, S: Isa>(
         s: S,
         surfaces: impl ExactSizeIterator<Item = &'s Surface>,
         eye: Vec3,
+        rule: &FrameRule,
     ) -> PixelLanes {
         let count = surfaces.len();
         debug_assert!(count <= MAX_LANES);
+        if *rule != FrameRule::UP {
+            return PixelLanes::scalar(surfaces, eye, rule);
+        }
         let mut pos = [[0.0f32; MAX_LANES]; 3];
         let mut nrm = [[0.0f32; MAX_LANES]; 3];
         for (p, surf) in surfaces.enumerate() {
@@ -77,6 +83,43 @@ impl PixelLanes {
                 out.b[a][p] = (a == 1) as u8 as f32;
                 out.n[a][p] = (a == 2) as u8 as f32;
                 out.wo[a][p] = (a == 2) as u8 as f32;
+            }
+        }
+        out
+    }
+
+    /// [`PixelLanes::of`] for the rules other than [`FrameRule::UP`]: each lane's frame
+    /// and view from [`super::frame_and_view`] (the turn to the view costs a division and a
+    /// square root per pixel, beside a lookup and a sum over lights that dominate).
+    fn scalar<'s>(
+        surfaces: impl ExactSizeIterator<Item = &'s Surface>,
+        eye: Vec3,
+        rule: &FrameRule,
+    ) -> PixelLanes {
+        let count = surfaces.len();
+        let mut out = PixelLanes {
+            t: [[0.0; MAX_LANES]; 3],
+            b: [[0.0; MAX_LANES]; 3],
+            n: [[0.0; MAX_LANES]; 3],
+            wo: [[0.0; MAX_LANES]; 3],
+            present: (1u32 << count) - 1,
+        };
+        // Empty lanes: the identity frame and +z, as [`PixelLanes::of`] leaves them.
+        for p in count..MAX_LANES {
+            for a in 0..3 {
+                out.t[a][p] = (a == 0) as u8 as f32;
+                out.b[a][p] = (a == 1) as u8 as f32;
+                out.n[a][p] = (a == 2) as u8 as f32;
+                out.wo[a][p] = (a == 2) as u8 as f32;
+            }
+        }
+        for (p, surf) in surfaces.enumerate() {
+            let (f, wo) = super::frame_and_view(surf, eye, rule);
+            for a in 0..3 {
+                out.t[a][p] = f.t[a];
+                out.b[a][p] = f.b[a];
+                out.n[a][p] = f.n[a];
+                out.wo[a][p] = wo[a];
             }
         }
         out
@@ -189,7 +232,7 @@ mod tests {
         fn run<S: Isa>(self, s: S) -> Self::Out {
             let mut out = Vec::new();
             for group in self.0.chunks(MAX_LANES) {
-                let l = PixelLanes::of(s, group.iter(), self.1);
+                let l = PixelLanes::of(s, group.iter(), self.1, &FrameRule::UP);
                 out.extend((0..group.len()).map(|p| (l.frame(p), l.view(p))));
             }
             out

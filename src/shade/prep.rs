@@ -11,6 +11,7 @@
 use super::transfer::TransferTerm;
 use super::{KernelFault, ShadeOptions};
 use crate::brdf::Brdf;
+use crate::conventions::FrameRule;
 use crate::kernel::lanes::{Dispatch, LANES};
 use crate::kernel::models::LaneModel;
 use crate::kernel::{cluster::DirLights, sh::ShRecurrence, skip};
@@ -65,6 +66,9 @@ pub struct FramePrep<'a> {
     /// (`pixel.rs`); `None` otherwise. The scalar oracle and the f64 path add it in a
     /// pass of their own (`transfer.rs`).
     pub(crate) transfer: Option<TransferTerm<'a>>,
+    /// How every pixel's shading frame is chosen ([`ShadeOptions::frame_rule`]: the
+    /// material's [`crate::material::Material::frame_rule`]).
+    pub rule: FrameRule,
 }
 
 impl<'a> FramePrep<'a> {
@@ -135,6 +139,7 @@ impl<'a> FramePrep<'a> {
             },
             fault: opts.fault,
             transfer: TransferTerm::of(scene),
+            rule: opts.frame_rule(&scene.material),
             sh,
             eye: scene.camera.position,
             cull_lights: opts.cull_lights,

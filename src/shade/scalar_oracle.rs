@@ -7,9 +7,9 @@
 //! arithmetic.
 
 use super::tile::shade_per_pixel;
-use super::{local_view, FramePrep, Surface};
+use super::{frame_and_view, FramePrep, Surface};
 use crate::brdf::{eval_cosine_weighted, Brdf};
-use crate::conventions::ShadingFrame;
+use crate::conventions::FrameRule;
 use crate::image_io::Image;
 use crate::kernel::skip::needs_restore;
 use crate::light::Light;
@@ -18,12 +18,19 @@ use crate::raster::VisBuffer;
 use crate::scene::Scene;
 use glam::Vec3;
 
-/// Reflected radiance at one surface point: `sum_k f(l_k, v) cos E_k` (thesis Def. 10).
-/// `lights` is the frame's light set (the scene's, less any dropped as negligible).
+/// Reflected radiance at one surface point: `sum_k f(l_k, v) cos E_k` (thesis Def. 10), in
+/// the shading frame of `rule` ([`crate::material::Material::frame_rule`], the frame's
+/// [`FramePrep::rule`]). `lights` is the frame's light set (the scene's, less any dropped
+/// as negligible).
 #[inline]
-pub fn shade_point(brdf: &dyn Brdf, lights: &[Light], surface: &Surface, eye: Vec3) -> Vec3 {
-    let frame = ShadingFrame::from_normal(surface.normal);
-    let wo = local_view(&frame, surface, eye);
+pub fn shade_point(
+    brdf: &dyn Brdf,
+    lights: &[Light],
+    surface: &Surface,
+    eye: Vec3,
+    rule: &FrameRule,
+) -> Vec3 {
+    let (frame, wo) = frame_and_view(surface, eye, rule);
     let mut sum = Vec3::ZERO;
     for light in lights {
         let (l, e) = light.at(surface.position);
@@ -54,9 +61,9 @@ pub(super) fn shade_scalar_oracle(
     };
     let d = &prep.dropped;
     shade_per_pixel(scene, vis, progress, |s| {
-        let kept = shade_point(brdf, &d.kept, s, scene.camera.position);
+        let kept = shade_point(brdf, &d.kept, s, scene.camera.position, &prep.rule);
         if !d.removed.is_empty() && needs_restore(kept, d.restore_below(s.normal)) {
-            kept + shade_point(brdf, &d.removed, s, scene.camera.position)
+            kept + shade_point(brdf, &d.removed, s, scene.camera.position, &prep.rule)
         } else {
             kept
         }

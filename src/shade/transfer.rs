@@ -14,11 +14,13 @@
 //!   [`crate::env::transfer::FAST_PATH_TOLERANCE`] (tests/integration/transfer_scene.rs).
 //!
 //! The surface, frame and lifted view are those of every other path (`gbuffer.rs`,
-//! [`ShadingFrame::from_normal`], [`super::local_view`]); `c(wo)` is the data set's filtered
-//! coefficient lookup, or `albedo / pi` for Lambert. f32 on every path (the table is f32).
+//! [`super::frame_and_view`] under the material's [`FrameRule`]); `c(wo)` is the data
+//! set's filtered coefficient lookup, turned back into the table's world-up frame when the
+//! material's frame is view-aligned ([`to_table_frame`]), or `albedo / pi` for Lambert. f32
+//! on every path (the table is f32).
 
-use super::{local_view, surface_at_index, tile_pixels, FramePrep};
-use crate::conventions::{hemi_texcoord, local_angles, ShadingFrame};
+use super::{frame_and_view, surface_at_index, tile_pixels, FramePrep};
+use crate::conventions::{hemi_texcoord, local_angles, FrameRule, ShadingFrame};
 use crate::env::transfer::TransferTable;
 use crate::image_io::Image;
 use crate::material::Material;
@@ -36,6 +38,7 @@ pub(super) fn add_transfer(
     vis: &VisBuffer,
     table: &TransferTable,
     image: &mut Image,
+    rule: &FrameRule,
 ) {
     let eye = scene.camera.position;
     let band_len = (vis.width * vis.tile_size) as usize;
@@ -61,11 +64,13 @@ pub(super) fn add_transfer(
                     };
                     match &scene.material {
                         Material::Sh(ds) => {
-                            let frame = ShadingFrame::from_normal(s.normal);
-                            let wo = local_view(&frame, &s, eye);
+                            let (frame, wo) = frame_and_view(&s, eye, rule);
                             let (p, a) = local_angles(wo);
                             let (u, v) = hemi_texcoord(p, a);
                             ds.lookup_coeffs(u, v, ds.coeff_lookup, c);
+                            if *rule != FrameRule::UP {
+                                to_table_frame(c, ds.bands(), &frame);
+                            }
                         }
                         Material::Lambert(m) => {
                             let k = m.albedo / std::f32::consts::PI;
@@ -78,6 +83,19 @@ pub(super) fn add_transfer(
                 }
             }
         });
+}
+
+/// Coefficients `c` (`3 bands^2`, `[R.., G.., B..]`) looked up in the pixel's `frame` (turned
+/// about the normal: [`crate::conventions`], "Frame of isotropic tabulated materials")
+/// rewritten in place in the world-up frame [`ShadingFrame::from_normal`] of the same
+/// normal, in which the table stores the environment ([`crate::env::transfer`], "Grid of
+/// normals"): turned back by the angle between the two tangents
+/// ([`crate::sh::rotate_about_z`]).
+#[inline]
+pub(super) fn to_table_frame(c: &mut [f32], bands: usize, frame: &ShadingFrame) {
+    let up = ShadingFrame::from_normal(frame.n);
+    let (cos, sin) = (frame.t.dot(up.t), frame.t.dot(up.b));
+    crate::sh::rotate_about_z(c, bands, cos, sin);
 }
 
 /// Whether `table` can shade `material` (its basis has the material's term count).

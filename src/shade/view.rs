@@ -11,7 +11,7 @@
 //! fast path always has).
 
 use super::Surface;
-use crate::conventions::ShadingFrame;
+use crate::conventions::{FrameRule, ShadingFrame, VIEW_TURN_MIN_SIN};
 use glam::{DVec3, Vec3};
 
 /// Smallest cosine between the view direction and the normal used for shading.
@@ -57,4 +57,42 @@ pub fn lift_above_horizon_f64(wo: DVec3) -> DVec3 {
 pub fn local_view(frame: &ShadingFrame, surface: &Surface, eye: Vec3) -> Vec3 {
     let v = (eye - surface.position).normalize_or(frame.n);
     lift_above_horizon(frame.to_local(v))
+}
+
+/// The shading frame of a surface under `rule` ([`FrameRule::apply`] of
+/// [`ShadingFrame::from_normal`], turned by the unit world view) and the local view in it,
+/// lifted above the horizon ([`local_view`]). Under [`FrameRule::UP`] these are exactly
+/// `from_normal` and [`local_view`]'s bits.
+#[inline]
+pub fn frame_and_view(surface: &Surface, eye: Vec3, rule: &FrameRule) -> (ShadingFrame, Vec3) {
+    let base = ShadingFrame::from_normal(surface.normal);
+    let v = (eye - surface.position).normalize_or(base.n);
+    let frame = rule.apply(base, v);
+    (frame, lift_above_horizon(frame.to_local(v)))
+}
+
+/// The f64 path's frame under `rule` ([`frame_and_view`] in f64): the f32 world-up frame
+/// (scrambled when the rule says so) widened exactly, turned in f64 to the view's azimuth,
+/// and the lifted f64 local view. Returns the frame's axes `(t, b, n)` and the view.
+#[inline]
+pub fn frame_and_view_f64(surface: &Surface, eye: DVec3, rule: &FrameRule) -> ([DVec3; 3], DVec3) {
+    let unturned = FrameRule {
+        view_azimuth: None,
+        ..*rule
+    };
+    let f = unturned.apply(ShadingFrame::from_normal(surface.normal), Vec3::Z);
+    let (mut t, mut b, n) = (f.t.as_dvec3(), f.b.as_dvec3(), f.n.as_dvec3());
+    let v = (eye - surface.position.as_dvec3()).normalize_or(n);
+    if let Some((c, s)) = rule.view_azimuth {
+        let (x, y) = (v.dot(t), v.dot(b));
+        let h = (x * x + y * y).sqrt();
+        if h > VIEW_TURN_MIN_SIN as f64 {
+            let (cp, sp) = (x / h, y / h);
+            let (c, s) = (c as f64, s as f64);
+            let (ct, st) = (cp * c + sp * s, sp * c - cp * s);
+            (t, b) = (t * ct + b * st, b * ct - t * st);
+        }
+    }
+    let wo = DVec3::new(v.dot(t), v.dot(b), v.dot(n));
+    ([t, b, n], lift_above_horizon_f64(wo))
 }

@@ -31,6 +31,7 @@ mod env_scene;
 mod exact_sphere;
 mod export;
 mod file_formats;
+mod frame_invariance;
 mod golden;
 mod golden_cameras;
 mod golden_list;

@@ -114,14 +114,26 @@ fn the_scalar_oracle_path_is_shade_point_at_every_pixel() {
         for y in 0..vis.height {
             for x in 0..vis.width {
                 expected.push(surface_at(&s.mesh, &vis, x, y).map_or(Vec3::ZERO, |surf| {
-                    let kept = shade_point(brdf, &prep.dropped.kept, &surf, s.camera.position);
+                    let kept = shade_point(
+                        brdf,
+                        &prep.dropped.kept,
+                        &surf,
+                        s.camera.position,
+                        &prep.rule,
+                    );
                     // Where leaving the dropped lights out could change the pixel by more
                     // than `drop_lights` of its value, they are shaded too (kernel::skip).
                     if brdfkit::kernel::skip::needs_restore(
                         kept,
                         prep.dropped.restore_below(surf.normal),
                     ) {
-                        kept + shade_point(brdf, &prep.dropped.removed, &surf, s.camera.position)
+                        kept + shade_point(
+                            brdf,
+                            &prep.dropped.removed,
+                            &surf,
+                            s.camera.position,
+                            &prep.rule,
+                        )
                     } else {
                         kept
                     }

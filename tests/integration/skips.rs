@@ -3,7 +3,7 @@
 //! nobody asked for by exact work counts. (Probe preprocessing already cached is guarded by
 //! `light_sets_are_cached_by_contents_and_parameters` in tests/integration/env_scene.rs.)
 
-use brdfkit::conventions::{hemi_texcoord, local_angles, ShadingFrame};
+use brdfkit::conventions::{hemi_texcoord, local_angles};
 use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::kernel::skip::{band_tail_factor, summation_allowance};
@@ -11,7 +11,7 @@ use brdfkit::light::Light;
 use brdfkit::raster::NO_TRIANGLE;
 use brdfkit::render::{self, RenderOptions, RenderStats};
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
-use brdfkit::shade::{self, local_view, surface_at, FramePrep, ShadeOptions};
+use brdfkit::shade::{self, surface_at, FramePrep, ShadeOptions};
 use glam::Vec3;
 use std::path::Path;
 
@@ -199,8 +199,8 @@ fn dropping_sh_bands_stays_within_the_addition_theorem_bound() {
                 let Some(sf) = surface_at(&s.mesh, &vis, x, y) else {
                     return (Vec3::ZERO, Vec3::ZERO);
                 };
-                let frame = ShadingFrame::from_normal(sf.normal);
-                let wo = local_view(&frame, &sf, s.camera.position);
+                let rule = s.material.frame_rule();
+                let (frame, wo) = shade::frame_and_view(&sf, s.camera.position, &rule);
                 let (p, a) = local_angles(wo);
                 let (ts, tt) = hemi_texcoord(p, a);
                 full_ds.lookup_coeffs(ts, tt, full_ds.coeff_lookup, &mut coeffs);

@@ -336,6 +336,11 @@ impl Brdf for MerlBrdf {
         &self.name
     }
 
+    /// MERL data are isotropic (module doc).
+    fn is_isotropic(&self) -> bool {
+        true
+    }
+
     /// [`MerlBrdf::eval_f64`]: the angles and bins in f64 from the f64 directions (the
     /// table holds f64 samples). Not expected to agree with [`Brdf::eval`] to f32 rounding
     /// everywhere: the reference reader's lookup is nearest-bin, so directions within f32

@@ -43,6 +43,23 @@ fn shading_frame(n: vec3<f32>) -> ShadingFrame {
     return ShadingFrame(t, b, n);
 }
 
+// The frame turned about n so that the unit world view v has the azimuth whose cosine and
+// sine are (c, s): t' = cos(phi - a) t + sin(phi - a) b with phi the view's azimuth in f;
+// f itself when v is within 1e-6 of the normal's axis (VIEW_TURN_MIN_SIN).
+fn turned_to_view(f: ShadingFrame, v: vec3<f32>, c: f32, s: f32) -> ShadingFrame {
+    let x = dot(v, f.t);
+    let y = dot(v, f.b);
+    let h = sqrt(x * x + y * y);
+    if !(h > 1e-6) {
+        return f;
+    }
+    let cp = x / h;
+    let sp = y / h;
+    let ct = cp * c + sp * s;
+    let st = sp * c - cp * s;
+    return ShadingFrame(f.t * ct + f.b * st, f.b * ct - f.t * st, f.n);
+}
+
 fn to_local(f: ShadingFrame, d: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(d, f.t), dot(d, f.b), dot(d, f.n));
 }

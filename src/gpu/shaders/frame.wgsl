@@ -27,7 +27,10 @@ struct Frame {
     aov: vec4<u32>,
     // The transfer table (transfer.wgsl): nu, nv, terms per colour, 1 when there is one.
     xfer: vec4<u32>,
-    // x: the probe rotation about +y, radians.
+    // x: the probe rotation about +y, radians. y, z, w: the material's frame rule
+    // (src/conventions/mod.rs, "Frame of isotropic tabulated materials"): w = 1 when the
+    // frame is turned about the normal until the view lies at the azimuth whose cosine and
+    // sine are y and z; w = 0 for the world-up frame.
     xfer_rot: vec4<f32>,
 }
 
@@ -159,10 +162,19 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     if !front {
         n = -n;
     }
-    let sf = shading_frame(n);
-    let wo = lift_above_horizon(to_local(sf, normalize(eye - p)));
+    // The world-up frame (the AOVs' frame), and the material's: turned to the view when
+    // its rule says so.
+    let sf_up = shading_frame(n);
+    let v = normalize(eye - p);
+    var sf = sf_up;
+    if frame.xfer_rot.w > 0.5 {
+        sf = turned_to_view(sf_up, v, frame.xfer_rot.y, frame.xfer_rot.z);
+    }
+    let wo = lift_above_horizon(to_local(sf, v));
     let aov = frame.aov.x;
     if aov != 0u {
+        let wo = lift_above_horizon(to_local(sf_up, v));
+        let sf = sf_up;
         var v = vec3<f32>(0.0);
         if aov == AOV_NORMAL {
             v = n;
@@ -183,7 +195,7 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     var radiance = vec3<f32>(0.0);
     if pass_info.z == 1u && frame.xfer.w == 1u {
         // The environment's transfer term, once per pixel (transfer.wgsl).
-        radiance = transfer_radiance(n);
+        radiance = transfer_radiance(n, dot(sf.t, sf_up.t), dot(sf.t, sf_up.b));
     }
     // This pass's lights (src/gpu/pipeline.rs splits the light set over passes).
     for (var i = pass_info.x; i < pass_info.y; i = i + 1u) {

@@ -28,18 +28,35 @@ fn transfer_node(node: u32, k: u32) -> vec3<f32> {
     return vec3<f32>(transfer[base], transfer[base + terms], transfer[base + 2u * terms]);
 }
 
-// The coefficient c_k(wo) the table is dotted with: the pixel's SH coefficients at its
-// view (sh_c, filled by sh_lookup), or albedo / pi for Lambert (one term).
-fn transfer_coeff(k: u32) -> vec3<f32> {
-    if frame.ints.x == MAT_SH {
-        return sh_c[k];
+// The pixel's SH coefficients sh_c, looked up in a frame turned by the angle whose cosine
+// and sine are (c, s) from the world-up frame, rewritten in the world-up frame the table
+// stores the environment in (src/sh/rotate.rs: for m > 0, c_m = c'_m cos(m angle) -
+// c'_-m sin(m angle), c_-m = c'_m sin(m angle) + c'_-m cos(m angle)).
+fn transfer_turned_back(c: f32, s: f32) -> array<vec3<f32>, SH_TERMS> {
+    var out = sh_c;
+    let bands = frame.table.z;
+    var cm = 1.0;
+    var sm = 0.0;
+    for (var m = 1u; m < bands; m = m + 1u) {
+        let next_c = cm * c - sm * s;
+        sm = sm * c + cm * s;
+        cm = next_c;
+        for (var l = m; l < bands; l = l + 1u) {
+            let kp = l * l + l + m;
+            let kn = l * l + l - m;
+            let p = out[kp];
+            let q = out[kn];
+            out[kp] = p * cm - q * sm;
+            out[kn] = p * sm + q * cm;
+        }
     }
-    return lambert(frame.kd.xyz);
+    return out;
 }
 
 // sum_k c_k T_k(n) per colour, T bilinear in the normal's grid angles at the world unit
-// normal n.
-fn transfer_radiance(n_world: vec3<f32>) -> vec3<f32> {
+// normal n; (turn_c, turn_s): the unit pair of the angle from the world-up frame to the
+// pixel's shading frame (1, 0 unless the material's frame is view-aligned).
+fn transfer_radiance(n_world: vec3<f32>, turn_c: f32, turn_s: f32) -> vec3<f32> {
     let nu = frame.xfer.x;
     let nv = frame.xfer.y;
     let n = probe_frame(n_world);
@@ -73,11 +90,22 @@ fn transfer_radiance(n_world: vec3<f32>) -> vec3<f32> {
     let w10 = fx * (1.0 - fy);
     let w01 = (1.0 - fx) * fy;
     let w11 = fx * fy;
+    var c = sh_c;
+    if frame.ints.x == MAT_SH && frame.xfer_rot.w > 0.5 {
+        c = transfer_turned_back(turn_c, turn_s);
+    }
+    // c_k(wo), the coefficients the table is dotted with: the pixel's SH coefficients at
+    // its view (sh_c, filled by sh_lookup, turned back into the table's frame), or
+    // albedo / pi for Lambert (one term).
     var out = vec3<f32>(0.0);
     for (var k = 0u; k < frame.xfer.z; k = k + 1u) {
         let t = w00 * transfer_node(n00, k) + w10 * transfer_node(n10, k)
             + w01 * transfer_node(n01, k) + w11 * transfer_node(n11, k);
-        out = out + transfer_coeff(k) * t;
+        var ck = lambert(frame.kd.xyz);
+        if frame.ints.x == MAT_SH {
+            ck = c[k];
+        }
+        out = out + ck * t;
     }
     return out;
 }

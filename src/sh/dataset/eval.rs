@@ -86,6 +86,10 @@ impl Brdf for ShDataset {
         "sh-dataset"
     }
 
+    fn is_isotropic(&self) -> bool {
+        self.isotropic
+    }
+
     /// Cauchy-Schwarz and the SH addition theorem (`sum_m Y_lm(w)^2 = (2l+1)/(4 pi)` for
     /// every direction, so `sum_{l<L} sum_m Y_lm^2 = L^2/(4 pi)`):
     /// `|sum_k c_k Y_k(wi)| <= |c| L / sqrt(4 pi)`, with `|c|` at most the largest texel

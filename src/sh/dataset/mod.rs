@@ -145,6 +145,13 @@ pub struct ShDataset {
     /// Filter for the basis table (light direction), used only by
     /// [`ShDataset::reconstruct_tabulated`] (never by rendering, see the module doc).
     pub basis_lookup: Lookup,
+    /// Whether the data describe an isotropic BRDF (acquired from one: `brdfkit acquire`
+    /// records its source's [`crate::brdf::Brdf::is_isotropic`]). Isotropic data sets are
+    /// shaded in the view-aligned frame ([`crate::conventions`], "Frame of isotropic
+    /// tabulated materials"), so their lookup is always at azimuth texel 0's centre; the
+    /// others in the world-up frame. `false` unless set (every file written before the
+    /// flag existed).
+    pub isotropic: bool,
 }
 
 impl ShDataset {
@@ -180,6 +187,7 @@ impl ShDataset {
             band_threshold: DEFAULT_BAND_THRESHOLD,
             coeff_lookup: Lookup::Nearest,
             basis_lookup: Lookup::Nearest,
+            isotropic: false,
         })
     }
 
@@ -220,6 +228,7 @@ impl ShDataset {
         )?;
         out.coeff_lookup = self.coeff_lookup;
         out.basis_lookup = self.basis_lookup;
+        out.isotropic = self.isotropic;
         out.band_threshold = self.band_threshold;
         out.basis = self
             .basis

@@ -49,6 +49,12 @@
 //!     `material.lookup`). `brdfkit acquire` writes `"bilinear"`. Written only when not
 //!     nearest, so files of nearest data sets stay byte-identical; any other value is
 //!     refused ([`ShFileError::BadAttribute`]).
+//!   - `brdfkit.isotropic: int = 1` (optional, coefficient part only; 0 when absent): the
+//!     data describe an isotropic BRDF, so a renderer may shade them in the view-aligned
+//!     frame and read only azimuth texel 0 ([`ShDataset::isotropic`](crate::sh::ShDataset::isotropic);
+//!     [`crate::conventions`], "Frame of isotropic tabulated materials"). `brdfkit acquire`
+//!     writes it for an isotropic source. Written only when set; any value but 0 or 1 is
+//!     refused.
 //!
 //! Reading fails with [`ShFileError`] naming the file and the problem; no partial data set
 //! is ever returned. Writing goes to a temporary file in the same directory, then renames
@@ -89,6 +95,9 @@ azimuth = atan2(y, x) in [0, 2pi)";
 pub const SH_CONVENTION: &str = "real; orthonormal over the full sphere; \
 no Condon-Shortley phase; m>0 sqrt2 K P cos(m az), m<0 sqrt2 K P sin(|m| az); \
 index k = l*l + l + m; polar angle from local +z";
+
+/// Name of the optional isotropy attribute (see the module doc).
+pub const ISOTROPIC_ATTRIBUTE: &str = "brdfkit.isotropic";
 
 /// Name of the optional coefficient-lookup attribute (see the module doc).
 pub const LOOKUP_ATTRIBUTE: &str = "brdfkit.lookup";

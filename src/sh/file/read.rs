@@ -8,7 +8,8 @@
 
 use super::{
     basis_channel_name, coeff_channel_name, exr_err, lookup_value, ShFileError, BASIS_LAYER,
-    COEFF_LAYER, FORMAT_NAME, FORMAT_VERSION, LOOKUP_ATTRIBUTE, PARAMETERIZATION, SH_CONVENTION,
+    COEFF_LAYER, FORMAT_NAME, FORMAT_VERSION, ISOTROPIC_ATTRIBUTE, LOOKUP_ATTRIBUTE,
+    PARAMETERIZATION, SH_CONVENTION,
 };
 use crate::image_io::exr_guard::{self, Attributes, ExrGuardError};
 use crate::sh::basis::num_terms;
@@ -235,6 +236,18 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
                 value: format!("{} (need the string \"nearest\" or \"bilinear\")", shown(v)),
             })?,
     };
+    let isotropic = match part.attrs.get(ISOTROPIC_ATTRIBUTE) {
+        None | Some(AttributeValue::I32(0)) => false,
+        Some(AttributeValue::I32(1)) => true,
+        Some(other) => {
+            return Err(ShFileError::BadAttribute {
+                path: path.to_owned(),
+                layer: COEFF_LAYER,
+                name: ISOTROPIC_ATTRIBUTE,
+                value: format!("{} (need the int 0 or 1)", shown(other)),
+            })
+        }
+    };
     let nt = num_terms(bands);
     part.check_count(3 * nt)?;
     let mut coeffs = vec![0.0f32; nu * nv * 3 * nt];
@@ -253,6 +266,7 @@ pub fn read_sh_dataset(path: &Path) -> Result<ShDataset, ShFileError> {
     let mut ds = ShDataset::new(nu, nv, bands, cosine, provenance, coeffs).map_err(data_err)?;
     ds.set_band_threshold(band_threshold).map_err(data_err)?;
     ds.coeff_lookup = coeff_lookup;
+    ds.isotropic = isotropic;
     if let Some(bl) = find(BASIS_LAYER) {
         let part = Part::new(path, BASIS_LAYER, bl);
         let (bb, bu, bv) = part.header("basis")?;

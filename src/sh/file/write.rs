@@ -6,7 +6,8 @@
 
 use super::{
     basis_channel_name, coeff_channel_name, exr_err, lookup_value, ShFileError, BASIS_LAYER,
-    COEFF_LAYER, FORMAT_NAME, FORMAT_VERSION, LOOKUP_ATTRIBUTE, PARAMETERIZATION, SH_CONVENTION,
+    COEFF_LAYER, FORMAT_NAME, FORMAT_VERSION, ISOTROPIC_ATTRIBUTE, LOOKUP_ATTRIBUTE,
+    PARAMETERIZATION, SH_CONVENTION,
 };
 use crate::image_io::exr_guard::text;
 use crate::sh::basis::num_terms;
@@ -84,6 +85,12 @@ pub fn write_sh_dataset(path: &Path, ds: &ShDataset) -> Result<(), ShFileError> 
             text(LOOKUP_ATTRIBUTE),
             AttributeValue::Text(text(lookup_value(ds.coeff_lookup))),
         );
+    }
+    // Written only when set, so files of other data sets stay byte-identical.
+    if ds.isotropic {
+        attrs
+            .other
+            .insert(text(ISOTROPIC_ATTRIBUTE), AttributeValue::I32(1));
     }
     let mut layers = vec![Layer::new(
         (nu, nv),

@@ -10,15 +10,15 @@
 //! a max-heap of cluster error bounds (Walter et al. 2005, section 4.2; the criterion and
 //! the bound are in [`crate::env::lightcuts`] and [`crate::material::cone_bound`]). The
 //! surface, frame and lifted view are those of every other path (`gbuffer.rs`,
-//! [`ShadingFrame::from_normal`], [`super::local_view`]); a cluster's light is its
+//! [`super::frame_and_view`] under the material's [`FrameRule`]); a cluster's light is its
 //! representative direction in that frame, shaded as [`super::shade_point`] shades a
 //! directional light (`f(wi, wo) cos(polar_i) E` when above the horizon). f32 on every path.
 //! Deterministic: the heap's order is a total order on (bound, node index), and the
 //! pixel's radiance is summed over the final cut in the heap's storage order, which depends
 //! only on the sequence of pushes and pops.
 
-use super::{local_view, surface_at_index, tile_pixels};
-use crate::conventions::ShadingFrame;
+use super::{frame_and_view, surface_at_index, tile_pixels};
+use crate::conventions::{FrameRule, ShadingFrame};
 use crate::env::lightcuts::{LightCuts, LightTree};
 use crate::env::LUMINANCE_WEIGHTS;
 use crate::image_io::Image;
@@ -218,10 +218,11 @@ pub(in crate::shade) fn add_lightcuts(
     cuts: &LightCuts,
     image: &mut Image,
     shared: Option<Dispatch>,
+    rule: &FrameRule,
 ) -> CutStats {
     match shared {
-        Some(dispatch) => add_shared_cuts(scene, vis, cuts, image, dispatch),
-        None => add_per_pixel_cuts(scene, vis, cuts, image),
+        Some(dispatch) => add_shared_cuts(scene, vis, cuts, image, dispatch, rule),
+        None => add_per_pixel_cuts(scene, vis, cuts, image, rule),
     }
 }
 
@@ -232,6 +233,7 @@ fn add_shared_cuts(
     cuts: &LightCuts,
     image: &mut Image,
     dispatch: Dispatch,
+    rule: &FrameRule,
 ) -> CutStats {
     let bound = ConeBound::new(&scene.material).expect("resolve checked the material");
     let ctx = TileCtx {
@@ -240,6 +242,7 @@ fn add_shared_cuts(
         material: &scene.material,
         model: LaneModel::of(&scene.material),
         includes_cosine: scene.material.as_brdf().includes_cosine(),
+        rule: *rule,
     };
     let eye = scene.camera.position;
     // Squares are fixed in image space (CUT_TILE-aligned, whatever the tile size), and a
@@ -273,8 +276,7 @@ fn add_shared_cuts(
                             let Some(s) = surface_at_index(&scene.mesh, vis, i, x, y) else {
                                 continue;
                             };
-                            let frame = ShadingFrame::from_normal(s.normal);
-                            let wo = local_view(&frame, &s, eye);
+                            let (frame, wo) = frame_and_view(&s, eye, rule);
                             pixels.push(TilePixel {
                                 at: ((y - y0) * vis.width + x) as usize,
                                 x,
@@ -302,6 +304,7 @@ fn add_per_pixel_cuts(
     vis: &VisBuffer,
     cuts: &LightCuts,
     image: &mut Image,
+    rule: &FrameRule,
 ) -> CutStats {
     let bound = ConeBound::new(&scene.material).expect("resolve checked the material");
     let eye = scene.camera.position;
@@ -324,8 +327,7 @@ fn add_per_pixel_cuts(
                     let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y) else {
                         continue;
                     };
-                    let frame = ShadingFrame::from_normal(s.normal);
-                    let wo = local_view(&frame, &s, eye);
+                    let (frame, wo) = frame_and_view(&s, eye, rule);
                     let (l, n, capped) =
                         cut_radiance(cuts, &bound, &scene.material, &frame, wo, &mut heap);
                     let at = ((y - y0) * vis.width + x) as usize;

@@ -3,9 +3,8 @@
 //! tile bound; and the seeded fault (no widening by the tile's frame and view spread) is
 //! shown to break it.
 
-use super::super::{local_view, surface_at_index, tile_pixels};
+use super::super::{frame_and_view, surface_at_index, tile_pixels};
 use super::tile::{node_cone, tile_f_cos_max, TileFrame, TilePixel, CUT_TILE, MAX_SPREAD};
-use crate::conventions::ShadingFrame;
 use crate::env::lightcuts::{LightTree, TileFault};
 use crate::material::cone_bound::{BoundFault, ConeBound};
 use crate::material::Material;
@@ -44,8 +43,8 @@ fn squares(scene: &Scene) -> Vec<Vec<TilePixel>> {
         let mut px = Vec::new();
         for (i, x, y) in tile_pixels(&vis, t) {
             if let Some(s) = surface_at_index(&scene.mesh, &vis, t * per_tile + i, x, y) {
-                let frame = ShadingFrame::from_normal(s.normal);
-                let wo = local_view(&frame, &s, scene.camera.position);
+                let rule = scene.material.frame_rule();
+                let (frame, wo) = frame_and_view(&s, scene.camera.position, &rule);
                 px.push(TilePixel {
                     at: 0,
                     x,
@@ -109,7 +108,7 @@ fn violations(material: &str, fault: TileFault) -> (usize, usize, f32) {
     let nodes = nodes_at(tree, 13);
     let (mut bad, mut checked, mut spread) = (0, 0, 0.0f32);
     for px in squares(&scene) {
-        let tf = TileFrame::of(&px, m);
+        let tf = TileFrame::of(&px, m, &m.frame_rule());
         if tf.frame_spread + tf.view_spread > MAX_SPREAD {
             continue; // the shading path splits such a square
         }

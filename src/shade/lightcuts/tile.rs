@@ -14,7 +14,8 @@
 //!
 //! # Why the widened cone bounds every pixel (derivation)
 //! Pixel `p` has shading frame `R_p` (columns `t, b, n`) and local view `wo_p`; the tile's
-//! central frame is `R_c = ShadingFrame::from_normal(mean normal)`. A light of world
+//! central frame is `R_c = ShadingFrame::from_normal(mean normal)`, turned to the tile's mean
+//! world view when the material's frame is view-aligned (as the pixels' are). A light of world
 //! direction `w` is at `R_c^T w` in the central frame and at `R_p^T w = Q_p R_c^T w` in the
 //! pixel's, `Q_p = R_p^T R_c` a rotation by an angle `a_p` with
 //! `||Q_p - I||_F = ||R_c - R_p||_F = 2 sqrt(2) sin(a_p / 2)`, so it moves every direction by
@@ -68,7 +69,7 @@
 //! only on the tile's pixels: same bits on any thread count.
 
 use super::{luminance, Cluster, CutStats};
-use crate::conventions::ShadingFrame;
+use crate::conventions::{FrameRule, ShadingFrame};
 use crate::env::lightcuts::{LightCuts, TileFault};
 use crate::kernel::gather::Scratch;
 use crate::kernel::lanes::{Dispatch, Isa, Kernel};
@@ -142,12 +143,22 @@ fn five(x: f32) -> f32 {
 
 impl TileFrame {
     /// The tile frame of `pixels` (non-empty) for `material` (module doc).
-    pub fn of(pixels: &[TilePixel], material: &Material) -> TileFrame {
+    pub fn of(pixels: &[TilePixel], material: &Material, rule: &FrameRule) -> TileFrame {
         let n = pixels
             .iter()
             .fold(Vec3::ZERO, |s, p| s + p.frame.n)
             .normalize_or(pixels[0].frame.n);
-        let frame = ShadingFrame::from_normal(n);
+        let mut frame = ShadingFrame::from_normal(n);
+        if let Some((c, s)) = rule.view_azimuth {
+            // The pixels' frames are turned to their views: so is the central frame, to
+            // the tile's mean world view, or the spread `a` below would be the views'
+            // azimuths about the normal.
+            let v = pixels
+                .iter()
+                .fold(Vec3::ZERO, |s, p| s + p.frame.to_world(p.wo))
+                .normalize_or(n);
+            frame = frame.turned_to_view(v, c, s);
+        }
         let wo = pixels
             .iter()
             .fold(Vec3::ZERO, |s, p| s + p.wo)
@@ -256,6 +267,9 @@ pub struct TileCtx<'a> {
     pub material: &'a Material,
     pub model: LaneModel<'a>,
     pub includes_cosine: bool,
+    /// The material's frame rule (the pixels' frames; [`TileFrame::of`] turns the central
+    /// frame the same way).
+    pub rule: FrameRule,
 }
 
 /// The bounding cone of node `i` of `tree` in the local coordinates of `frame`.
@@ -430,7 +444,7 @@ pub fn shade_square(
     if pixels.is_empty() {
         return CutStats::default();
     }
-    let tf = TileFrame::of(pixels, ctx.material);
+    let tf = TileFrame::of(pixels, ctx.material, &ctx.rule);
     if side > 1 && tf.frame_spread + tf.view_spread > MAX_SPREAD {
         let h = side / 2;
         let quarter = |p: &TilePixel| ((p.y - y0 >= h) as u8) * 2 + (p.x - x0 >= h) as u8;
