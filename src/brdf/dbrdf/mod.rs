@@ -211,7 +211,7 @@ impl DBrdf {
             }
         }
         let weights = octahedral_projected_weights(n);
-        let oct_integral: f64 = samples.iter().zip(&weights).map(|(p, w)| p * w).sum();
+        let oct_integral: f64 = samples.iter().zip(weights.iter()).map(|(p, w)| p * w).sum();
         let file_integral = self.file_projected_integral();
         let scale = if oct_integral > 0.0 {
             file_integral / oct_integral
