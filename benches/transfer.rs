@@ -74,16 +74,12 @@ fn transfer(c: &mut Criterion) {
     // loop reconstructs it once per pixel, summed so the work is kept.
     g.bench_function("surfaces-only", |b| {
         b.iter(|| {
-            let per_tile = (vis.tile_size * vis.tile_size) as usize;
             let mut sum = 0.0f32;
             for t in 0..vis.tile_occupied.len() {
-                for (i, x, y) in shade::tile_pixels(&vis, t) {
-                    if let Some(s) =
-                        shade::surface_at_index(&scene.mesh, &vis, t * per_tile + i, x, y)
-                    {
-                        sum += s.normal.x;
-                    }
-                }
+                let rect = vis.tile_rect(t);
+                shade::for_each_visible(&scene.mesh, &vis, rect, rect.y0, |p| {
+                    sum += p.surface.normal.x
+                });
             }
             sum
         })

@@ -66,14 +66,31 @@
 //! [`render`] in the layering and imports no tool.
 //!
 //! ## Layering
-//! Dependencies point one way, leaf first, with no import cycle between modules:
+//! Dependencies point one way, leaf first, with no import cycle between modules or between
+//! files: a module imports only modules of the layers before its own (the list below, which
+//! tests/integration/architecture.rs reads and checks on all non-test code). The main path is
 //! [`conventions`] -> [`brdf`] -> [`sh`] -> [`material`] -> [`kernel`] -> [`shade`] ->
-//! [`render`] -> tools ([`golden`], [`sweep`], [`turntable`], [`view`]) -> [`cli`]; off that path,
-//! [`acquire`] (after [`sh`]) -> [`library`] (after [`material`], which it builds) ->
-//! [`scene`] (which resolves a library name). A file format sits beside the type it stores
-//! ([`sh::file`], [`brdf::dbrdf::file`], [`env::lightset_io`]); a model never names a
-//! consumer (the BRDF trait has no hooks for the kernels: they match on
-//! [`material::Material`]).
+//! [`render`] -> tools -> [`cli`]; off it, [`acquire`] (after [`sh`]) -> [`library`] (after
+//! [`material`], which it builds) -> [`scene`] (which resolves a library name).
+//! 1. [`conventions`], [`error`], [`hash`], [`progress`]: the leaves.
+//! 2. [`image_io`]: files in and out.
+//! 3. [`brdf`], [`light`], [`mesh`], [`raster`], [`metrics`], [`shard`]: models, geometry, measures.
+//! 4. [`sh`], [`compare`]: SH data sets (which implement the BRDF trait); image comparison.
+//! 5. [`material`], [`acquire`]: the closed set of models; measuring a model as an SH data set.
+//! 6. [`kernel`], [`env`](mod@env), [`library`]: the lane kernels; the environment prepared
+//!    (one exception stands: `env`'s transfer table does its lane lookup with the kernel's
+//!    lanes, until env is split by concept); the library of materials.
+//! 7. [`scene`]: the scene file resolved into its parts.
+//! 8. [`shade`]: pixels shaded.
+//! 9. [`aov`]: debug outputs (surfaces and views as shading sees them).
+//! 10. [`render`], [`export`], `gpu`: the frame (CPU, or the wgpu renderer beside it);
+//!     the scene written out for a GPU build.
+//! 11. [`golden`], [`sweep`], [`turntable`], [`view`]: the tools.
+//! 12. [`cli`]: the command line.
+//!
+//! A file format sits beside the type it stores ([`sh::file`], [`brdf::dbrdf::file`],
+//! [`env::lightset_io`]); a model never names a consumer (the BRDF trait has no hooks for the
+//! kernels: they match on [`material::Material`]).
 //!
 //! ## Conventions
 //! Every coordinate convention (world axes, spherical angle names, the shading frame and

@@ -132,9 +132,11 @@
 
 mod frame;
 mod octahedral;
+mod scalar;
 
 pub use frame::*;
 pub use octahedral::*;
+pub use scalar::Scalar;
 
 use glam::{DVec3, Vec3};
 use std::f32::consts::{PI, TAU};
@@ -155,32 +157,48 @@ pub const UP: Vec3 = Vec3::Y;
 /// m = 0 only).
 #[inline]
 pub fn local_angles(l: Vec3) -> (f32, f32) {
-    let polar = l.z.clamp(-1.0, 1.0).acos();
-    (polar, wrap_azimuth(l.y.atan2(l.x)))
+    angles_of(l.x, l.y, l.z)
+}
+
+/// [`local_angles`] and [`local_angles_f64`], written once ([`Scalar`]).
+#[inline(always)]
+fn angles_of<T: Scalar>(x: T, y: T, z: T) -> (T, T) {
+    let polar = z.clamp(-T::ONE, T::ONE).acos();
+    (polar, wrap(y.atan2(x)))
 }
 
 /// Unit local direction from `(polar, azimuth)`: `(sin p cos a, sin p sin a, cos p)`.
 #[inline]
 pub fn local_direction(polar: f32, azimuth: f32) -> Vec3 {
-    let (sp, cp) = polar.sin_cos();
-    let (sa, ca) = azimuth.sin_cos();
-    Vec3::new(sp * ca, sp * sa, cp)
+    Vec3::from(direction_of(polar, azimuth))
 }
 
 /// f64 twin of [`local_direction`], for reference computations.
 #[inline]
 pub fn local_direction_f64(polar: f64, azimuth: f64) -> DVec3 {
+    DVec3::from(direction_of(polar, azimuth))
+}
+
+/// [`local_direction`] and [`local_direction_f64`], written once ([`Scalar`]).
+#[inline(always)]
+fn direction_of<T: Scalar>(polar: T, azimuth: T) -> [T; 3] {
     let (sp, cp) = polar.sin_cos();
     let (sa, ca) = azimuth.sin_cos();
-    DVec3::new(sp * ca, sp * sa, cp)
+    [sp * ca, sp * sa, cp]
 }
 
 /// Wraps an angle in radians into [0, 2 pi). Values that round up to exactly 2 pi map to 0.
 #[inline]
 pub fn wrap_azimuth(a: f32) -> f32 {
-    let w = a.rem_euclid(TAU);
-    if w >= TAU {
-        0.0
+    wrap(a)
+}
+
+/// [`wrap_azimuth`] at any precision ([`Scalar`]).
+#[inline(always)]
+fn wrap<T: Scalar>(a: T) -> T {
+    let w = a.rem_euclid(T::TAU);
+    if w >= T::TAU {
+        T::ZERO
     } else {
         w
     }
@@ -196,13 +214,19 @@ pub fn hemi_texcoord(polar: f32, azimuth: f32) -> (f32, f32) {
 /// Centre of texel `i` of `n` along one axis, in texture coordinates: `(i + 1/2) / n`.
 #[inline]
 pub fn texel_center(i: usize, n: usize) -> f32 {
-    (i as f32 + 0.5) / n as f32
+    texel_center_of(i, n)
 }
 
 /// f64 twin of [`texel_center`].
 #[inline]
 pub fn texel_center_f64(i: usize, n: usize) -> f64 {
-    (i as f64 + 0.5) / n as f64
+    texel_center_of(i, n)
+}
+
+/// [`texel_center`] and [`texel_center_f64`], written once ([`Scalar`]).
+#[inline(always)]
+fn texel_center_of<T: Scalar>(i: usize, n: usize) -> T {
+    (T::from_usize(i) + T::HALF) / T::from_usize(n)
 }
 
 /// Local angles `(polar, azimuth)` at the centre of texel `(i, j)` of an `nu x nv`
@@ -250,26 +274,32 @@ pub fn hemi_nearest_texel(s: f32, t: f32, nu: usize, nv: usize) -> (usize, usize
 /// for `s` in `[0, 1)`, but for the half texel below 0).
 #[inline(always)]
 pub fn hemi_bilinear_texels(s: f32, t: f32, nu: usize, nv: usize) -> [(usize, usize, f32); 4] {
+    bilinear_texels_of(s, t, nu, nv)
+}
+
+/// [`hemi_bilinear_texels`] and [`hemi_bilinear_texels_f64`], written once ([`Scalar`]).
+#[inline(always)]
+fn bilinear_texels_of<T: Scalar>(s: T, t: T, nu: usize, nv: usize) -> [(usize, usize, T); 4] {
     assert!(nu > 0 && nv > 0, "empty table");
-    let s = if s.is_finite() { s } else { 0.0 };
-    let t = if t.is_finite() { t } else { 0.0 };
-    let u = s * nu as f32 - 0.5;
-    let v = t * nv as f32 - 0.5;
+    let s = if s.is_finite() { s } else { T::ZERO };
+    let t = if t.is_finite() { t } else { T::ZERO };
+    let u = s * T::from_usize(nu) - T::HALF;
+    let v = t * T::from_usize(nv) - T::HALF;
     let (uf, vf) = (u.floor(), v.floor());
     let (a, b) = (u - uf, v - vf);
-    let ui = uf as i64;
+    let ui = uf.to_i64();
     let i0 = if (0..nu as i64).contains(&ui) {
         ui as usize
     } else {
         ui.rem_euclid(nu as i64) as usize
     };
     let i1 = if i0 + 1 == nu { 0 } else { i0 + 1 };
-    let j0 = (vf as i64).clamp(0, nv as i64 - 1) as usize;
-    let j1 = (vf as i64 + 1).clamp(0, nv as i64 - 1) as usize;
+    let j0 = vf.to_i64().clamp(0, nv as i64 - 1) as usize;
+    let j1 = (vf.to_i64() + 1).clamp(0, nv as i64 - 1) as usize;
     [
-        (i0, j0, (1.0 - a) * (1.0 - b)),
-        (i1, j0, a * (1.0 - b)),
-        (i0, j1, (1.0 - a) * b),
+        (i0, j0, (T::ONE - a) * (T::ONE - b)),
+        (i1, j0, a * (T::ONE - b)),
+        (i0, j1, (T::ONE - a) * b),
         (i1, j1, a * b),
     ]
 }
@@ -278,38 +308,14 @@ pub fn hemi_bilinear_texels(s: f32, t: f32, nu: usize, nv: usize) -> [(usize, us
 /// `acos` of the clamped z, azimuth `atan2(y, x)` wrapped into [0, 2 pi).
 #[inline]
 pub fn local_angles_f64(l: DVec3) -> (f64, f64) {
-    let polar = l.z.clamp(-1.0, 1.0).acos();
-    let mut az = l.y.atan2(l.x);
-    if az < 0.0 {
-        az += std::f64::consts::TAU;
-    }
-    if az >= std::f64::consts::TAU {
-        az = 0.0;
-    }
-    (polar, az)
+    angles_of(l.x, l.y, l.z)
 }
 
 /// f64 twin of [`hemi_bilinear_texels`] for the texture coordinates `(s, t)` of f64 angles
 /// (`s = azimuth / 2 pi`, `t = polar / (pi/2)`): the same texels, weights in f64.
 #[inline]
 pub fn hemi_bilinear_texels_f64(s: f64, t: f64, nu: usize, nv: usize) -> [(usize, usize, f64); 4] {
-    assert!(nu > 0 && nv > 0, "empty table");
-    let s = if s.is_finite() { s } else { 0.0 };
-    let t = if t.is_finite() { t } else { 0.0 };
-    let u = s * nu as f64 - 0.5;
-    let v = t * nv as f64 - 0.5;
-    let (uf, vf) = (u.floor(), v.floor());
-    let (a, b) = (u - uf, v - vf);
-    let i0 = (uf as i64).rem_euclid(nu as i64) as usize;
-    let i1 = (i0 + 1) % nu;
-    let j0 = (vf as i64).clamp(0, nv as i64 - 1) as usize;
-    let j1 = (vf as i64 + 1).clamp(0, nv as i64 - 1) as usize;
-    [
-        (i0, j0, (1.0 - a) * (1.0 - b)),
-        (i1, j0, a * (1.0 - b)),
-        (i0, j1, (1.0 - a) * b),
-        (i1, j1, a * b),
-    ]
+    bilinear_texels_of(s, t, nu, nv)
 }
 
 /// Exact solid angle (steradians) of texel row `j` of an `nu x nv` hemispherical table:

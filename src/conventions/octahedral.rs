@@ -4,6 +4,7 @@
 //! (the D-BRDF's p(h), [`crate::brdf::dbrdf`]) reaches its texel by multiplications and one
 //! division from any positive multiple of the direction: no angle is computed.
 
+use super::Scalar;
 use glam::{DVec3, Vec3};
 
 /// Hemispherical octahedral coordinates `(u, v)` in `[-1, 1]^2` of a local direction `d`
@@ -12,21 +13,23 @@ use glam::{DVec3, Vec3};
 /// horizon); a zero or non-finite `d` maps to the centre `(0, 0)` (documented fallback).
 #[inline]
 pub fn hemi_oct_encode(d: Vec3) -> (f32, f32) {
-    let r = 1.0 / (d.x.abs() + d.y.abs() + d.z.max(0.0));
-    if !r.is_finite() || r <= 0.0 {
-        return (0.0, 0.0);
-    }
-    ((d.x + d.y) * r, (d.x - d.y) * r)
+    encode_of(d.x, d.y, d.z)
 }
 
 /// f64 twin of [`hemi_oct_encode`].
 #[inline]
 pub fn hemi_oct_encode_f64(d: DVec3) -> (f64, f64) {
-    let r = 1.0 / (d.x.abs() + d.y.abs() + d.z.max(0.0));
-    if !r.is_finite() || r <= 0.0 {
-        return (0.0, 0.0);
+    encode_of(d.x, d.y, d.z)
+}
+
+/// [`hemi_oct_encode`] and [`hemi_oct_encode_f64`], written once ([`Scalar`]).
+#[inline(always)]
+fn encode_of<T: Scalar>(x: T, y: T, z: T) -> (T, T) {
+    let r = T::ONE / (x.abs() + y.abs() + z.max(T::ZERO));
+    if !r.is_finite() || r <= T::ZERO {
+        return (T::ZERO, T::ZERO);
     }
-    ((d.x + d.y) * r, (d.x - d.y) * r)
+    ((x + y) * r, (x - y) * r)
 }
 
 /// The unit local direction (z >= 0) of octahedral coordinates `(u, v)` (clamped to
@@ -52,11 +55,18 @@ pub fn hemi_oct_texel_center_f64(i: usize, n: usize) -> f64 {
 /// `(d.x + d.y) ((n/2) / (|d.x| + |d.y| + d.z))`.
 #[inline]
 pub fn hemi_oct_texel_coord(u: f32, n: usize) -> f32 {
-    let c = u * (0.5 * n as f32) + 0.5 * (n as f32 - 1.0);
+    texel_coord_of(u, n)
+}
+
+/// [`hemi_oct_texel_coord`] at any precision ([`Scalar`]).
+#[inline(always)]
+fn texel_coord_of<T: Scalar>(u: T, n: usize) -> T {
+    let n = T::from_usize(n);
+    let c = u * (T::HALF * n) + T::HALF * (n - T::ONE);
     if c.is_finite() {
-        c.max(0.0).min(n as f32 - 1.0)
+        c.max(T::ZERO).min(n - T::ONE)
     } else {
-        0.0
+        T::ZERO
     }
 }
 
@@ -67,34 +77,28 @@ pub fn hemi_oct_texel_coord(u: f32, n: usize) -> f32 {
 /// (i0+1, j0+1, a b)]`. Panics if `n < 2`.
 #[inline]
 pub fn hemi_oct_bilinear_texels(cu: f32, cv: f32, n: usize) -> [(usize, usize, f32); 4] {
-    assert!(n >= 2, "an octahedral table needs n >= 2");
-    let last = n as f32 - 2.0;
-    let (fu, fv) = (cu.floor().min(last), cv.floor().min(last));
-    let (a, b) = (cu - fu, cv - fv);
-    let (i0, j0) = (fu as usize, fv as usize);
-    [
-        (i0, j0, (1.0 - a) * (1.0 - b)),
-        (i0 + 1, j0, a * (1.0 - b)),
-        (i0, j0 + 1, (1.0 - a) * b),
-        (i0 + 1, j0 + 1, a * b),
-    ]
+    oct_bilinear_texels_of(cu, cv, n)
 }
 
 /// f64 twin of [`hemi_oct_texel_coord`] and [`hemi_oct_bilinear_texels`] together, for
 /// reference computations (quadratures over the table).
 #[inline]
 pub fn hemi_oct_bilinear_texels_f64(u: f64, v: f64, n: usize) -> [(usize, usize, f64); 4] {
+    oct_bilinear_texels_of(texel_coord_of(u, n), texel_coord_of(v, n), n)
+}
+
+/// [`hemi_oct_bilinear_texels`] at any precision ([`Scalar`]).
+#[inline(always)]
+fn oct_bilinear_texels_of<T: Scalar>(cu: T, cv: T, n: usize) -> [(usize, usize, T); 4] {
     assert!(n >= 2, "an octahedral table needs n >= 2");
-    let coord = |u: f64| (u * (0.5 * n as f64) + 0.5 * (n as f64 - 1.0)).clamp(0.0, n as f64 - 1.0);
-    let (cu, cv) = (coord(u), coord(v));
-    let last = n as f64 - 2.0;
+    let last = T::from_usize(n) - T::TWO;
     let (fu, fv) = (cu.floor().min(last), cv.floor().min(last));
     let (a, b) = (cu - fu, cv - fv);
-    let (i0, j0) = (fu as usize, fv as usize);
+    let (i0, j0) = (fu.to_usize(), fv.to_usize());
     [
-        (i0, j0, (1.0 - a) * (1.0 - b)),
-        (i0 + 1, j0, a * (1.0 - b)),
-        (i0, j0 + 1, (1.0 - a) * b),
+        (i0, j0, (T::ONE - a) * (T::ONE - b)),
+        (i0 + 1, j0, a * (T::ONE - b)),
+        (i0, j0 + 1, (T::ONE - a) * b),
         (i0 + 1, j0 + 1, a * b),
     ]
 }

@@ -25,7 +25,11 @@
 //! without collapsing it: [`transfer`] (a table over normals) and [`lightcuts`] (a light
 //! tree cut per pixel); `auto`, the default, chooses per material
 //! ([`prepare::EnvMethod`], [`crate::scene::env_method`]).
+//!
+//! The disk caches of light sets and transfer tables share one entry header and its check
+//! ([`cache_entry`]).
 
+pub mod cache_entry;
 pub mod lightcuts;
 pub mod lightset_io;
 pub mod overlay;

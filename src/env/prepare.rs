@@ -16,14 +16,12 @@ pub use cache::{
 };
 
 use super::lightset_io::{write_atomic, LightSetHeader};
+use super::probe::MAX_PROBE_FILE_BYTES;
 use super::{LightSet, LoadOptions, LoadReport, Probe, SamplerConfig};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
-
-/// Largest probe file read for hashing (bytes).
-pub const MAX_PROBE_FILE_BYTES: u64 = 1 << 30;
 
 /// The sampler names a scene or the command line may use.
 #[derive(

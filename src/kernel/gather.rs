@@ -13,7 +13,91 @@
 use super::cluster::DirLights;
 use super::lanes::{Arith, F32x8, Isa, Width, LANES};
 use crate::conventions::ShadingFrame;
+use crate::light::Light;
 use glam::Vec3;
+
+/// The weight a light of irradiance `e` (RGB, at normal incidence) carries into a
+/// material's sum at incidence cosine `cos_i` (`cos(polar_i)`, local z): `e cos_i`, or `e`
+/// alone for a material that includes the cosine ([`crate::brdf::Brdf::includes_cosine`]).
+/// The one rule of every light on every f32 path; [`lane_weight`] is its lane form.
+#[inline(always)]
+pub fn light_weight(e: Vec3, cos_i: f32, includes_cosine: bool) -> Vec3 {
+    if includes_cosine {
+        e
+    } else {
+        e * cos_i
+    }
+}
+
+/// [`light_weight`] per lane, one colour channel per entry of `e`.
+#[inline(always)]
+pub fn lane_weight<V: Arith>(e: [V; 3], cos_i: V, includes_cosine: bool) -> [V; 3] {
+    if includes_cosine {
+        e
+    } else {
+        e.map(|c| c * cos_i)
+    }
+}
+
+/// Point light `light` seen from world position `position` in shading frame `frame`: its
+/// local direction and [`light_weight`], or `None` at or below the horizon (or NaN), where
+/// it weighs exactly zero ([`Light::at`] gives the direction and the falloff).
+#[inline(always)]
+pub fn point_light_local(
+    light: &Light,
+    position: Vec3,
+    frame: &ShadingFrame,
+    includes_cosine: bool,
+) -> Option<(Vec3, Vec3)> {
+    let (l, e) = light.at(position);
+    let wi = frame.to_local(l);
+    (wi.z > 0.0).then(|| (wi, light_weight(e, wi.z, includes_cosine)))
+}
+
+/// A shading frame's axes in lanes, each `[x, y, z]`: one frame splatted across the lanes
+/// (a pixel's lights, [`gather_dir`]) or a frame per lane (the pixel-packed paths). The one
+/// place a directional light's world direction becomes local: every path that turns a
+/// directional light into the frame does it with these fused sums, so they give one set of
+/// bits.
+#[derive(Clone, Copy)]
+pub struct LaneFrame<V> {
+    pub t: [V; 3],
+    pub b: [V; 3],
+    pub n: [V; 3],
+}
+
+impl<V: Arith> LaneFrame<V> {
+    /// `frame` in every lane.
+    #[inline(always)]
+    pub fn splat(frame: &ShadingFrame, splat: impl Fn(f32) -> V) -> LaneFrame<V> {
+        let v = |a: Vec3| [splat(a.x), splat(a.y), splat(a.z)];
+        LaneFrame {
+            t: v(frame.t),
+            b: v(frame.b),
+            n: v(frame.n),
+        }
+    }
+
+    /// The local z (`cos(polar_i)`) of world direction `d`: `d.z n.z + (d.y n.y + d.x n.x)`,
+    /// fused.
+    #[inline(always)]
+    pub fn local_z(&self, d: [V; 3]) -> V {
+        dot(d, self.n)
+    }
+
+    /// The local x and y of world direction `d` (as [`LaneFrame::local_z`], against `t` and
+    /// `b`).
+    #[inline(always)]
+    pub fn local_xy(&self, d: [V; 3]) -> (V, V) {
+        (dot(d, self.t), dot(d, self.b))
+    }
+}
+
+/// `d.z a.z + (d.y a.y + d.x a.x)`, fused.
+#[inline(always)]
+fn dot<V: Arith>(d: [V; 3], a: [V; 3]) -> V {
+    d[2].fma(a[2], d[1].fma(a[1], d[0] * a[0]))
+}
 
 /// Per-worker scratch space, reused across the pixels of a tile (and across tiles): the
 /// lights above one pixel's horizon as a structure of arrays, local direction `(x, y, z)`
@@ -105,46 +189,30 @@ pub fn gather_dir<S: Isa>(
     chunks: &[u32],
     sc: &mut Scratch,
 ) {
-    let (t, b, n) = (frame.t, frame.b, frame.n);
-    let (tx, ty, tz) = (s.splat(t.x), s.splat(t.y), s.splat(t.z));
-    let (bx, by, bz) = (s.splat(b.x), s.splat(b.y), s.splat(b.z));
-    let (nx, ny, nz) = (s.splat(n.x), s.splat(n.y), s.splat(n.z));
+    let f = LaneFrame::splat(frame, |v| s.splat(v));
     let zero = s.zero();
     // On AVX-512, two chunks at once (16 lanes): the same per-light arithmetic, and one
     // compress of both in chunk order, so the list is the one the loop below makes.
     let mut chunks = chunks;
     if <S::Wide as Width>::N == 2 * LANES {
         let w = s.wide();
-        let (tx, ty, tz) = (w.splat(t.x), w.splat(t.y), w.splat(t.z));
-        let (bx, by, bz) = (w.splat(b.x), w.splat(b.y), w.splat(b.z));
-        let (nx, ny, nz) = (w.splat(n.x), w.splat(n.y), w.splat(n.z));
+        let f = LaneFrame::splat(frame, |v| w.splat(v));
         let zero = w.zero();
         let pairs = chunks.chunks_exact(2);
         chunks = pairs.remainder();
         for pair in pairs {
             let (c0, c1) = (pair[0] as usize, pair[1] as usize);
             let at = [c0 * LANES, c1 * LANES];
-            let dx = w.load_groups(&lights.dx, at);
-            let dy = w.load_groups(&lights.dy, at);
-            let dz = w.load_groups(&lights.dz, at);
-            let z = dz.fma(nz, dy.fma(ny, dx * nx));
+            let d = [&lights.dx, &lights.dy, &lights.dz].map(|v| w.load_groups(v, at));
+            let z = f.local_z(d);
             let live = lights.chunk_live_mask[c0] as u32 | (lights.chunk_live_mask[c1] as u32) << 8;
             let mask = w.gt_mask(z, zero) & live;
             if mask == 0 {
                 continue;
             }
-            let x = dz.fma(tz, dy.fma(ty, dx * tx));
-            let y = dz.fma(bz, dy.fma(by, dx * bx));
-            let (er, eg, eb) = (
-                w.load_groups(&lights.er, at),
-                w.load_groups(&lights.eg, at),
-                w.load_groups(&lights.eb, at),
-            );
-            let (wr, wg, wb) = if includes_cosine {
-                (er, eg, eb)
-            } else {
-                (er * z, eg * z, eb * z)
-            };
+            let (x, y) = f.local_xy(d);
+            let e = [&lights.er, &lights.eg, &lights.eb].map(|v| w.load_groups(v, at));
+            let [wr, wg, wb] = lane_weight(e, z, includes_cosine);
             let at = sc.n;
             w.compress_store(x, mask, &mut sc.x, at);
             w.compress_store(y, mask, &mut sc.y, at);
@@ -156,26 +224,15 @@ pub fn gather_dir<S: Isa>(
     }
     for &ch in chunks {
         let o = ch as usize * LANES;
-        let dx = s.load(&lights.dx[o..]);
-        let dy = s.load(&lights.dy[o..]);
-        let dz = s.load(&lights.dz[o..]);
-        let z = dz.mul_add(nz, dy.mul_add(ny, dx * nx));
+        let d = [&lights.dx, &lights.dy, &lights.dz].map(|v| s.load(&v[o..]));
+        let z = f.local_z(d);
         let mask = z.gt_mask(zero) & lights.chunk_live_mask[ch as usize] as u32;
         if mask == 0 {
             continue;
         }
-        let x = dz.mul_add(tz, dy.mul_add(ty, dx * tx));
-        let y = dz.mul_add(bz, dy.mul_add(by, dx * bx));
-        let (er, eg, eb) = (
-            s.load(&lights.er[o..]),
-            s.load(&lights.eg[o..]),
-            s.load(&lights.eb[o..]),
-        );
-        let (wr, wg, wb) = if includes_cosine {
-            (er, eg, eb)
-        } else {
-            (er * z, eg * z, eb * z)
-        };
+        let (x, y) = f.local_xy(d);
+        let e = [&lights.er, &lights.eg, &lights.eb].map(|v| s.load(&v[o..]));
+        let [wr, wg, wb] = lane_weight(e, z, includes_cosine);
         let at = sc.n;
         x.compress_store(mask, &mut sc.x, at);
         y.compress_store(mask, &mut sc.y, at);

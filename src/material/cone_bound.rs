@@ -372,6 +372,7 @@ impl ConeBound {
     }
 }
 
+mod box_max;
 mod dbrdf;
 mod dbrdf_derived;
 pub use dbrdf::DbrdfBound;

@@ -53,6 +53,32 @@ pub struct RasterConfig {
     pub count_coverage: bool,
 }
 
+/// A rectangle of pixels: first pixel `(x0, y0)`, `w x h` pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelRect {
+    pub x0: u32,
+    pub y0: u32,
+    pub w: u32,
+    pub h: u32,
+}
+
+impl PixelRect {
+    /// Tile `t` (row-major, `tiles_x` to a row) of a `width x height` frame cut into tiles
+    /// of `tile_size` pixels, clipped to the frame at its right and bottom edges: the one
+    /// place a tile's bounds are computed (rasterizing, the G-buffer, the tile loops).
+    #[inline]
+    pub fn tile(t: usize, tile_size: u32, tiles_x: u32, width: u32, height: u32) -> PixelRect {
+        let x0 = (t as u32 % tiles_x) * tile_size;
+        let y0 = (t as u32 / tiles_x) * tile_size;
+        PixelRect {
+            x0,
+            y0,
+            w: tile_size.min(width - x0),
+            h: tile_size.min(height - y0),
+        }
+    }
+}
+
 /// The result of rasterization, stored tile-major: tile `t` owns entries
 /// `t * tile_size^2 .. (t + 1) * tile_size^2`, row-major inside the tile.
 #[derive(Clone, Debug)]
@@ -114,15 +140,20 @@ impl VisBuffer {
         (tile * ts * ts + (y % ts) * ts + x % ts) as usize
     }
 
+    /// The pixels of tile `t` ([`PixelRect::tile`]).
+    #[inline]
+    pub fn tile_rect(&self, t: usize) -> PixelRect {
+        PixelRect::tile(t, self.tile_size, self.tiles_x, self.width, self.height)
+    }
+
     /// Pixel `(x, y)` of tile-major index `i`, or `None` for the padding of edge tiles.
     #[inline]
     pub fn pixel(&self, i: usize) -> Option<(u32, u32)> {
         let ts = self.tile_size as usize;
-        let tile = i / (ts * ts);
+        let rect = self.tile_rect(i / (ts * ts));
         let r = i % (ts * ts);
-        let x = (tile % self.tiles_x as usize) * ts + r % ts;
-        let y = (tile / self.tiles_x as usize) * ts + r / ts;
-        (x < self.width as usize && y < self.height as usize).then_some((x as u32, y as u32))
+        let (lx, ly) = ((r % ts) as u32, (r / ts) as u32);
+        (lx < rect.w && ly < rect.h).then_some((rect.x0 + lx, rect.y0 + ly))
     }
 
     /// The coverage count as a row-major image (all zero if it was not counted).
@@ -236,16 +267,15 @@ pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> V
             .enumerate()
             .filter(|(t, _)| !bins[*t].is_empty())
             .for_each(|(t, ((vis, dep), cov))| {
-                let t = t as u32;
-                let origin = ((t % tiles_x) * ts, (t / tiles_x) * ts);
+                let r = PixelRect::tile(t, ts, tiles_x, cfg.width, cfg.height);
                 let tile = tile::TileTarget {
-                    x0: origin.0,
-                    y0: origin.1,
-                    x1: (origin.0 + ts).min(cfg.width) - 1,
-                    y1: (origin.1 + ts).min(cfg.height) - 1,
+                    x0: r.x0,
+                    y0: r.y0,
+                    x1: r.x0 + r.w - 1,
+                    y1: r.y0 + r.h - 1,
                     stride: ts,
                 };
-                tile::resolve(&tile, &setup, &bins[t as usize], vis, dep, cov);
+                tile::resolve(&tile, &setup, &bins[t], vis, dep, cov);
             });
     }
     VisBuffer {

@@ -6,7 +6,7 @@
 //! that turns a spec into a [`Material`] (the renderer's closed set of models), checking its
 //! values once with errors naming the `material.*` field.
 
-use super::resolve::{nonneg, rgb, strip_field};
+use super::fields::{nonneg, rgb, strip_field};
 use crate::brdf::{BlinnPhong, Lambert};
 use crate::error::{Error, Result};
 use crate::material::Material;

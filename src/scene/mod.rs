@@ -20,6 +20,7 @@
 
 pub mod camera;
 pub mod env_method;
+mod fields;
 mod file;
 mod material;
 mod resolve;

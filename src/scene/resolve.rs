@@ -7,6 +7,7 @@
 //! [`crate::env::prepare`].
 
 use super::camera::{self, Camera};
+use super::fields::{nonneg, rgb, vec3};
 use super::material::resolve_material;
 use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
 use crate::env::lightcuts::{prepare_lightcuts, LightCuts};
@@ -18,7 +19,6 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::mesh::{self, Mesh};
 use crate::progress::Progress;
-use glam::Vec3;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -62,45 +62,6 @@ pub struct EnvSummary {
     /// The lights' RGB irradiances at normal incidence summed, after `[env] intensity`
     /// ([`crate::env::LightSet::total_irradiance`], W/m^2 for a probe in W/(m^2 sr)).
     pub total_irradiance: [f64; 3],
-}
-
-/// A finite vector, else a field error naming `field`.
-pub(super) fn vec3(field: &str, v: [f32; 3]) -> Result<Vec3> {
-    let v = Vec3::from(v);
-    if !v.is_finite() {
-        return Err(Error::field(
-            field,
-            format!("[{}, {}, {}] is not finite", v.x, v.y, v.z),
-        ));
-    }
-    Ok(v)
-}
-
-/// A finite number >= 0, else a field error naming `field`.
-pub(super) fn nonneg(field: &str, x: f32) -> Result<f32> {
-    if !(x.is_finite() && x >= 0.0) {
-        return Err(Error::field(
-            field,
-            format!("{x} must be a finite number >= 0"),
-        ));
-    }
-    Ok(x)
-}
-
-/// An RGB triple of finite numbers >= 0, else a field error naming `field`.
-pub(super) fn rgb(field: &str, v: [f32; 3]) -> Result<Vec3> {
-    for x in v {
-        nonneg(field, x)?;
-    }
-    Ok(Vec3::from(v))
-}
-
-/// The message of a field error without its field (to re-attach another field name).
-pub(super) fn strip_field(e: Error) -> String {
-    match e {
-        Error::Field { message, .. } => message,
-        other => other.to_string(),
-    }
 }
 
 /// Loads the mesh named by `source`: "teapot", "sphere" or an OBJ path (relative paths

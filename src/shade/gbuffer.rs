@@ -9,8 +9,9 @@
 //! with that sphere in f64 instead: position, normal and view depth are the sphere's, first
 //! intersection for front faces and second for back faces; a ray that misses (at the
 //! silhouette: a facet pixel just outside the true outline, by rounding) keeps the facet's
-//! values. Every shading path (the tile loop, the scalar oracle, the f64 path)
-//! and the AOVs ([`crate::aov`]) read surfaces through here, so they all see the same one.
+//! values. Every shading path (the tile loop, the scalar oracle, the f64 path, the
+//! environment terms, through the one traversal of `traverse.rs`) and the AOVs
+//! ([`crate::aov`]) read surfaces through here, so they all see the same one.
 
 use crate::mesh::Mesh;
 use crate::raster::{VisBuffer, NO_TRIANGLE};
@@ -74,41 +75,4 @@ pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) 
         front_facing: t.front_facing,
         view_depth: 1.0 / vis.depth[i],
     })
-}
-
-/// The surfaces of tile `t`'s visible pixels, in [`tile_pixels`]' order, each with its
-/// index in the image rows of the tile's row of tiles (`(y - y0) width + x`), into `out`
-/// (cleared first). Plain loops over the tile's rows that skip empty pixels before looking
-/// at a triangle: the per-tile G-buffer of the kernels' path (`tile.rs`).
-pub fn tile_surfaces(mesh: &Mesh, vis: &VisBuffer, t: usize, out: &mut Vec<(usize, Surface)>) {
-    out.clear();
-    let ts = vis.tile_size;
-    let x0 = (t as u32 % vis.tiles_x) * ts;
-    let y0 = (t as u32 / vis.tiles_x) * ts;
-    let (w, h) = (ts.min(vis.width - x0), ts.min(vis.height - y0));
-    let first = t * (ts * ts) as usize;
-    for ly in 0..h {
-        let row = first + (ly * ts) as usize;
-        let ids = &vis.visible[row..row + w as usize];
-        for (lx, &id) in ids.iter().enumerate() {
-            if id == NO_TRIANGLE {
-                continue;
-            }
-            let (x, y) = (x0 + lx as u32, y0 + ly);
-            if let Some(s) = surface_at_index(mesh, vis, row + lx, x, y) {
-                out.push(((ly * vis.width + x) as usize, s));
-            }
-        }
-    }
-}
-
-/// Pixels of tile `t` as `(index within the tile, x, y)`, row by row, without divisions
-/// per pixel; the padding of edge tiles is left out.
-pub fn tile_pixels(vis: &VisBuffer, t: usize) -> impl Iterator<Item = (usize, u32, u32)> + '_ {
-    let ts = vis.tile_size;
-    let x0 = (t as u32 % vis.tiles_x) * ts;
-    let y0 = (t as u32 / vis.tiles_x) * ts;
-    let w = ts.min(vis.width - x0);
-    let h = ts.min(vis.height - y0);
-    (0..h).flat_map(move |ly| (0..w).map(move |lx| ((ly * ts + lx) as usize, x0 + lx, y0 + ly)))
 }

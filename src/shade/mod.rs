@@ -34,7 +34,10 @@
 //! public name is re-exported here, so each has the one path `shade::X`.
 //!
 //! - `gbuffer.rs`: the surface seen through a pixel ([`Surface`], [`surface_at`],
-//!   [`surface_at_index`], [`tile_pixels`], [`tile_surfaces`]).
+//!   [`surface_at_index`]).
+//! - `traverse.rs`: the one per-pixel traversal of every path (bands of rows in parallel,
+//!   a band's occupied tiles, a rectangle's visible pixels: [`for_each_visible`],
+//!   [`tile_surfaces`]).
 //! - `view.rs`: the view direction in the shading frame lifted above the horizon
 //!   ([`local_view`], [`MIN_VIEW_COS`]); one body for f32 ([`lift_above_horizon`]) and f64
 //!   ([`lift_above_horizon_f64`]).
@@ -83,6 +86,7 @@ mod prep;
 mod scalar_oracle;
 mod tile;
 mod transfer;
+mod traverse;
 mod view;
 
 #[doc(hidden)]
@@ -90,12 +94,13 @@ pub use fault::KernelFault;
 pub use {
     counts::ShadeCounts,
     entry::{shade, Shaded},
-    gbuffer::{surface_at, surface_at_index, tile_pixels, tile_surfaces, Surface},
+    gbuffer::{surface_at, surface_at_index, Surface},
     lightcuts::CutStats,
     options::{FrameCheck, ShadeOptions, ShadingPath},
     packed_analytic::PACKED_MAX_LIGHTS,
     prep::FramePrep,
     scalar_oracle::shade_point,
+    traverse::{for_each_visible, tile_surfaces, VisiblePixel},
     view::{
         frame_and_view, frame_and_view_f64, lift_above_horizon, lift_above_horizon_f64, local_view,
         MIN_VIEW_COS,

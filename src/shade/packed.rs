@@ -80,20 +80,20 @@ impl FramePrep<'_> {
                 table_basis[p] = Some(self.points.iter().fold(Vec3::ZERO, |sum, light| {
                     let (l, e) = light.at(surf.position);
                     let wi = frame.to_local(l);
-                    let w = if includes_cosine { e } else { e * wi.z };
+                    let w = kernel::gather::light_weight(e, wi.z, includes_cosine);
                     sum + ds.reconstruct_tabulated(wi, wo) * w
                 }));
             }
             for (i, light) in self.points.iter().enumerate() {
-                let (l, e) = light.at(surf.position);
-                let wi = frame.to_local(l);
                 // Below the horizon (or degenerate, NaN): weight 0 along the normal, so
                 // the lane adds an exact 0.
-                let (wi, w) = if wi.z > 0.0 {
-                    (wi, if includes_cosine { e } else { e * wi.z })
-                } else {
-                    (Vec3::Z, Vec3::ZERO)
-                };
+                let (wi, w) = kernel::gather::point_light_local(
+                    light,
+                    surf.position,
+                    &frame,
+                    includes_cosine,
+                )
+                .unwrap_or((Vec3::Z, Vec3::ZERO));
                 let o = i * lanes + p;
                 (sc.x[o], sc.y[o], sc.z[o]) = (wi.x, wi.y, wi.z);
                 (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);

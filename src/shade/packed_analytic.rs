@@ -23,7 +23,8 @@
 
 use super::pixel_lanes::PixelLanes;
 use super::{FramePrep, Surface};
-use crate::kernel::lanes::{F32x8, Isa, LANES};
+use crate::kernel::gather::{lane_weight, point_light_local, LaneFrame};
+use crate::kernel::lanes::{F32x8, Isa, LANES, MAX_LANES};
 use crate::kernel::models::LaneModel;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -68,33 +69,31 @@ impl FramePrep<'_> {
         let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye, &self.rule);
         let includes_cosine = self.brdf.includes_cosine();
         let zero = s.zero();
-        let [tx, ty, tz] = [s.load(&px.t[0]), s.load(&px.t[1]), s.load(&px.t[2])];
-        let [bx, by, bz] = [s.load(&px.b[0]), s.load(&px.b[1]), s.load(&px.b[2])];
-        let [nx, ny, nz] = [s.load(&px.n[0]), s.load(&px.n[1]), s.load(&px.n[2])];
-        let [wox, woy, woz] = [s.load(&px.wo[0]), s.load(&px.wo[1]), s.load(&px.wo[2])];
+        let lanes = |a: &[[f32; MAX_LANES]; 3]| [s.load(&a[0]), s.load(&a[1]), s.load(&a[2])];
+        let f = LaneFrame {
+            t: lanes(&px.t),
+            b: lanes(&px.b),
+            n: lanes(&px.n),
+        };
+        let [wox, woy, woz] = lanes(&px.wo);
         let mut acc = (zero, zero, zero);
-        // Directional lights with irradiance, in order: local direction as gather_dir
-        // computes it (the light's components against the pixel's frame, fused).
+        // Directional lights with irradiance, in order: local direction and weight as
+        // gather_dir computes them (the pixel's frame in lanes, `LaneFrame`).
         let d = &self.dir;
         for c in 0..d.chunks() {
             let live = d.chunk_live_mask[c] as u32;
             for i in (0..LANES).filter(|i| live >> i & 1 == 1) {
                 let o = c * LANES + i;
-                let (dx, dy, dz) = (s.splat(d.dx[o]), s.splat(d.dy[o]), s.splat(d.dz[o]));
-                let z = dz.mul_add(nz, dy.mul_add(ny, dx * nx));
+                let dir = [s.splat(d.dx[o]), s.splat(d.dy[o]), s.splat(d.dz[o])];
+                let z = f.local_z(dir);
                 let mask = z.gt_mask(zero) & px.present;
                 if mask == 0 {
                     continue;
                 }
-                let x = dz.mul_add(tz, dy.mul_add(ty, dx * tx));
-                let y = dz.mul_add(bz, dy.mul_add(by, dx * bx));
-                let (er, eg, eb) = (s.splat(d.er[o]), s.splat(d.eg[o]), s.splat(d.eb[o]));
-                let w = if includes_cosine {
-                    (er, eg, eb)
-                } else {
-                    (er * z, eg * z, eb * z)
-                };
-                let w = (w.0.keep(mask), w.1.keep(mask), w.2.keep(mask));
+                let (x, y) = f.local_xy(dir);
+                let e = [s.splat(d.er[o]), s.splat(d.eg[o]), s.splat(d.eb[o])];
+                let [wr, wg, wb] = lane_weight(e, z, includes_cosine);
+                let w = (wr.keep(mask), wg.keep(mask), wb.keep(mask));
                 self.add_light(s, (x, y, z), w, mask, (wox, woy, woz), &mut acc);
             }
         }
@@ -104,10 +103,9 @@ impl FramePrep<'_> {
             let mut a = [[0.0f32; LANES]; 6];
             let mut mask = 0u32;
             for (p, (_, surf)) in batch.iter().enumerate() {
-                let (l, e) = light.at(surf.position);
-                let wi = px.frame(p).to_local(l);
-                if wi.z > 0.0 {
-                    let w = if includes_cosine { e } else { e * wi.z };
+                if let Some((wi, w)) =
+                    point_light_local(light, surf.position, &px.frame(p), includes_cosine)
+                {
                     (a[0][p], a[1][p], a[2][p]) = (wi.x, wi.y, wi.z);
                     (a[3][p], a[4][p], a[5][p]) = (w.x, w.y, w.z);
                     mask |= 1 << p;

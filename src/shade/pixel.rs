@@ -36,10 +36,10 @@ impl FramePrep<'_> {
         let includes_cosine = self.brdf.includes_cosine();
         kernel::gather::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
         for light in &self.points {
-            let (l, e) = light.at(surf.position);
-            let wi = frame.to_local(l);
-            if wi.z > 0.0 {
-                scratch.push(wi, if includes_cosine { e } else { e * wi.z });
+            if let Some((wi, w)) =
+                kernel::gather::point_light_local(light, surf.position, &frame, includes_cosine)
+            {
+                scratch.push(wi, w);
             }
         }
         self.sum_gathered(s, wo, Some((surf.normal, &frame)), coeff_buf, scratch)

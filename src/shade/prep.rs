@@ -157,4 +157,11 @@ impl<'a> FramePrep<'a> {
     pub fn dispatch(&self) -> Dispatch {
         self.dispatch
     }
+
+    /// Whether the fast path's tile loop adds a transfer term (then every pixel takes the
+    /// per-pixel path, which has the coefficients at hand).
+    #[inline(always)]
+    pub(super) fn has_transfer(&self) -> bool {
+        self.transfer.is_some()
+    }
 }

@@ -2,25 +2,25 @@
 //! paths share ([`shade_per_pixel`]: the scalar oracle, the f64 path).
 //!
 //! Design rule: each visible pixel is shaded exactly once, independently of every other,
-//! so the image does not depend on the thread count or the tile size. The image is written
-//! tile by tile in place, parallel over bands of one tile row; tiles no triangle touched
-//! are skipped without looking at a pixel. Every tile, shaded or skipped, is counted once
-//! into the caller's [`Progress`] (per tile, never per pixel: an atomic add beside a tile's
-//! thousand pixels). On the fast path the whole tile ([`ShadeTile`]) is one [`Kernel`],
-//! compiled for the instruction set dispatched once per frame: per tile, its surfaces
-//! (`gbuffer.rs`), the normal cone that culls light chunks (provably changing no bit), then
+//! so the image does not depend on the thread count or the tile size. Both loops are the
+//! one traversal of `traverse.rs` (the image written tile by tile in place, parallel over
+//! bands of one tile row; tiles no triangle touched skipped without looking at a pixel;
+//! every tile, shaded or skipped, counted once into the caller's [`Progress`], per tile,
+//! never per pixel: an atomic add beside a tile's thousand pixels). On the fast path the
+//! whole tile ([`ShadeTile`]) is one [`Kernel`], compiled for the instruction set
+//! dispatched once per frame: per tile, its surfaces (`traverse.rs`), the normal cone that culls light chunks (provably changing no bit), then
 //! the per-pixel path (`pixel.rs`) or, for SH data sets under point lights only, the
 //! pixel-packed one (`packed.rs`).
 
-use super::{surface_at_index, tile_pixels, tile_surfaces, FramePrep, ShadeCounts, Surface};
+use super::traverse::{for_each_tile, for_each_visible, tile_surfaces};
+use super::{FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES, MAX_LANES};
 use crate::kernel::{self, cluster::Cone, skip::needs_restore};
 use crate::progress::Progress;
-use crate::raster::VisBuffer;
+use crate::raster::{PixelRect, VisBuffer};
 use crate::scene::Scene;
 use glam::Vec3;
-use rayon::prelude::*;
 
 /// The fast path: shades every visible pixel of `vis` through the kernels, as `prep`
 /// decided, into a linear radiance image (background black), with the work done.
@@ -31,47 +31,34 @@ pub(super) fn shade_kernels(
     progress: &Progress,
 ) -> (Image, ShadeCounts) {
     let mut img = Image::new(vis.width, vis.height);
-    let band_len = (vis.width * vis.tile_size) as usize;
     // Per-pixel lists, or the pixel-packed point-light path's 8 or 16 lanes per light.
     let room = prep.dir.len().max(prep.dropped_dir.len()) + MAX_LANES * prep.points.len();
-    // Parallel over bands of one tile row (contiguous in the image, so tiles write their
-    // pixels in place); each worker keeps its buffers across the tiles it shades.
-    let counts: Vec<ShadeCounts> = img
-        .pixels
-        .par_chunks_mut(band_len)
-        .enumerate()
-        .map_init(
-            || (Vec::new(), kernel::gather::Scratch::default(), Vec::new()),
-            |(buf, scratch, surfaces), (ty, band)| {
-                let mut counts = ShadeCounts::default();
-                for tx in 0..vis.tiles_x as usize {
-                    let t = ty * vis.tiles_x as usize + tx;
-                    if !vis.tile_occupied[t] {
-                        counts.tiles_skipped += 1;
-                        progress.inc(1);
-                        continue;
-                    }
-                    scratch.reserve(room);
-                    counts = counts
-                        + prep.dispatch.run(ShadeTile {
-                            prep,
-                            scene,
-                            vis,
-                            t,
-                            band,
-                            buf,
-                            scratch,
-                            surfaces,
-                        });
-                    progress.inc(1);
-                }
-                counts
-            },
-        )
-        .collect();
-    let total = counts
-        .into_iter()
-        .fold(ShadeCounts::default(), |a, b| a + b);
+    // Each worker keeps its buffers across the tiles it shades.
+    let shaded = for_each_tile(
+        &mut img,
+        vis,
+        Some(progress),
+        || (Vec::new(), kernel::gather::Scratch::default(), Vec::new()),
+        |(buf, scratch, surfaces), rect, band| {
+            scratch.reserve(room);
+            prep.dispatch.run(ShadeTile {
+                prep,
+                scene,
+                vis,
+                rect,
+                band,
+                buf,
+                scratch,
+                surfaces,
+            })
+        },
+    );
+    let skipped = vis.tile_occupied.iter().filter(|o| !**o).count() as u64;
+    let total = shaded
+        + ShadeCounts {
+            tiles_skipped: skipped,
+            ..ShadeCounts::default()
+        };
     (img, total)
 }
 
@@ -85,27 +72,17 @@ pub(super) fn shade_per_pixel(
     radiance: impl Fn(&Surface) -> Vec3 + Sync,
 ) -> Image {
     let mut img = Image::new(vis.width, vis.height);
-    let band_len = (vis.width * vis.tile_size) as usize;
-    let per_tile = (vis.tile_size * vis.tile_size) as usize;
-    img.pixels
-        .par_chunks_mut(band_len)
-        .enumerate()
-        .for_each(|(ty, band)| {
-            let y0 = ty as u32 * vis.tile_size;
-            for tx in 0..vis.tiles_x as usize {
-                let t = ty * vis.tiles_x as usize + tx;
-                if vis.tile_occupied[t] {
-                    for (i, x, y) in tile_pixels(vis, t) {
-                        let at = ((y - y0) * vis.width + x) as usize;
-                        if let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y)
-                        {
-                            band[at] = radiance(&s);
-                        }
-                    }
-                }
-                progress.inc(1);
-            }
-        });
+    for_each_tile(
+        &mut img,
+        vis,
+        Some(progress),
+        || (),
+        |_, rect, band| {
+            for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
+                band[p.at] = radiance(&p.surface)
+            });
+        },
+    );
     img
 }
 
@@ -116,7 +93,7 @@ struct ShadeTile<'p, 'a, 'o> {
     prep: &'p FramePrep<'a>,
     scene: &'p Scene,
     vis: &'p VisBuffer,
-    t: usize,
+    rect: PixelRect,
     band: &'o mut [Vec3],
     buf: &'o mut Vec<f32>,
     scratch: &'o mut kernel::gather::Scratch,
@@ -131,13 +108,13 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             prep,
             scene,
             vis,
-            t,
+            rect,
             band,
             buf,
             scratch,
             surfaces,
         } = self;
-        tile_surfaces(&scene.mesh, vis, t, surfaces);
+        tile_surfaces(&scene.mesh, vis, rect, surfaces);
         let cone = if prep.cull_lights {
             Cone::around(surfaces.iter().map(|(_, s)| s.normal))
         } else {

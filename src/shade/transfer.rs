@@ -19,7 +19,8 @@
 //! material's frame is view-aligned ([`to_table_frame`]), or `albedo / pi` for Lambert. f32
 //! on every path (the table is f32).
 
-use super::{frame_and_view, surface_at_index, tile_pixels, FramePrep};
+use super::frame_and_view;
+use super::traverse::{for_each_tile, for_each_visible};
 use crate::conventions::{hemi_texcoord, local_angles, FrameRule, ShadingFrame};
 use crate::env::transfer::TransferTable;
 use crate::image_io::Image;
@@ -27,7 +28,6 @@ use crate::material::Material;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
 use crate::sh::dataset::MAX_BANDS;
-use rayon::prelude::*;
 
 /// The scalar oracle's and the f64 path's form (module doc): adds the transfer term of
 /// `table` to every visible pixel of `image` (rendered from `scene` and `vis`), in a pass
@@ -41,48 +41,35 @@ pub(super) fn add_transfer(
     rule: &FrameRule,
 ) {
     let eye = scene.camera.position;
-    let band_len = (vis.width * vis.tile_size) as usize;
-    let per_tile = (vis.tile_size * vis.tile_size) as usize;
     let nt = table.terms();
-    image
-        .pixels
-        .par_chunks_mut(band_len)
-        .enumerate()
-        .for_each(|(ty, band)| {
-            let mut cbuf = [0.0f32; 3 * MAX_BANDS * MAX_BANDS];
-            let mut tbuf = [0.0f32; 3 * MAX_BANDS * MAX_BANDS];
-            let c = &mut cbuf[..3 * nt];
-            let y0 = ty as u32 * vis.tile_size;
-            for tx in 0..vis.tiles_x as usize {
-                let t = ty * vis.tiles_x as usize + tx;
-                if !vis.tile_occupied[t] {
-                    continue;
-                }
-                for (i, x, y) in tile_pixels(vis, t) {
-                    let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y) else {
-                        continue;
-                    };
-                    match &scene.material {
-                        Material::Sh(ds) => {
-                            let (frame, wo) = frame_and_view(&s, eye, rule);
-                            let (p, a) = local_angles(wo);
-                            let (u, v) = hemi_texcoord(p, a);
-                            ds.lookup_coeffs(u, v, ds.coeff_lookup, c);
-                            if *rule != FrameRule::UP {
-                                to_table_frame(c, ds.bands(), &frame);
-                            }
-                        }
-                        Material::Lambert(m) => {
-                            let k = m.albedo / std::f32::consts::PI;
-                            c.copy_from_slice(&[k.x, k.y, k.z]);
-                        }
-                        _ => continue,
+    let buffers = || {
+        (
+            [0.0f32; 3 * MAX_BANDS * MAX_BANDS],
+            [0.0f32; 3 * MAX_BANDS * MAX_BANDS],
+        )
+    };
+    for_each_tile(image, vis, None, buffers, |(cbuf, tbuf), rect, band| {
+        let c = &mut cbuf[..3 * nt];
+        for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
+            match &scene.material {
+                Material::Sh(ds) => {
+                    let (frame, wo) = frame_and_view(&p.surface, eye, rule);
+                    let (polar, azimuth) = local_angles(wo);
+                    let (u, v) = hemi_texcoord(polar, azimuth);
+                    ds.lookup_coeffs(u, v, ds.coeff_lookup, c);
+                    if *rule != FrameRule::UP {
+                        to_table_frame(c, ds.bands(), &frame);
                     }
-                    let at = ((y - y0) * vis.width + x) as usize;
-                    band[at] += table.radiance_with(s.normal, c, &mut tbuf);
                 }
+                Material::Lambert(m) => {
+                    let k = m.albedo / std::f32::consts::PI;
+                    c.copy_from_slice(&[k.x, k.y, k.z]);
+                }
+                _ => return,
             }
+            band[p.at] += table.radiance_with(p.surface.normal, c, tbuf);
         });
+    });
 }
 
 /// Coefficients `c` (`3 bands^2`, `[R.., G.., B..]`) looked up in the pixel's `frame` (turned
@@ -126,14 +113,5 @@ impl<'a> TransferTerm<'a> {
             _ => None,
         };
         Some(TransferTerm { table, lambert })
-    }
-}
-
-impl FramePrep<'_> {
-    /// Whether the fast path's tile loop adds a transfer term (then every pixel takes the
-    /// per-pixel path, which has the coefficients at hand).
-    #[inline(always)]
-    pub(super) fn has_transfer(&self) -> bool {
-        self.transfer.is_some()
     }
 }

@@ -106,7 +106,7 @@ pub fn prepare_lightcuts(spec: &EnvSpec, base: &Path) -> Result<PreparedLightCut
     let path = base.join(&spec.file);
     crate::image_io::check_regular_file(
         &path,
-        crate::env::prepare::MAX_PROBE_FILE_BYTES,
+        crate::env::probe::MAX_PROBE_FILE_BYTES,
         "light probe",
     )
     .map_err(|e| crate::error::Error::Message(e.to_string()))?;

@@ -10,7 +10,7 @@
 //! # Validation
 //! A hit reads one JSON file ([`CacheEntry`]) and never decodes the probe. Every read is
 //! checked ([`read_cache_entry`]): format tag, crate version, algorithm version and key must
-//! be this build's, the lights must pass [`validate`], match the header's count and hash to
+//! be this build's (the check every environment cache shares, [`crate::env::cache_entry`]), the lights must pass [`validate`], match the header's count and hash to
 //! the stored checksum ([`lights_checksum`]). An entry that fails any of this (truncated,
 //! edited, from another version) is ignored and rewritten, never trusted
 //! ([`super::Prepared::cache_rejected`] says why).
@@ -23,6 +23,7 @@
 //! [`CacheDir::user`]: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else
 //! `$HOME/.cache/brdfkit` (with none of them set, nothing is cached); `--no-cache` uses none.
 
+use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp};
 use crate::env::lightset_io::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
 use crate::env::{LightSet, LoadOptions, LoadReport, SamplerConfig};
 use crate::hash::{self, StableHasher};
@@ -40,12 +41,18 @@ use std::path::{Path, PathBuf};
 /// texels) instead of being clamped to 0.
 pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 2;
 
-/// The crate version, part of every cache key (a cache never outlives a release).
-pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
+pub use crate::env::cache_entry::CRATE_VERSION;
 
 /// Format tag of a light-set cache entry (`-v2`: the checksum is XXH3-64 in
 /// [`hash::tagged`] form and the lights' fields are `irradiance_*`).
 pub const CACHE_FORMAT: &str = "brdfkit-lightset-cache-v3";
+
+/// A light-set cache entry as this build writes it ([`crate::env::cache_entry`]).
+const ENTRY: EntryKind = EntryKind {
+    format: CACHE_FORMAT,
+    algorithm: "light-set algorithm version",
+    algorithm_version: LIGHT_SET_ALGORITHM_VERSION,
+};
 
 /// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light
 /// sets. No code path picks the user's directory by itself: the caller passes one
@@ -218,7 +225,7 @@ impl CacheEntry {
             format: CACHE_FORMAT.into(),
             crate_version: CRATE_VERSION.into(),
             algorithm_version: LIGHT_SET_ALGORITHM_VERSION,
-            key: format!("{key:016x}"),
+            key: EntryKind::key_text(key),
             lights_checksum: hash::tagged(lights_checksum(&lights)),
             header,
             load_report,
@@ -229,7 +236,7 @@ impl CacheEntry {
 
 /// The cache file of `key` in `dir`.
 pub fn cache_file_name(dir: &Path, key: u64) -> PathBuf {
-    dir.join(format!("lights-{key:016x}.json"))
+    dir.join(format!("lights-{}.json", EntryKind::key_text(key)))
 }
 
 /// Reads and validates the cache entry `path` for `key`: a regular file of at most
@@ -241,33 +248,18 @@ pub fn read_cache_entry(
     path: &Path,
     key: u64,
 ) -> std::result::Result<Option<(LightSet, LoadReport)>, String> {
-    if !path.exists() {
+    let Some(bytes) = read_entry_bytes(path, MAX_LIGHTSET_BYTES, "light-set cache")? else {
         return Ok(None);
-    }
-    let bytes = crate::image_io::read_regular_file(path, MAX_LIGHTSET_BYTES, "light-set cache")
-        .map_err(|e| e.to_string())?;
+    };
     let e: CacheEntry =
         serde_json::from_slice(&bytes).map_err(|e| format!("not a cache entry: {e}"))?;
-    let expect = |what: &str, found: &dyn std::fmt::Display, wanted: &dyn std::fmt::Display| {
-        format!("{what} {found}, this build writes {wanted}")
+    let stamp = Stamp {
+        format: &e.format,
+        crate_version: &e.crate_version,
+        algorithm_version: e.algorithm_version,
+        key: &e.key,
     };
-    if e.format != CACHE_FORMAT {
-        return Err(expect("format", &e.format, &CACHE_FORMAT));
-    }
-    if e.crate_version != CRATE_VERSION {
-        return Err(expect("crate version", &e.crate_version, &CRATE_VERSION));
-    }
-    if e.algorithm_version != LIGHT_SET_ALGORITHM_VERSION {
-        return Err(expect(
-            "light-set algorithm version",
-            &e.algorithm_version,
-            &LIGHT_SET_ALGORITHM_VERSION,
-        ));
-    }
-    let key = format!("{key:016x}");
-    if e.key != key {
-        return Err(expect("key", &e.key, &key));
-    }
+    ENTRY.check_stamp(stamp, key)?;
     validate(path, &e.lights).map_err(|e| e.to_string())?;
     if e.header.n != e.lights.len() {
         return Err(format!(
@@ -276,13 +268,7 @@ pub fn read_cache_entry(
             e.lights.len()
         ));
     }
-    let sum = hash::tagged(lights_checksum(&e.lights));
-    if e.lights_checksum != sum {
-        return Err(format!(
-            "checksum {} does not match its lights ({sum}): edited or damaged",
-            e.lights_checksum
-        ));
-    }
+    check_checksum(&e.lights_checksum, lights_checksum(&e.lights), "lights")?;
     Ok(Some((e.lights, e.load_report)))
 }
 

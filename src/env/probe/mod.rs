@@ -27,6 +27,9 @@ use crate::conventions::{
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 
+/// Largest probe file read (bytes), to decode or to hash for a cache key.
+pub const MAX_PROBE_FILE_BYTES: u64 = 1 << 30;
+
 /// Why loading or building a probe failed. Every message names the file (or the name
 /// given to [`Probe::from_texels`]) and the problem.
 #[derive(Debug, thiserror::Error)]
@@ -38,7 +41,7 @@ pub enum ProbeError {
         #[source]
         source: std::io::Error,
     },
-    /// Not a regular file, or over [`super::prepare::MAX_PROBE_FILE_BYTES`].
+    /// Not a regular file, or over [`MAX_PROBE_FILE_BYTES`].
     #[error(transparent)]
     File(#[from] crate::error::FileError),
     /// The extension is neither `.exr` nor `.hdr`.
@@ -190,7 +193,7 @@ impl Probe {
     /// alpha ignored) or Radiance (`.hdr`) file. The extension picks the decoder.
     ///
     /// Fails with [`ProbeError`]: unreadable file, not a regular file (a device or FIFO
-    /// is refused unopened) or over [`super::prepare::MAX_PROBE_FILE_BYTES`], unknown extension, decoder error (also a
+    /// is refused unopened) or over [`MAX_PROBE_FILE_BYTES`], unknown extension, decoder error (also a
     /// header declaring more texels than the file's length can hold, see
     /// [`HDR_TEXELS_PER_BYTE`] and [`crate::image_io::check_exr_declared_size`]), empty or oversized image, non-finite texels (unless zeroed
     /// by option).
@@ -200,11 +203,7 @@ impl Probe {
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase());
         if matches!(ext.as_deref(), Some("exr" | "hdr")) {
-            crate::image_io::check_regular_file(
-                path,
-                super::prepare::MAX_PROBE_FILE_BYTES,
-                "light probe",
-            )?;
+            crate::image_io::check_regular_file(path, MAX_PROBE_FILE_BYTES, "light probe")?;
         }
         let (w, h, texels) = match ext.as_deref() {
             Some("exr") => read_exr(path, opts)?,

@@ -57,12 +57,9 @@ pub(super) fn read_exr(path: &Path, opts: &LoadOptions) -> Result<Raw, ProbeErro
             message,
         },
     };
-    let headers = exr_guard::read_headers(
-        path,
-        crate::env::prepare::MAX_PROBE_FILE_BYTES,
-        "light probe",
-    )
-    .map_err(guard_err)?;
+    let headers =
+        exr_guard::read_headers(path, crate::env::probe::MAX_PROBE_FILE_BYTES, "light probe")
+            .map_err(guard_err)?;
     let header = headers
         .headers()
         .first()

@@ -16,14 +16,15 @@
 //! # Format
 //! One line of JSON ([`TableHeader`]: format tag, versions, key, grid, basis, value count,
 //! checksum), a newline, then the table's values as little-endian f32. Every read checks the
-//! tag, both versions, the key, the grid and basis against what the caller wants, the byte
+//! tag, both versions, the key (the check every environment cache shares,
+//! [`crate::env::cache_entry`]), the grid and basis against what the caller wants, the byte
 //! count and the XXH3-64 checksum of the values ([`values_checksum`]); an entry that fails
 //! any of it is ignored (and rewritten), never trusted. Writes are atomic
 //! ([`crate::env::lightset_io::write_atomic`]: a unique temporary sibling, then a rename).
 
 use super::table::TransferTable;
 use super::TransferBasis;
-use crate::env::prepare::cache::CRATE_VERSION;
+use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp, CRATE_VERSION};
 use crate::env::LoadOptions;
 use crate::hash::{self, StableHasher};
 use serde::{Deserialize, Serialize};
@@ -36,6 +37,13 @@ pub const TRANSFER_ALGORITHM_VERSION: u32 = 1;
 
 /// Format tag of a transfer-table cache entry.
 pub const TABLE_CACHE_FORMAT: &str = "brdfkit-transfer-cache-v1";
+
+/// A transfer-table cache entry as this build writes it ([`crate::env::cache_entry`]).
+const ENTRY: EntryKind = EntryKind {
+    format: TABLE_CACHE_FORMAT,
+    algorithm: "transfer algorithm version",
+    algorithm_version: TRANSFER_ALGORITHM_VERSION,
+};
 
 /// Largest entry read: 2^24 values ([`super::build::build_table`]'s limit) plus a header.
 const MAX_ENTRY_BYTES: u64 = (4 << 24) + (1 << 16);
@@ -81,7 +89,7 @@ fn versioned_key(algorithm: u32, bytes: &[u8], opts: &LoadOptions, p: &TablePara
 
 /// The cache file of `key` in `dir`.
 pub fn table_file_name(dir: &Path, key: u64) -> PathBuf {
-    dir.join(format!("transfer-{key:016x}.bin"))
+    dir.join(format!("transfer-{}.bin", EntryKind::key_text(key)))
 }
 
 /// XXH3-64 of the value count and the values' bits, stored in each entry and recomputed
@@ -120,7 +128,7 @@ pub fn encode_entry(table: &TransferTable, key: u64) -> Vec<u8> {
         format: TABLE_CACHE_FORMAT.into(),
         crate_version: CRATE_VERSION.into(),
         algorithm_version: TRANSFER_ALGORITHM_VERSION,
-        key: format!("{key:016x}"),
+        key: EntryKind::key_text(key),
         nu,
         nv,
         terms: table.terms(),
@@ -146,37 +154,22 @@ pub fn read_entry(
     grid: (usize, usize),
     rotation: f64,
 ) -> std::result::Result<Option<TransferTable>, String> {
-    if !path.exists() {
+    let Some(bytes) = read_entry_bytes(path, MAX_ENTRY_BYTES, "transfer cache")? else {
         return Ok(None);
-    }
-    let bytes = crate::image_io::read_regular_file(path, MAX_ENTRY_BYTES, "transfer cache")
-        .map_err(|e| e.to_string())?;
+    };
     let nl = bytes
         .iter()
         .position(|&b| b == b'\n')
         .ok_or("no header line")?;
     let h: TableHeader = serde_json::from_slice(&bytes[..nl])
         .map_err(|e| format!("not a transfer cache entry: {e}"))?;
-    let want = |what: &str, found: &dyn std::fmt::Display, wanted: &dyn std::fmt::Display| {
-        format!("{what} {found}, expected {wanted}")
+    let stamp = Stamp {
+        format: &h.format,
+        crate_version: &h.crate_version,
+        algorithm_version: h.algorithm_version,
+        key: &h.key,
     };
-    if h.format != TABLE_CACHE_FORMAT {
-        return Err(want("format", &h.format, &TABLE_CACHE_FORMAT));
-    }
-    if h.crate_version != CRATE_VERSION {
-        return Err(want("crate version", &h.crate_version, &CRATE_VERSION));
-    }
-    if h.algorithm_version != TRANSFER_ALGORITHM_VERSION {
-        return Err(want(
-            "transfer algorithm version",
-            &h.algorithm_version,
-            &TRANSFER_ALGORITHM_VERSION,
-        ));
-    }
-    let key = format!("{key:016x}");
-    if h.key != key {
-        return Err(want("key", &h.key, &key));
-    }
+    ENTRY.check_stamp(stamp, key)?;
     let n = grid.0 * grid.1 * 3 * basis.terms();
     if (h.nu, h.nv, h.terms, h.values) != (grid.0, grid.1, basis.terms(), n) {
         return Err(format!(
@@ -202,13 +195,7 @@ pub fn read_entry(
         .chunks_exact(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
-    let sum = hash::tagged(values_checksum(&values));
-    if h.checksum != sum {
-        return Err(format!(
-            "checksum {} does not match its values ({sum}): edited or damaged",
-            h.checksum
-        ));
-    }
+    check_checksum(&h.checksum, values_checksum(&values), "values")?;
     Ok(Some(TransferTable::from_parts(
         grid, basis, rotation, values,
     )))

@@ -136,7 +136,7 @@ pub fn prepare_transfer(
     let path = base.join(&spec.file);
     let bytes = crate::image_io::read_regular_file(
         &path,
-        crate::env::prepare::MAX_PROBE_FILE_BYTES,
+        crate::env::probe::MAX_PROBE_FILE_BYTES,
         "light probe",
     )?;
     let opts = spec.load_options();

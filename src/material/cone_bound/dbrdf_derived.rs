@@ -21,7 +21,7 @@ pub struct DerivedTableBound {
     max: f32,
 }
 
-/// Largest box (texels per side) whose exact bilinear maximum [`super::dbrdf::box_max`]
+/// Largest box (texels per side) whose exact bilinear maximum [`super::box_max::box_max`]
 /// computes; a larger one takes the largest texel of its footprint.
 const BOX_TEXELS: f32 = 3.0;
 
@@ -70,7 +70,7 @@ impl DerivedTableBound {
         let c = |x: f32| hemi_oct_texel_coord(x, self.n);
         let (u0, u1, v0, v1) = (c(u - r), c(u + r), c(v - r), c(v + r));
         if u1 - u0 <= BOX_TEXELS && v1 - v0 <= BOX_TEXELS {
-            return (super::dbrdf::box_max(u0, u1, v0, v1, |u, v| self.bilinear(u, v))
+            return (super::box_max::box_max(u0, u1, v0, v1, |u, v| self.bilinear(u, v))
                 * (1.0 + 1e-6))
                 .min(self.max);
         }

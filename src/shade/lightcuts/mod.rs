@@ -17,7 +17,8 @@
 //! pixel's radiance is summed over the final cut in the heap's storage order, which depends
 //! only on the sequence of pushes and pops.
 
-use super::{frame_and_view, surface_at_index, tile_pixels};
+use super::frame_and_view;
+use super::traverse::{bands, for_each_tile, for_each_visible};
 use crate::conventions::{FrameRule, ShadingFrame};
 use crate::env::lightcuts::{LightCuts, LightTree};
 use crate::env::LUMINANCE_WEIGHTS;
@@ -26,10 +27,9 @@ use crate::kernel::lanes::Dispatch;
 use crate::kernel::models::LaneModel;
 use crate::material::cone_bound::{BoundFault, Cone, ConeBound};
 use crate::material::Material;
-use crate::raster::VisBuffer;
+use crate::raster::{PixelRect, VisBuffer};
 use crate::scene::Scene;
 use glam::Vec3;
-use rayon::prelude::*;
 use std::collections::BinaryHeap;
 use tile::{shade_square, TileCtx, TilePixel, TileScratch, CUT_TILE};
 
@@ -56,8 +56,11 @@ impl CutStats {
             self.clusters as f64 / self.pixels as f64
         }
     }
+}
 
-    pub(super) fn add(self, o: CutStats) -> CutStats {
+impl std::ops::Add for CutStats {
+    type Output = CutStats;
+    fn add(self, o: CutStats) -> CutStats {
         CutStats {
             pixels: self.pixels + o.pixels,
             clusters: self.clusters + o.clusters,
@@ -95,8 +98,17 @@ impl Ord for Cluster {
 }
 
 impl Cluster {
-    /// Node `i` with error bound `err` (>= 0 or NaN: a NaN refines first) and `estimate`.
+    /// Node `i` with error bound `err` (a luminance) and `estimate`, under the one ordering
+    /// rule of both cut paths: a NaN bound refines first (keyed as `f32::MAX`), a negative
+    /// one is clamped to 0, and a bound >= 0 orders as its bits do.
     pub(super) fn new(err: f32, i: usize, estimate: Vec3) -> Cluster {
+        let err = if err >= 0.0 {
+            err
+        } else if err.is_nan() {
+            f32::MAX
+        } else {
+            0.0
+        };
         Cluster {
             key: ((err.to_bits() as u64) << 32) | (u32::MAX - i as u32) as u64,
             estimate,
@@ -151,15 +163,7 @@ fn cluster(
         } else {
             bound.f_cos_max_with_fault(material, &cone, wo, fault)
         };
-        let l = luminance(b * e);
-        // A NaN bound refines (largest key); a bound is >= 0, so its bits order as it does.
-        if l >= 0.0 {
-            l
-        } else if l.is_nan() {
-            f32::MAX
-        } else {
-            0.0
-        }
+        luminance(b * e)
     };
     Cluster::new(err, i, estimate)
 }
@@ -248,54 +252,37 @@ fn add_shared_cuts(
     // Squares are fixed in image space (CUT_TILE-aligned, whatever the tile size), and a
     // square's pixels are gathered in row-major image order, so the cuts and the sums do
     // not depend on how the frame is cut into tiles: the same bits for any tile size.
-    let ts = vis.tile_size;
-    let band_len = (vis.width * CUT_TILE) as usize;
-    let per_tile = (ts * ts) as usize;
     let squares_x = vis.width.div_ceil(CUT_TILE);
-    let stats: Vec<CutStats> = image
-        .pixels
-        .par_chunks_mut(band_len)
-        .enumerate()
-        .map_init(
-            || (TileScratch::default(), Vec::<TilePixel>::new()),
-            |(sc, pixels), (by, band)| {
-                let mut stats = CutStats::default();
-                let y0 = by as u32 * CUT_TILE;
-                let y1 = (y0 + CUT_TILE).min(vis.height);
-                for sx in 0..squares_x {
-                    let x0 = sx * CUT_TILE;
-                    let x1 = (x0 + CUT_TILE).min(vis.width);
-                    pixels.clear();
-                    for y in y0..y1 {
-                        for x in x0..x1 {
-                            let t = ((y / ts) * vis.tiles_x + x / ts) as usize;
-                            if !vis.tile_occupied[t] {
-                                continue;
-                            }
-                            let i = t * per_tile + ((y % ts) * ts + x % ts) as usize;
-                            let Some(s) = surface_at_index(&scene.mesh, vis, i, x, y) else {
-                                continue;
-                            };
-                            let (frame, wo) = frame_and_view(&s, eye, rule);
-                            pixels.push(TilePixel {
-                                at: ((y - y0) * vis.width + x) as usize,
-                                x,
-                                y,
-                                frame,
-                                wo,
-                            });
-                        }
-                    }
-                    let mut write = |p: &TilePixel, l: Vec3| band[p.at] += l;
-                    stats = stats.add(shade_square(
-                        dispatch, &ctx, pixels, CUT_TILE, x0, y0, sc, &mut write,
-                    ));
-                }
-                stats
-            },
-        )
-        .collect();
-    stats.into_iter().fold(CutStats::default(), CutStats::add)
+    let scratch = || (TileScratch::default(), Vec::<TilePixel>::new());
+    let stats = bands(image, CUT_TILE, scratch, |(sc, pixels), by, y0, band| {
+        let mut stats = CutStats::default();
+        for sx in 0..squares_x as usize {
+            // The squares are the tiles of a CUT_TILE cut of the frame.
+            let square = PixelRect::tile(
+                by * squares_x as usize + sx,
+                CUT_TILE,
+                squares_x,
+                vis.width,
+                vis.height,
+            );
+            let x0 = square.x0;
+            pixels.clear();
+            for_each_visible(&scene.mesh, vis, square, y0, |p| {
+                let (frame, wo) = frame_and_view(&p.surface, eye, rule);
+                pixels.push(TilePixel {
+                    at: p.at,
+                    x: p.x,
+                    y: p.y,
+                    frame,
+                    wo,
+                });
+            });
+            let mut write = |p: &TilePixel, l: Vec3| band[p.at] += l;
+            stats = stats + shade_square(dispatch, &ctx, pixels, CUT_TILE, x0, y0, sc, &mut write);
+        }
+        stats
+    });
+    stats.into_iter().fold(CutStats::default(), |a, b| a + b)
 }
 
 /// The per-pixel path of [`add_lightcuts`] (the reference).
@@ -308,43 +295,24 @@ fn add_per_pixel_cuts(
 ) -> CutStats {
     let bound = ConeBound::new(&scene.material).expect("resolve checked the material");
     let eye = scene.camera.position;
-    let band_len = (vis.width * vis.tile_size) as usize;
-    let per_tile = (vis.tile_size * vis.tile_size) as usize;
-    let stats: Vec<CutStats> = image
-        .pixels
-        .par_chunks_mut(band_len)
-        .enumerate()
-        .map(|(ty, band)| {
-            let mut heap = BinaryHeap::with_capacity(cuts.cut_max + 1);
-            let mut stats = CutStats::default();
-            let y0 = ty as u32 * vis.tile_size;
-            for tx in 0..vis.tiles_x as usize {
-                let t = ty * vis.tiles_x as usize + tx;
-                if !vis.tile_occupied[t] {
-                    continue;
-                }
-                for (i, x, y) in tile_pixels(vis, t) {
-                    let Some(s) = surface_at_index(&scene.mesh, vis, t * per_tile + i, x, y) else {
-                        continue;
-                    };
-                    let (frame, wo) = frame_and_view(&s, eye, rule);
-                    let (l, n, capped) =
-                        cut_radiance(cuts, &bound, &scene.material, &frame, wo, &mut heap);
-                    let at = ((y - y0) * vis.width + x) as usize;
-                    band[at] += l;
-                    stats = stats.add(CutStats {
-                        pixels: 1,
-                        clusters: n as u64,
-                        largest: n as u64,
-                        capped: capped as u64,
-                        tiles: 1,
-                    });
-                }
-            }
-            stats
-        })
-        .collect();
-    stats.into_iter().fold(CutStats::default(), CutStats::add)
+    let heap = || BinaryHeap::with_capacity(cuts.cut_max + 1);
+    for_each_tile(image, vis, None, heap, |heap, rect, band| {
+        let mut stats = CutStats::default();
+        for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
+            let (frame, wo) = frame_and_view(&p.surface, eye, rule);
+            let (l, n, capped) = cut_radiance(cuts, &bound, &scene.material, &frame, wo, heap);
+            band[p.at] += l;
+            stats = stats
+                + CutStats {
+                    pixels: 1,
+                    clusters: n as u64,
+                    largest: n as u64,
+                    capped: capped as u64,
+                    tiles: 1,
+                };
+        });
+        stats
+    })
 }
 
 #[cfg(test)]

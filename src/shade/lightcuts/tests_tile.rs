@@ -3,7 +3,7 @@
 //! tile bound; and the seeded fault (no widening by the tile's frame and view spread) is
 //! shown to break it.
 
-use super::super::{frame_and_view, surface_at_index, tile_pixels};
+use super::super::{for_each_visible, frame_and_view};
 use super::tile::{node_cone, tile_f_cos_max, TileFrame, TilePixel, CUT_TILE, MAX_SPREAD};
 use crate::env::lightcuts::{LightTree, TileFault};
 use crate::material::cone_bound::{BoundFault, ConeBound};
@@ -37,23 +37,21 @@ fn patch_scene(material: &str) -> Scene {
 fn squares(scene: &Scene) -> Vec<Vec<TilePixel>> {
     let vis = rasterize(scene, false);
     assert_eq!(vis.tile_size, CUT_TILE);
-    let per_tile = (vis.tile_size * vis.tile_size) as usize;
     let mut out = Vec::new();
     for t in 0..vis.tile_occupied.len() {
         let mut px = Vec::new();
-        for (i, x, y) in tile_pixels(&vis, t) {
-            if let Some(s) = surface_at_index(&scene.mesh, &vis, t * per_tile + i, x, y) {
-                let rule = scene.material.frame_rule();
-                let (frame, wo) = frame_and_view(&s, scene.camera.position, &rule);
-                px.push(TilePixel {
-                    at: 0,
-                    x,
-                    y,
-                    frame,
-                    wo,
-                });
-            }
-        }
+        let rect = vis.tile_rect(t);
+        for_each_visible(&scene.mesh, &vis, rect, rect.y0, |p| {
+            let rule = scene.material.frame_rule();
+            let (frame, wo) = frame_and_view(&p.surface, scene.camera.position, &rule);
+            px.push(TilePixel {
+                at: 0,
+                x: p.x,
+                y: p.y,
+                frame,
+                wo,
+            });
+        });
         if px.len() > 1 {
             out.push(px);
         }

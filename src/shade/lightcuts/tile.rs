@@ -71,7 +71,7 @@
 use super::{luminance, Cluster, CutStats};
 use crate::conventions::{FrameRule, ShadingFrame};
 use crate::env::lightcuts::{LightCuts, TileFault};
-use crate::kernel::gather::Scratch;
+use crate::kernel::gather::{light_weight, Scratch};
 use crate::kernel::lanes::{Dispatch, Isa, Kernel};
 use crate::kernel::models::LaneModel;
 use crate::material::cone_bound::{min_cos_to, BoundFault, Cone, ConeBound};
@@ -299,14 +299,7 @@ impl TileCtx<'_> {
             let cone = node_cone(tree, i, &tf.frame);
             let faults = (self.cuts.fault, self.cuts.tile_fault);
             let b = tile_f_cos_max(self.bound, tf, &cone, faults, self.material);
-            let l = luminance(b * e);
-            if l >= 0.0 {
-                l
-            } else if l.is_nan() {
-                f32::MAX
-            } else {
-                0.0
-            }
+            luminance(b * e)
         };
         Cluster::new(err, i, estimate)
     }
@@ -393,8 +386,7 @@ impl Kernel for ShadeCutTile<'_, '_, '_> {
                 for (&d, &e) in sc.dirs.iter().zip(&sc.irr) {
                     let l = p.frame.to_local(d);
                     if l.z > 0.0 {
-                        sc.lights
-                            .push(l, if ctx.includes_cosine { e } else { e * l.z });
+                        sc.lights.push(l, light_weight(e, l.z, ctx.includes_cosine));
                     }
                 }
                 *out = ctx.model.sum(s, p.wo, &mut sc.lights);
@@ -457,7 +449,7 @@ pub fn shade_square(
             rest = tail;
             let (qx, qy) = (x0 + h * (q as u32 & 1), y0 + h * (q as u32 >> 1));
             let s = side - h;
-            stats = stats.add(shade_square(dispatch, ctx, these, s, qx, qy, sc, write));
+            stats = stats + shade_square(dispatch, ctx, these, s, qx, qy, sc, write);
         }
         return stats;
     }

@@ -1,0 +1,156 @@
+//! What every disk cache entry of the environment says about the build that wrote it, and
+//! the one check of it: the light sets' JSON entries ([`super::prepare::cache`]) and the
+//! transfer tables' binary ones ([`super::transfer::cache`]) each store a format tag, the
+//! crate version, their algorithm's version, their key (16 hex digits, also in the file
+//! name) and an XXH3-64 checksum of their payload ([`crate::hash::tagged`] form). An entry is
+//! used only when its format, both versions and key are this build's and the caller's, and
+//! its payload hashes to its checksum; otherwise it is ignored (and rewritten), and the
+//! reason is one line ([`EntryKind::check_stamp`], [`check_checksum`]).
+
+/// The crate version, in every cache key and entry (a cache never outlives a release).
+pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// The header fields of an entry as read (borrowed from it).
+#[derive(Clone, Copy, Debug)]
+pub struct Stamp<'a> {
+    pub format: &'a str,
+    pub crate_version: &'a str,
+    pub algorithm_version: u32,
+    pub key: &'a str,
+}
+
+/// One kind of cache entry as this build writes it.
+#[derive(Clone, Copy, Debug)]
+pub struct EntryKind {
+    /// The format tag.
+    pub format: &'static str,
+    /// What the algorithm version is of, in messages ("light-set algorithm version").
+    pub algorithm: &'static str,
+    pub algorithm_version: u32,
+}
+
+impl EntryKind {
+    /// `key` as entries store it and file names carry it: 16 hex digits.
+    pub fn key_text(key: u64) -> String {
+        format!("{key:016x}")
+    }
+
+    /// Checks that `stamp` is this build's (format, crate version, algorithm version) and
+    /// names `key`; else why not, in one line.
+    pub fn check_stamp(&self, stamp: Stamp, key: u64) -> std::result::Result<(), String> {
+        let differs =
+            |what: &str, found: &dyn std::fmt::Display, wanted: &dyn std::fmt::Display| {
+                Err(format!("{what} {found}, this build writes {wanted}"))
+            };
+        if stamp.format != self.format {
+            return differs("format", &stamp.format, &self.format);
+        }
+        if stamp.crate_version != CRATE_VERSION {
+            return differs("crate version", &stamp.crate_version, &CRATE_VERSION);
+        }
+        if stamp.algorithm_version != self.algorithm_version {
+            return differs(
+                self.algorithm,
+                &stamp.algorithm_version,
+                &self.algorithm_version,
+            );
+        }
+        let key = EntryKind::key_text(key);
+        if stamp.key != key {
+            return differs("key", &stamp.key, &key);
+        }
+        Ok(())
+    }
+}
+
+/// Checks that an entry's stored checksum (`stored`, [`crate::hash::tagged`] form) is the one
+/// of its payload (`computed`); `payload` names it in the message ("lights", "values").
+pub fn check_checksum(
+    stored: &str,
+    computed: u64,
+    payload: &str,
+) -> std::result::Result<(), String> {
+    let sum = crate::hash::tagged(computed);
+    if stored != sum {
+        return Err(format!(
+            "checksum {stored} does not match its {payload} ({sum}): edited or damaged"
+        ));
+    }
+    Ok(())
+}
+
+/// The bytes of the cache entry `path` (a regular file of at most `max_bytes`; `what` names
+/// the cache in an error): `Ok(None)` when there is none.
+pub fn read_entry_bytes(
+    path: &std::path::Path,
+    max_bytes: u64,
+    what: &'static str,
+) -> std::result::Result<Option<Vec<u8>>, String> {
+    if !path.exists() {
+        return Ok(None);
+    }
+    crate::image_io::read_regular_file(path, max_bytes, what)
+        .map(Some)
+        .map_err(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const KIND: EntryKind = EntryKind {
+        format: "test-cache-v1",
+        algorithm: "test algorithm version",
+        algorithm_version: 3,
+    };
+
+    #[test]
+    fn every_field_of_the_stamp_is_checked() {
+        let key = EntryKind::key_text(42);
+        let good = Stamp {
+            format: KIND.format,
+            crate_version: CRATE_VERSION,
+            algorithm_version: 3,
+            key: &key,
+        };
+        assert_eq!(KIND.check_stamp(good, 42), Ok(()));
+        let cases = [
+            (
+                Stamp {
+                    format: "x",
+                    ..good
+                },
+                42,
+                "format x,",
+            ),
+            (
+                Stamp {
+                    crate_version: "0.0.0",
+                    ..good
+                },
+                42,
+                "crate version 0.0.0,",
+            ),
+            (
+                Stamp {
+                    algorithm_version: 2,
+                    ..good
+                },
+                42,
+                "test algorithm version 2, this build writes 3",
+            ),
+            (
+                good,
+                43,
+                "key 000000000000002a, this build writes 000000000000002b",
+            ),
+        ];
+        for (stamp, k, why) in cases {
+            let e = KIND.check_stamp(stamp, k).unwrap_err();
+            assert!(e.contains(why), "{e}");
+        }
+        assert!(check_checksum(&crate::hash::tagged(7), 7, "lights").is_ok());
+        let e = check_checksum(&crate::hash::tagged(7), 8, "lights").unwrap_err();
+        assert!(e.contains("does not match its lights"), "{e}");
+    }
+}
