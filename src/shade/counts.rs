@@ -36,6 +36,12 @@ pub struct ShadeCounts {
     pub lane_slots: u64,
 }
 
+impl super::traverse::TileSum for ShadeCounts {
+    fn plus(self, o: Self) -> Self {
+        self + o
+    }
+}
+
 impl std::ops::Add for ShadeCounts {
     type Output = ShadeCounts;
     fn add(self, o: ShadeCounts) -> ShadeCounts {

@@ -141,23 +141,11 @@ where
 }
 
 /// What a tile of [`for_each_tile`] returns, summed over the tiles and the bands: the
-/// work counters, or nothing.
+/// work counters (implemented beside them), or nothing.
 pub(super) trait TileSum: Default + Send {
     fn plus(self, o: Self) -> Self;
 }
 
 impl TileSum for () {
     fn plus(self, _: ()) {}
-}
-
-impl TileSum for super::ShadeCounts {
-    fn plus(self, o: Self) -> Self {
-        self + o
-    }
-}
-
-impl TileSum for super::CutStats {
-    fn plus(self, o: Self) -> Self {
-        self + o
-    }
 }

@@ -18,7 +18,7 @@
 //! only on the sequence of pushes and pops.
 
 use super::frame_and_view;
-use super::traverse::{bands, for_each_tile, for_each_visible};
+use super::traverse::{bands, for_each_tile, for_each_visible, TileSum};
 use crate::conventions::{FrameRule, ShadingFrame};
 use crate::env::lightcuts::{LightCuts, LightTree};
 use crate::env::LUMINANCE_WEIGHTS;
@@ -55,6 +55,12 @@ impl CutStats {
         } else {
             self.clusters as f64 / self.pixels as f64
         }
+    }
+}
+
+impl TileSum for CutStats {
+    fn plus(self, o: Self) -> Self {
+        self + o
     }
 }
 
