@@ -3,7 +3,7 @@
 //! under the shipped probes, and the scene errors of the method.
 
 use brdfkit::render::{render, RenderOptions};
-use brdfkit::scene::{Scene, SceneFile};
+use brdfkit::scene::{Environment, Scene, SceneFile};
 use std::path::Path;
 
 fn scene(probe: &str, material: &str, env_extra: &str) -> brdfkit::error::Result<Scene> {
@@ -33,13 +33,13 @@ fn lambert_transfer_matches_the_converged_reference() {
         )
         .image;
         let s = scene(probe, LAMBERT, grid).unwrap();
-        assert_eq!(s.lights.len(), 16);
+        assert_eq!(s.delta_lights().len(), 16);
         let got = render(&s, &RenderOptions::default()).image;
         let e = brdfkit::metrics::relative_rmse(&reference, &got, None);
         eprintln!("{probe}: Lambert transfer rel RMSE {e:.5}");
         assert!(e < 0.005, "{probe}: rel RMSE {e}");
         let mut lights_only = s.clone();
-        lights_only.transfer = None;
+        lights_only.environment = Environment::Lights(s.environment.delta_lights().to_vec());
         let bare = render(&lights_only, &RenderOptions::default()).image;
         let e0 = brdfkit::metrics::relative_rmse(&reference, &bare, None);
         assert!(e0 > 0.05, "{probe}: the table adds too little ({e0})");
@@ -161,7 +161,7 @@ fn fast_path_matches_the_scalar_oracle_within_the_tolerance() {
         assert!(worst <= FAST_PATH_TOLERANCE, "{probe}: {worst:.2e}");
         // The check sees the term: without it the fast image is far off.
         let mut bare = s.clone();
-        bare.transfer = None;
+        bare.environment = Environment::Lights(s.environment.delta_lights().to_vec());
         let vis = brdfkit::render::rasterize(&bare, false);
         let no_term = brdfkit::shade::shade(&bare, &vis, &ShadeOptions::default()).image;
         assert!(worst_relative(&no_term, &oracle) > 100.0 * FAST_PATH_TOLERANCE);
