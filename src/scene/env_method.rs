@@ -173,9 +173,13 @@ mod tests {
                 format!("[material]\nkind = \"lambert\"\n[env]\nfile = \"p.exr\"\n{stated}\n");
             assert_eq!(method_of(&text), EnvMethod::Lights, "{stated}");
         }
-        // An explicit method wins over the rule.
+        // An explicit method other than `lights`: `count` is another method's field, an error.
         let text = "[material]\nkind = \"lambert\"\n[env]\nfile = \"p.exr\"\ncount = 64\nmethod = \"transfer\"\n";
-        assert_eq!(method_of(text), EnvMethod::Transfer);
+        let e = SceneFile::parse(text).unwrap_err();
+        assert!(
+            e.starts_with("line 5: env.count: belongs to method = \"lights\""),
+            "{e}"
+        );
         // A stated `auto` stays auto (a written-out scene file states every field).
         let text = "[env]\nfile = \"p.exr\"\nmethod = \"auto\"\ncount = 64\n";
         assert_eq!(method_of(text), EnvMethod::Lightcuts);
