@@ -7,7 +7,7 @@
 use brdfkit::env::transfer::{prepare_transfer, TransferBasis};
 use brdfkit::progress::Progress;
 use brdfkit::render::{self, RenderOptions};
-use brdfkit::scene::{Scene, SceneFile};
+use brdfkit::scene::{Environment, Scene, SceneFile};
 use brdfkit::shade::{self, ShadeOptions};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::Path;
@@ -61,12 +61,15 @@ fn transfer(c: &mut Criterion) {
     let fast = ShadeOptions::default();
     g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis, &fast)));
     let mut table_only = scene.clone();
-    table_only.lights.clear();
+    table_only.environment = Environment::Transfer {
+        table: scene.environment.transfer_table().unwrap().clone(),
+        exact: Vec::new(),
+    };
     g.bench_function("shade-table-only", |b| {
         b.iter(|| shade::shade(&table_only, &vis, &fast))
     });
     let mut lights_only = scene.clone();
-    lights_only.transfer = None;
+    lights_only.environment = Environment::Lights(scene.environment.delta_lights().to_vec());
     g.bench_function("shade-16-exact-lights-only", |b| {
         b.iter(|| shade::shade(&lights_only, &vis, &fast))
     });

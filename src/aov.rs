@@ -61,20 +61,10 @@ impl Aov {
 /// light cuts, or by a transfer table without exact lights, has no such list, and the
 /// image would be black everywhere.
 pub fn check_available(scene: &Scene, aov: Aov) -> crate::error::Result<()> {
-    if !matches!(aov, Aov::LightPolar | Aov::LightAzimuth) || !scene.lights.is_empty() {
+    if !matches!(aov, Aov::LightPolar | Aov::LightAzimuth) || !scene.delta_lights().is_empty() {
         return Ok(());
     }
-    let why = if scene.lightcuts.is_some() {
-        "the environment method \"lightcuts\" shades light cuts through a tree of the probe's \
-         texels, not a list of lights; give --env-method lights (delta lights) or a [[light]] table"
-            .to_string()
-    } else if scene.transfer.is_some() {
-        "the environment method \"transfer\" shades a transfer table and here no exact \
-         lights; give --env-method lights (delta lights), [env] exact_lights > 0 or a [[light]] table"
-            .to_string()
-    } else {
-        "the scene has no lights".to_string()
-    };
+    let why = scene.environment.why_no_light_list();
     Err(crate::error::Error::field(
         "--aov",
         format!(
@@ -102,6 +92,8 @@ pub fn compute_counted(scene: &Scene, vis: &VisBuffer, aov: Aov) -> (Image, u64)
         return (img, n);
     }
     let eye = scene.camera.position;
+    let lights = scene.delta_lights();
+    let first_light = lights.first();
     let counted: u64 = img
         .pixels
         .par_chunks_mut(vis.width as usize)
@@ -123,7 +115,7 @@ pub fn compute_counted(scene: &Scene, vis: &VisBuffer, aov: Aov) -> (Image, u64)
                         let (ts, tt) = hemi_texcoord(p, a);
                         Vec3::splat(if aov == Aov::ViewPolar { tt } else { ts })
                     }
-                    Aov::LightPolar | Aov::LightAzimuth => match scene.lights.first() {
+                    Aov::LightPolar | Aov::LightAzimuth => match first_light {
                         None => Vec3::ZERO,
                         Some(l) => {
                             let (dir, _) = l.at(s.position);

@@ -83,6 +83,11 @@ impl From<FileError> for Error {
     }
 }
 
+/// The prefix of the error a TOML reader gives a field stated where it does not belong
+/// (`misplaced field `KEY`: why`, e.g. an `[env]` field of another method): [`toml_message`]
+/// places it on the field's line and names the field there, as it does an unknown field.
+pub const MISPLACED_FIELD: &str = "misplaced field `";
+
 /// A TOML parse error as one line, `line N: FIELD: message`, for every TOML file brdfkit
 /// reads (scenes, the golden manifest). N is the 1-based line of the error's span in `text`,
 /// FIELD the dotted key written there (`render.width`, `light[1].color`; [`toml_field_at`]),
@@ -99,6 +104,12 @@ pub fn toml_message(text: &str, e: &toml::de::Error) -> String {
     let at = span.start.min(text.len());
     let at = unknown_key_line(text, at, &msg).unwrap_or(at);
     let line = text[..at].matches('\n').count() + 1;
+    // A field stated under another method: the message names the field's line and field
+    // ([`MISPLACED_FIELD`]), so its own prefix goes.
+    let msg = match msg.strip_prefix(MISPLACED_FIELD) {
+        Some(rest) => rest.split_once("`: ").map_or(rest, |(_, m)| m).to_string(),
+        None => msg,
+    };
     match toml_field_at(text, at) {
         Some(field) => format!("line {line}: {field}: {msg}"),
         None => format!("line {line}: {msg}"),
@@ -109,7 +120,11 @@ pub fn toml_message(text: &str, e: &toml::de::Error) -> String {
 /// an "unknown field `KEY`" message `msg`, within the table `from` is in (its header's
 /// line repeated, as `[[light]]` is, continues it; another header ends it).
 fn unknown_key_line(text: &str, from: usize, msg: &str) -> Option<usize> {
-    let key = msg.strip_prefix("unknown field `")?.split('`').next()?;
+    let key = msg
+        .strip_prefix("unknown field `")
+        .or_else(|| msg.strip_prefix(MISPLACED_FIELD))?
+        .split('`')
+        .next()?;
     let mut offset = text[..from].rfind('\n').map_or(0, |i| i + 1);
     let mut header: Option<&str> = None;
     for line in text[offset..].split_inclusive('\n') {

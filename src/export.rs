@@ -50,7 +50,7 @@ pub use mesh::mesh_obj;
 use crate::aov::Aov;
 use crate::env::prepare::EnvMethod;
 use crate::error::{Error, Result};
-use crate::scene::{Scene, SceneFile};
+use crate::scene::{env_method, Scene, SceneFile};
 use camera::{fa, fj};
 use glam::Vec3;
 use serde_json::json;
@@ -110,11 +110,13 @@ pub fn export(scene_path: &Path, dir: &Path, aov: Option<Aov>) -> Result<Exporte
         .as_ref()
         .is_some_and(|e| e.method == EnvMethod::Auto);
     file.resolve_env_method();
-    if let Some(env) = file
+    // Export writes delta lights, or a transfer table and its exact lights; a light tree
+    // is neither.
+    let refused = file
         .env
         .as_ref()
-        .filter(|e| e.method == EnvMethod::Lightcuts)
-    {
+        .filter(|e| env_method::export_unsupported(e.method));
+    if let Some(env) = refused {
         let why = if auto {
             format!(
                 "env.method: \"auto\" is \"{}\" for this material, and export writes delta \
@@ -166,12 +168,11 @@ pub fn export(scene_path: &Path, dir: &Path, aov: Option<Aov>) -> Result<Exporte
         raw.insert("mesh".into(), mesh.into());
     }
 
-    // The scene's own lights come first in `scene.lights`, the environment's after them.
-    // The `[[light]]` tables stay as written: the resolver normalises `to_light` and
+    // The scene's own lights (`scene.lights`) and the environment's delta lights (a light
+    // set, or a transfer table's exact lights). The `[[light]]` tables stay as written: the resolver normalises `to_light` and
     // multiplies `color` by `intensity`, and only the same operands give the same bits (a
     // normalised f32 vector normalised again may change in its last bit).
-    let n_own = file.light_specs().len();
-    let (own, env_lights) = scene.lights.split_at(n_own);
+    let (own, env_lights) = (&scene.lights, scene.environment.delta_lights());
     put(
         &mut files,
         "scene_lights.json",
@@ -188,7 +189,7 @@ pub fn export(scene_path: &Path, dir: &Path, aov: Option<Aov>) -> Result<Exporte
         raw.insert("env".into(), env.into());
     }
     raw.remove("transfer");
-    if let Some(table) = &scene.transfer {
+    if let Some(table) = scene.environment.transfer_table() {
         let (j, b) = (dir.join(TRANSFER_JSON), dir.join(TRANSFER_BIN));
         crate::env::transfer::file::write_table(&j, &b, table)?;
         files.extend([j, b]);

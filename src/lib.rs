@@ -92,6 +92,32 @@
 //! [`env::lightset_io`]); a model never names a consumer (the BRDF trait has no hooks for the
 //! kernels: they match on [`material::Material`]).
 //!
+//! ## Adding an environment method
+//! An `[env] method` is a variant of two closed enums: [`env::prepare::EnvMethod`], the
+//! method as the scene file and the command line name it (with `auto`), and
+//! [`scene::Environment`], what the method prepared, which [`scene::Scene`] holds and every
+//! consumer matches without a wildcard arm. Adding the two variants, the compiler names
+//! every site that must say what the method does (20 matches in 10 files, measured with a
+//! dummy variant):
+//! 1. `src/env/prepare.rs`: the `EnvMethod` variant, its name and its `[env]` fields
+//!    ([`env::prepare::EnvSpec`]);
+//! 2. `src/scene/env_table.rs`: the fields it reads ([`scene::method_fields`]; a field of
+//!    another method is an error) and how it is written back;
+//! 3. `src/scene/env_method.rs`: whether the GPU build draws it and `export` writes it;
+//! 4. `src/scene/environment.rs`: the `Environment` variant, its arm of
+//!    [`scene::build_environment`] (the one function [`scene::Scene::resolve`] and the
+//!    sweep build an environment with) and of every method there: its delta lights, the
+//!    table or cuts shading adds, turning it, the command line's report, the golden
+//!    summary, the viewer's preview, why it has no light list;
+//! 5. `src/scene/resolve.rs`: whether a `[transfer] table` file may shade beside it;
+//! 6. `src/sweep/grid.rs`: its axis of the sweep's grid (or none);
+//! 7. `src/view/refine.rs` and `src/view/app.rs`: the viewer's refinement ladder and status line;
+//! 8. `src/cli/render.rs`: its preparation's progress bar.
+//!
+//! A method that adds a term of its own to the image also writes it under [`shade`] (called
+//! from `shade/entry.rs` through an accessor of [`scene::Environment`], as the transfer
+//! table and the light cuts are). Its docs: docs/scene-format.md, docs/environment-methods.md.
+//!
 //! ## Conventions
 //! Every coordinate convention (world axes, spherical angle names, the shading frame and
 //! its azimuth, texel centres, probe orientation) lives in [`conventions`], and every other

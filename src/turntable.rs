@@ -6,24 +6,14 @@
 //! - [`Motion::Camera`]: the camera position orbits its look-at target
 //!   (`target + rotate_about_up(position - target, angle)`), up and field of view kept, so
 //!   the object appears to turn clockwise;
-//! - [`Motion::Environment`]: the camera stays and the last `env_lights` directional lights
-//!   of the scene turn ([`frame_scene`]; `render --turntable-env` passes
-//!   [`EnvSummary::lights`](crate::scene::EnvSummary::lights)); point lights never turn.
-//!   What that turns depends on the `[env]` method:
-//!   - `lights`: every light that came from the probe (they follow the explicit
-//!     `[[light]]`s, which stay fixed). This is exactly the light set of the probe rotated
-//!     by the angle for the samplers that work on the probe's texels (median cut,
-//!     importance, stratified, Lloyd, full), and it keeps the set rigid from frame to frame
-//!     (no re-sampling flicker).
-//!   - `transfer`: only the exact lights (the brightest texels); the transfer table
-//!     ([`Scene::transfer`]) stays put, so the table's part of the probe does not turn.
-//!   - `lightcuts`: the light tree ([`Scene::lightcuts`]) stays put. No environment light is
-//!     in [`Scene::lights`], but `EnvSummary::lights` counts the tree's texels, so every
-//!     directional light of the scene turns: the explicit `[[light]]`s, if any.
-//!
-//!   So only `lights` turns the environment; `auto`, unless `sampler`, `count` or a light
-//!   set file is stated, is `transfer` or `lightcuts` for every known material
-//!   ([`crate::scene::env_method`]).
+//! - [`Motion::Environment`]: the camera stays and the environment turns: frame `k` is the
+//!   scene whose `[env] rotation` is `360 k / N` degrees more
+//!   ([`Scene::with_environment_turned`]: the environment is built again from the probe at
+//!   that rotation, for every method, so frame `k` has the bits of a static render of the
+//!   scene file stating that rotation; light sets and transfer tables come from the cache
+//!   when it holds them). The scene's own `[[light]]`s stay fixed. An environment not
+//!   made from a probe (a light set file, a `[transfer] table` file) is turned rigidly
+//!   ([`crate::scene::Environment::turned_rigidly`]).
 //!
 //! Files: from the output path `DIR/OUT.png`, frame `k` is `DIR/OUT_kkkk.png` (4 digits,
 //! more when `N > 10000`) and the GIF is `DIR/OUT.gif`. The GIF is always built from the
@@ -33,8 +23,8 @@
 //! to a single run's.
 
 use crate::conventions::rotate_about_up;
+use crate::env::prepare::CacheDir;
 use crate::error::{Error, Result};
-use crate::light::Light;
 use crate::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -46,8 +36,7 @@ pub const MAX_FRAMES: usize = 100_000;
 pub enum Motion {
     /// The camera orbits the look-at point.
     Camera,
-    /// The last `env_lights` directional lights turn ([`frame_scene`]; module doc: the
-    /// environment's delta lights under `[env] method = "lights"`); the camera stays.
+    /// The environment turns ([`frame_scene`], module doc); the camera stays.
     Environment,
 }
 
@@ -56,28 +45,57 @@ pub fn frame_angle(k: usize, n: usize) -> f64 {
     std::f64::consts::TAU * k as f64 / n as f64
 }
 
-/// The scene of frame `k` of `n`. [`Motion::Environment`] turns the directional lights
-/// among the last `env_lights` of `base.lights` (all of them when `env_lights` exceeds
-/// their number); `base.transfer` and `base.lightcuts` are never turned (module doc).
-pub fn frame_scene(base: &Scene, env_lights: usize, motion: Motion, k: usize, n: usize) -> Scene {
-    let a = frame_angle(k, n);
-    let mut s = base.clone();
+/// Angle of frame `k` of `n`, degrees: `360 k / n` (exact where that is an integer).
+pub fn frame_degrees(k: usize, n: usize) -> f64 {
+    360.0 * k as f64 / n as f64
+}
+
+/// The scene of frame `k` of `n` (module doc). [`Motion::Environment`] builds the
+/// environment again at the frame's rotation, reading and writing light sets and transfer
+/// tables in `cache`; errors are those of building it.
+pub fn frame_scene(
+    base: &Scene,
+    motion: Motion,
+    k: usize,
+    n: usize,
+    cache: &CacheDir,
+) -> Result<Scene> {
+    frame_scene_seeded(base, motion, k, n, cache, TurnFault::None)
+}
+
+/// A seeded fault of turning (tests only): what the turntable test must catch.
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TurnFault {
+    #[default]
+    None,
+    /// Every frame is the unturned scene: nothing turns.
+    NothingTurns,
+}
+
+/// [`frame_scene`] with a seeded fault (tests only).
+#[doc(hidden)]
+pub fn frame_scene_seeded(
+    base: &Scene,
+    motion: Motion,
+    k: usize,
+    n: usize,
+    cache: &CacheDir,
+    fault: TurnFault,
+) -> Result<Scene> {
+    if fault == TurnFault::NothingTurns {
+        return Ok(base.clone());
+    }
     match motion {
         Motion::Camera => {
+            let mut s = base.clone();
             let c = &mut s.camera;
             let rel = (c.position - c.target).as_dvec3();
-            c.position = c.target + rotate_about_up(rel, a).as_vec3();
+            c.position = c.target + rotate_about_up(rel, frame_angle(k, n)).as_vec3();
+            Ok(s)
         }
-        Motion::Environment => {
-            let first = s.lights.len() - env_lights.min(s.lights.len());
-            for l in &mut s.lights[first..] {
-                if let Light::Directional { to_light, .. } = l {
-                    *to_light = rotate_about_up(to_light.as_dvec3(), a).as_vec3();
-                }
-            }
-        }
+        Motion::Environment => base.with_environment_turned(frame_degrees(k, n), cache),
     }
-    s
 }
 
 /// Checks a turntable's frame count (1 to [`MAX_FRAMES`]).
@@ -178,7 +196,7 @@ mod tests {
     fn camera_orbit_keeps_distance_and_height() {
         let base = Scene::default_scene();
         for k in 0..8 {
-            let s = frame_scene(&base, 0, Motion::Camera, k, 8);
+            let s = frame_scene(&base, Motion::Camera, k, 8, &CacheDir::None).unwrap();
             let (a, b) = (
                 base.camera.position - base.camera.target,
                 s.camera.position - s.camera.target,
@@ -191,8 +209,9 @@ mod tests {
         let mut b = base.clone();
         b.camera.target = glam::Vec3::ZERO;
         b.camera.position = glam::Vec3::Z;
-        let s = frame_scene(&b, 0, Motion::Camera, 1, 4);
+        let s = frame_scene(&b, Motion::Camera, 1, 4, &CacheDir::None).unwrap();
         assert!((s.camera.position - glam::Vec3::X).length() < 1e-6);
-        assert_eq!(frame_scene(&b, 0, Motion::Camera, 0, 4).camera, b.camera);
+        let s0 = frame_scene(&b, Motion::Camera, 0, 4, &CacheDir::None).unwrap();
+        assert_eq!(s0.camera, b.camera);
     }
 }

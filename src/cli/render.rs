@@ -5,7 +5,7 @@
 
 use super::{CullArg, RenderArgs, SceneArgs};
 use crate::aov;
-use crate::env::prepare::{CacheDir, EnvSpec};
+use crate::env::prepare::{CacheDir, EnvMethod, EnvSpec};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::library::Representation;
@@ -70,16 +70,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
     file.resolve_env_method();
     // Light cuts stated for the GPU: refused before the tree is built (seconds for a large
     // probe), in the words the GPU renderer uses.
-    if a.device == super::device::Device::Gpu
-        && file
+    if a.device == super::device::Device::Gpu {
+        if let Some(why) = file
             .env
             .as_ref()
-            .is_some_and(|e| e.method == crate::env::prepare::EnvMethod::Lightcuts)
-    {
-        return Err(Error::Message(format!(
-            "--device gpu: {}",
-            env_method::LIGHTCUTS_NOT_ON_GPU
-        )));
+            .and_then(|e| env_method::gpu_unsupported(e.method))
+        {
+            return Err(Error::Message(format!("--device gpu: {why}")));
+        }
     }
     let outputs: Vec<PathBuf> = match a.output.clone().or(file.output.path.clone()) {
         Some(p) => vec![p],
@@ -119,28 +117,31 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let resolve_base = base.as_path();
     // Counts the light set's preparation when it is computed (nothing on a cache hit).
     let light_set = match &file.env {
-        // Length 0: drawn only once the build sets it (nothing on a cache hit).
-        Some(env) if env.method == crate::env::prepare::EnvMethod::Transfer => Progress::bar(
-            0,
-            &format!(
-                "transfer table: {} x {} normals",
-                env.transfer_azimuth, env.transfer_polar
-            ),
-            "rows",
-        ),
-        // The light tree's build (~0.3 s) is not counted.
-        Some(env) if env.method == crate::env::prepare::EnvMethod::Lightcuts => Progress::hidden(),
-        // A light set file is read, not sampled.
-        Some(env) if env.lights.is_some() => Progress::hidden(),
-        Some(env) => {
-            let config = env.sampler_config();
-            let what = match config.n() {
-                Some(n) => format!("light set: {n} lights by {}", config.name()),
-                None => "light set: the full probe".to_string(),
-            };
-            Progress::bar(0, &what, config.progress_unit())
-        }
         None => Progress::hidden(),
+        Some(env) => match env.method {
+            // Length 0: drawn only once the build sets it (nothing on a cache hit).
+            EnvMethod::Transfer => Progress::bar(
+                0,
+                &format!(
+                    "transfer table: {} x {} normals",
+                    env.transfer_azimuth, env.transfer_polar
+                ),
+                "rows",
+            ),
+            // The light tree's build (~0.3 s) is not counted.
+            EnvMethod::Lightcuts => Progress::hidden(),
+            // A light set file is read, not sampled.
+            EnvMethod::Lights if env.lights.is_some() => Progress::hidden(),
+            // `auto` was made concrete above.
+            EnvMethod::Lights | EnvMethod::Auto => {
+                let config = env.sampler_config();
+                let what = match config.n() {
+                    Some(n) => format!("light set: {n} lights by {}", config.name()),
+                    None => "light set: the full probe".to_string(),
+                };
+                Progress::bar(0, &what, config.progress_unit())
+            }
+        },
     };
     let scene = Scene::resolve_with_progress(&file, resolve_base, &cache, &light_set);
     light_set.finish();
@@ -171,22 +172,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 "warning: {label}: the probe carries no light (every texel black or negative): the environment adds nothing"
             );
         }
-        let (cached, what) = match &scene.transfer {
-            Some(t) => (
-                "transfer-table",
-                format!(
-                    "a {} x {} transfer table and {} exact lights",
-                    t.grid().0,
-                    t.grid().1,
-                    e.lights
-                ),
-            ),
-            None if scene.lightcuts.is_some() => (
-                "light-set",
-                format!("light cuts through a tree of {} texels", e.lights),
-            ),
-            None => ("light-set", format!("{} lights", e.lights)),
-        };
+        let (cached, what) = scene.environment.report(e.lights);
         // Say what `auto` chose, and how to choose otherwise.
         let what = match file.env.as_ref().filter(|_| auto_method) {
             Some(env) => format!(
@@ -223,6 +209,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             &scene,
             n,
             a.output.clone().or(file.output.path.clone()),
+            &cache,
         );
     }
     let start = std::time::Instant::now();

@@ -1,9 +1,10 @@
 //! `brdfkit render --turntable N`: the frames of an orbit (or, with `--turntable-env`,
-//! turning environment lights: [`crate::turntable`] says which turn),
+//! the environment turning: [`crate::turntable`]),
 //! sharded over machines with `--shard`, assembled into a GIF.
 
 use super::RenderArgs;
 use crate::aov;
+use crate::env::prepare::CacheDir;
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::progress::Progress;
@@ -35,6 +36,7 @@ pub(super) fn run_turntable(
     scene: &Scene,
     n: usize,
     out: Option<PathBuf>,
+    cache: &CacheDir,
 ) -> Result<()> {
     let out = turntable_output(out)?;
     let shard = match &a.shard {
@@ -42,7 +44,7 @@ pub(super) fn run_turntable(
         None => Shard::ALL,
     };
     let motion = if a.turntable_env {
-        if scene.env.is_none() {
+        if scene.environment.method().is_none() {
             return Err(Error::field(
                 "--turntable-env",
                 "needs an environment: give --env PROBE or an [env] table",
@@ -52,7 +54,6 @@ pub(super) fn run_turntable(
     } else {
         Motion::Camera
     };
-    let env_lights = scene.env.as_ref().map_or(0, |e| e.lights);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(scene.render.threads)
         .build()
@@ -69,7 +70,7 @@ pub(super) fn run_turntable(
     let pb = Progress::bar(frames.len() as u64, "turntable", "frames");
     let start = std::time::Instant::now();
     for &k in &frames {
-        let s = turntable::frame_scene(scene, env_lights, motion, k, n);
+        let s = turntable::frame_scene(scene, motion, k, n, cache)?;
         let img = pool.install(|| render::render(&s, &opts)).image;
         let path = turntable::frame_path(&out, k, n);
         match a.common.aov {

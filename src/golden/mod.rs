@@ -62,7 +62,6 @@ pub use tolerance::*;
 
 use crate::aov::Aov;
 use crate::compare::{self, Loaded, Thresholds};
-use crate::env::prepare::SamplerKind;
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image};
 use crate::kernel::lanes::{Dispatch, KernelPath};

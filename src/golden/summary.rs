@@ -57,17 +57,11 @@ pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
             .map(|v| v.get_name().to_string())
             .unwrap_or_default();
         let lights = scene.env.as_ref().map_or(0, |e| e.lights);
-        let transfer = env.method == crate::env::prepare::EnvMethod::Transfer;
-        parts.push(match env.sampler {
-            _ if transfer => format!(
-                "env {} transfer {}x{} + {lights} exact",
-                file_name(&env.file),
-                env.transfer_azimuth,
-                env.transfer_polar
-            ),
-            SamplerKind::Full => format!("env {} full ({lights} lights)", file_name(&env.file)),
-            _ => format!("env {} {sampler} {lights}", file_name(&env.file)),
-        });
+        let probe = file_name(&env.file);
+        parts.push(format!(
+            "env {probe} {}",
+            scene.environment.summary(&sampler, env.sampler, lights)
+        ));
         if env.rotation != 0.0 {
             parts.push(format!("env rotated {} deg", env.rotation));
         }

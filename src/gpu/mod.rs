@@ -61,15 +61,20 @@ pub fn unsupported(scene: &Scene, aov: Option<Aov>) -> Option<String> {
                 .into(),
         );
     }
-    if scene.lightcuts.is_some() {
-        return Some(crate::scene::env_method::LIGHTCUTS_NOT_ON_GPU.into());
+    if let Some(why) = scene.environment.gpu_unsupported() {
+        return Some(why.into());
     }
     match &scene.material {
         Material::AshikhminShirley(_) | Material::Merl(_) => Some(format!(
             "material '{}' is not implemented on the GPU",
             scene.material.name()
         )),
-        _ => None,
+        Material::Lambert(_)
+        | Material::Phong(_)
+        | Material::BlinnPhong(_)
+        | Material::DBrdf(_)
+        | Material::LambertDbrdf(_)
+        | Material::Sh(_) => None,
     }
 }
 

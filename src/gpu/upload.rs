@@ -223,7 +223,7 @@ impl Uploads {
         }
 
         let mut lights: Vec<GpuLight> = scene
-            .lights
+            .delta_lights()
             .iter()
             .map(|l| match *l {
                 Light::Directional {
@@ -247,7 +247,7 @@ impl Uploads {
             lights.push(GpuLight::zeroed());
         }
 
-        let (xfer, xfer_rot, mut transfer) = match scene.transfer.as_deref() {
+        let (xfer, xfer_rot, mut transfer) = match scene.environment.transfer_table() {
             Some(t) => {
                 let (nu, nv) = t.grid();
                 (

@@ -41,6 +41,26 @@ pub const LIGHTCUTS_NOT_ON_GPU: &str =
     "[env] method = \"lightcuts\" refines an adaptive cut of a light tree per pixel, which \
      the GPU path does not do; on a GPU use \"transfer\" or a light set (\"lights\")";
 
+/// Why the GPU renderer does not draw `method`, or `None` when it does: light sets and
+/// transfer tables, and `auto` (which [`choose`] makes a light set where the CPU would cut a
+/// light tree). [`super::Environment::gpu_unsupported`] says the same of a built one.
+pub fn gpu_unsupported(method: EnvMethod) -> Option<&'static str> {
+    match method {
+        EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer => None,
+        EnvMethod::Lightcuts => Some(LIGHTCUTS_NOT_ON_GPU),
+    }
+}
+
+/// Whether `brdfkit export` refuses `method`: it writes delta lights (a light set) or a
+/// transfer table and its exact lights; a light tree is neither (`auto` is made concrete
+/// first).
+pub fn export_unsupported(method: EnvMethod) -> bool {
+    match method {
+        EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer => false,
+        EnvMethod::Lightcuts => true,
+    }
+}
+
 /// The renderer a frame is drawn by, as far as `auto` depends on it (module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Renderer {
@@ -94,7 +114,7 @@ pub fn choose(
     chosen.method = concrete_method(env, material);
     if env.method != EnvMethod::Auto
         || renderer == Renderer::Cpu
-        || chosen.method != EnvMethod::Lightcuts
+        || gpu_unsupported(chosen.method).is_none()
     {
         return (chosen, None);
     }
@@ -153,9 +173,13 @@ mod tests {
                 format!("[material]\nkind = \"lambert\"\n[env]\nfile = \"p.exr\"\n{stated}\n");
             assert_eq!(method_of(&text), EnvMethod::Lights, "{stated}");
         }
-        // An explicit method wins over the rule.
+        // An explicit method other than `lights`: `count` is another method's field, an error.
         let text = "[material]\nkind = \"lambert\"\n[env]\nfile = \"p.exr\"\ncount = 64\nmethod = \"transfer\"\n";
-        assert_eq!(method_of(text), EnvMethod::Transfer);
+        let e = SceneFile::parse(text).unwrap_err();
+        assert!(
+            e.starts_with("line 5: env.count: belongs to method = \"lights\""),
+            "{e}"
+        );
         // A stated `auto` stays auto (a written-out scene file states every field).
         let text = "[env]\nfile = \"p.exr\"\nmethod = \"auto\"\ncount = 64\n";
         assert_eq!(method_of(text), EnvMethod::Lightcuts);

@@ -7,7 +7,7 @@
 //! part of the schema lives with the rest of the material in `material.rs`.
 
 use super::MaterialSpec;
-use crate::env::prepare::{EnvMethod, EnvSpec};
+use crate::env::prepare::EnvSpec;
 use crate::error::{Error, Result};
 use crate::image_io::Tonemap;
 use crate::kernel::lanes::KernelPath;
@@ -28,7 +28,12 @@ pub struct SceneFile {
     #[serde(rename = "light")]
     pub lights: Option<Vec<LightSpec>>,
     /// Environment light: a probe, shaded by `[env] method` (delta lights, a transfer
-    /// table or light cuts; `auto`: [`super::env_method`]).
+    /// table or light cuts; `auto`: [`super::env_method`]). Read and written as the table
+    /// states it (`env_table.rs`: a field of another method is an error).
+    #[serde(
+        deserialize_with = "super::env_table::deserialize",
+        serialize_with = "super::env_table::serialize"
+    )]
     pub env: Option<EnvSpec>,
     /// A transfer table read from a file (`brdfkit export` writes one for `[env] method =
     /// "transfer"`): its term is added to the lights' as that method adds its own table's.
@@ -193,28 +198,13 @@ impl SceneFile {
         SceneFile::parse(&text).map_err(|m| Error::format(path, m))
     }
 
-    /// Parses scene TOML text; the error is one line. An `[env]` table that states
+    /// Parses scene TOML text, once; the error is one line. An `[env]` table that states
     /// `sampler` or `count` and no `method` asks for a delta light set: its method becomes
-    /// `lights` ([`super::env_method`]); a stated `method = "auto"` stays `auto`.
+    /// `lights` ([`super::env_method`]); a stated `method = "auto"` stays `auto`. A field of
+    /// `[env]` that belongs to another method than the table's is an error naming the field
+    /// and its method (`env_table.rs`).
     pub fn parse(text: &str) -> std::result::Result<SceneFile, String> {
-        let mut file: SceneFile =
-            toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))?;
-        if let Some(env) = file.env.as_mut() {
-            if env.method == EnvMethod::Auto {
-                let table: toml::Table =
-                    toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))?;
-                let stated = |key: &str| {
-                    table
-                        .get("env")
-                        .and_then(toml::Value::as_table)
-                        .is_some_and(|t| t.contains_key(key))
-                };
-                if !stated("method") && (stated("sampler") || stated("count")) {
-                    env.method = EnvMethod::Lights;
-                }
-            }
-        }
-        Ok(file)
+        toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))
     }
 
     /// Replaces `[env] method = "auto"` by the method it stands for under this scene's

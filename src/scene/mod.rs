@@ -10,7 +10,10 @@
 //! spec, what a `--material` value names, and building the material
 //! ([`MaterialSpec`]); `resolve.rs`, checking every value and loading the parts into a
 //! [`Scene`] ([`Scene::resolve`]); `camera.rs`, the camera ([`camera::Camera`]);
-//! `env_method.rs`, the method `[env] method = "auto"` stands for ([`env_method`]).
+//! `env_method.rs`, the method `[env] method = "auto"` stands for ([`env_method`]);
+//! `env_table.rs`, the `[env]` table as written ([`method_fields`]);
+//! `environment.rs`, the environment as one closed type and the one function that builds
+//! it ([`Environment`], [`build_environment`]).
 //!
 //! The format, every field with its default and examples, is `docs/scene-format.md`,
 //! included below as the one description (the README and `brdfkit render --help` point to it;
@@ -21,10 +24,14 @@
 pub mod camera;
 pub mod env_method;
 mod fields;
+mod env_table;
+mod environment;
 mod file;
 mod material;
 mod resolve;
 
+pub use env_table::method_fields;
+pub use environment::{build_environment, Environment, ProbeSource};
 pub use file::{
     default_lights, CameraSpec, LightSpec, MeshSpec, OutputSpec, Precision, RenderSpec, SceneFile,
     TransferFileSpec, MAX_SCENE_BYTES,

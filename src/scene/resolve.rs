@@ -8,11 +8,11 @@
 
 use super::camera::{self, Camera};
 use super::fields::{nonneg, rgb, vec3};
+use super::environment::{build_environment, Environment, ProbeSource};
 use super::material::resolve_material;
 use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
-use crate::env::lightcuts::{prepare_lightcuts, LightCuts};
-use crate::env::prepare::{self, CacheDir, EnvMethod};
-use crate::env::transfer::{prepare_transfer, TransferBasis, TransferTable};
+use crate::env::prepare::{self, CacheDir};
+use crate::env::transfer::TransferBasis;
 use crate::error::{Error, Result};
 use crate::kernel::lanes::KernelPath;
 use crate::light::Light;
@@ -32,23 +32,23 @@ pub struct Scene {
     pub camera: Camera,
     /// The material, built once here ([`Material`], the closed set of shadeable models).
     pub material: Material,
+    /// The scene's own delta lights (its `[[light]]` tables, or the default light); the
+    /// environment's are in `environment` ([`Scene::delta_lights`] gives both).
     pub lights: Vec<Light>,
     pub render: RenderSpec,
     pub output: OutputSpec,
+    /// How the environment is shaded and what its method prepared ([`Environment`]).
+    pub environment: Environment,
     /// What environment preparation did, when the scene has an `[env]`.
     pub env: Option<EnvSummary>,
-    /// The environment's transfer table when `[env] method = "transfer"`
-    /// ([`crate::env::transfer`]); shading adds its radiance to that of `lights`.
-    pub transfer: Option<Arc<TransferTable>>,
-    /// The environment's light tree and cut parameters when `[env] method = "lightcuts"`
-    /// ([`crate::env::lightcuts`]); shading adds each pixel's cut to `lights`.
-    pub lightcuts: Option<Arc<LightCuts>>,
 }
 
 /// A summary of the environment light preparation, for the command line to report.
 #[derive(Clone, Debug)]
 pub struct EnvSummary {
     pub file: PathBuf,
+    /// Lights the method prepared: a light set's, a transfer table's exact lights, or the
+    /// leaves (texels) of a light cuts tree.
     pub lights: usize,
     pub cache_hit: bool,
     /// Why an existing cache entry was ignored ([`prepare::Prepared::cache_rejected`]).
@@ -62,6 +62,11 @@ pub struct EnvSummary {
     /// The lights' RGB irradiances at normal incidence summed, after `[env] intensity`
     /// ([`crate::env::LightSet::total_irradiance`], W/m^2 for a probe in W/(m^2 sr)).
     pub total_irradiance: [f64; 3],
+    /// The `[env]` table the environment was built from (its method concrete), and the
+    /// directory its paths resolve against: what [`Scene::with_environment_turned`] builds
+    /// again at another rotation.
+    pub spec: prepare::EnvSpec,
+    pub base: PathBuf,
 }
 
 /// Loads the mesh named by `source`: "teapot", "sphere" or an OBJ path (relative paths
@@ -186,9 +191,6 @@ impl Scene {
             });
         }
 
-        let mut env = None;
-        let mut transfer = None;
-        let mut lightcuts = None;
         // `auto` replaced by the method it stands for under this material.
         let env_spec = file.env.clone().map(|mut s| {
             s.method = super::env_method::concrete_method(&s, &file.material);
@@ -208,85 +210,19 @@ impl Scene {
                 }
             }
         }
-        if let Some(spec) = env_spec
-            .as_ref()
-            .filter(|s| s.method == EnvMethod::Lightcuts)
-        {
-            crate::material::cone_bound::ConeBound::new(&material)
-                .map_err(|why| Error::field("env.method", format!("\"lightcuts\": {why}")))?;
-            let p = prepare_lightcuts(spec, base)?;
-            // Every texel of positive weight is a light (a leaf of the tree).
-            let tree = &p.cuts.tree;
-            env = Some(EnvSummary {
-                file: base.join(&spec.file),
-                lights: tree.len().div_ceil(2),
-                cache_hit: false,
-                cache_rejected: None,
-                negative_texels: p.report.negative_texels,
-                probe_report: Some(p.report),
-                probe_size: Some(p.report.size),
-                total_irradiance: tree.leaf_irradiance_sum().to_array(),
-            });
-            lightcuts = Some(Arc::new(p.cuts));
-        } else if let Some(spec) = env_spec
-            .as_ref()
-            .filter(|s| s.method == EnvMethod::Transfer)
-        {
-            let basis = match &material {
-                Material::Sh(ds) => TransferBasis::Sh {
-                    bands: ds.bands(),
-                    cosine: !ds.cosine_included(),
-                },
-                Material::Lambert(_) => TransferBasis::Irradiance,
-                m => {
-                    return Err(Error::field(
-                        "env.method",
-                        format!(
-                            "\"transfer\" shades SH data sets and Lambert only, not {}",
-                            m.name()
-                        ),
-                    ))
-                }
-            };
-            let p = prepare_transfer(spec, base, basis, cache.path(), progress)?;
-            cache.record_use(p.cache_file.as_deref(), p.cache_hit);
-            lights.extend(prepare::to_scene_lights(&p.lights));
-            env = Some(EnvSummary {
-                file: base.join(&spec.file),
-                lights: p.lights.len(),
-                cache_hit: p.cache_hit,
-                cache_rejected: p.cache_rejected.clone(),
-                negative_texels: p.report.negative_texels,
-                probe_report: Some(p.report),
-                probe_size: Some(p.report.size),
-                total_irradiance: p.lights.total_irradiance().to_array(),
-            });
-            transfer = Some(Arc::new(p.table));
-        } else if let Some(spec) = &env_spec {
-            let prepared = prepare::prepare_with_progress(spec, base, cache.path(), progress)?;
-            cache.record_use(prepared.cache_file.as_deref(), prepared.cache_hit);
-            lights.extend(prepare::to_scene_lights(&prepared.lights));
-            env = Some(EnvSummary {
-                // The light set file when `[env] lights` names one (the probe is not read).
-                file: base.join(spec.lights.as_ref().unwrap_or(&spec.file)),
-                lights: prepared.lights.len(),
-                cache_hit: prepared.cache_hit,
-                cache_rejected: prepared.cache_rejected,
-                negative_texels: prepared.report.as_ref().map_or(0, |r| r.negative_texels),
-                probe_report: prepared.report,
-                probe_size: prepared.report.as_ref().map(|r| r.size),
-                total_irradiance: prepared.lights.total_irradiance().to_array(),
-            });
-        }
+        let (mut environment, env) = match &env_spec {
+            Some(spec) => {
+                let source = ProbeSource::Files {
+                    base,
+                    cache,
+                    progress,
+                };
+                build_environment(spec, &material, source)?
+            }
+            None => (Environment::None, None),
+        };
 
         if let Some(t) = &file.transfer {
-            if transfer.is_some() {
-                return Err(Error::field(
-                    "transfer.table",
-                    "the [env] builds its own table (method = \"transfer\"): a scene shades \
-                     with one table",
-                ));
-            }
             let table = crate::env::transfer::file::read_table(&base.join(&t.table))?;
             let wanted = TransferBasis::for_material(&material);
             if wanted != Some(table.basis()) {
@@ -304,7 +240,29 @@ impl Scene {
                     ),
                 ));
             }
-            transfer = Some(Arc::new(table));
+            // The table shades beside the `[env]`'s light set, if any.
+            let exact = match environment {
+                Environment::None => Vec::new(),
+                Environment::Lights(lights) => lights,
+                Environment::Transfer { .. } => {
+                    return Err(Error::field(
+                        "transfer.table",
+                        "the [env] builds its own table (method = \"transfer\"): a scene \
+                         shades with one table",
+                    ))
+                }
+                Environment::LightCuts(_) => {
+                    return Err(Error::field(
+                        "transfer.table",
+                        "the [env] shades with light cuts (method = \"lightcuts\"): a table \
+                         shades beside a light set only",
+                    ))
+                }
+            };
+            environment = Environment::Transfer {
+                table: Arc::new(table),
+                exact,
+            };
         }
 
         let aspect = r.width as f32 / r.height as f32;
@@ -316,10 +274,64 @@ impl Scene {
             lights,
             render: r.clone(),
             output: file.output.clone(),
+            environment,
             env,
-            transfer,
-            lightcuts,
         })
+    }
+
+    /// Every delta light shading sums: the scene's own (`lights`), then the environment's
+    /// ([`Environment::delta_lights`]).
+    pub fn delta_lights(&self) -> std::borrow::Cow<'_, [Light]> {
+        let env = self.environment.delta_lights();
+        if env.is_empty() {
+            std::borrow::Cow::Borrowed(&self.lights)
+        } else if self.lights.is_empty() {
+            std::borrow::Cow::Borrowed(env)
+        } else {
+            std::borrow::Cow::Owned([self.lights.as_slice(), env].concat())
+        }
+    }
+
+    /// The scene with its environment turned by `degrees` about world up (+y, right-handed,
+    /// as `[env] rotation` turns it): built again from its `[env]` at the rotation
+    /// `rotation + degrees` ([`build_environment`]; light sets and transfer tables come
+    /// from `cache` when it holds them), so the result is the scene a file stating that
+    /// rotation resolves to, for every method. An environment not made from a probe (a
+    /// light set file, `[env] lights`; a `[transfer] table` file) is turned rigidly
+    /// ([`Environment::turned_rigidly`]). Errors: those of building it.
+    pub fn with_environment_turned(&self, degrees: f64, cache: &CacheDir) -> Result<Scene> {
+        let mut s = self.clone();
+        match &self.env {
+            // Built from a probe by its `[env]` alone (no light set file, no table file).
+            Some(e)
+                if e.spec.lights.is_none() && self.environment.method() == Some(e.spec.method) =>
+            {
+                let mut spec = e.spec.clone();
+                spec.rotation += degrees;
+                let source = ProbeSource::Files {
+                    base: &e.base,
+                    cache,
+                    progress: &Progress::hidden(),
+                };
+                (s.environment, s.env) = build_environment(&spec, &self.material, source)?;
+            }
+            _ => {
+                s.environment = self
+                    .environment
+                    .turned_rigidly(degrees.to_radians())
+                    .ok_or_else(|| {
+                        Error::field(
+                            "env.rotation",
+                            format!(
+                                "the environment ({}) is turned by building it again from its \
+                                 probe, and this scene names none",
+                                self.environment.name()
+                            ),
+                        )
+                    })?;
+            }
+        }
+        Ok(s)
     }
 
     /// The default scene (no file).

@@ -55,7 +55,7 @@ pub struct Shaded {
 pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
     let rule = opts.frame_rule(&scene.material);
     let mut shaded = shade_lights(scene, vis, opts, &rule);
-    if let Some(table) = &scene.transfer {
+    if let Some(table) = scene.environment.transfer_table() {
         assert!(
             fits(table, &scene.material),
             "the scene's transfer table does not fit its material"
@@ -66,7 +66,7 @@ pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
             add_transfer(scene, vis, table, &mut shaded.image, &rule);
         }
     }
-    if let Some(cuts) = &scene.lightcuts {
+    if let Some(cuts) = scene.environment.light_cuts() {
         // The kernels' path shares one cut per tile; the scalar oracle keeps the per-pixel
         // cut as the reference (`lightcuts/tile.rs`).
         let shared = (shaded.path == ShadingPath::Kernels).then(|| {
@@ -87,7 +87,7 @@ fn shade_lights(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions, rule: &Fram
             image: shade_f64_no_skips(scene, vis, &opts.progress, rule),
             path,
             counts: ShadeCounts::default(),
-            lights: scene.lights.len(),
+            lights: scene.delta_lights().len(),
             lights_dropped: 0,
             dropped_fraction: 0.0,
             sh_bands: (0, 0),

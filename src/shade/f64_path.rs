@@ -34,12 +34,13 @@ pub(super) fn shade_f64_no_skips(
 ) -> Image {
     let brdf = scene.material.as_brdf();
     let eye = scene.camera.position.as_dvec3();
+    let lights = scene.delta_lights();
     shade_per_pixel(scene, vis, progress, |s| {
         let ([t, b, n], wo) = frame_and_view_f64(s, eye, rule);
         let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
         let p = s.position.as_dvec3();
         let mut sum = DVec3::ZERO;
-        for light in &scene.lights {
+        for light in lights.iter() {
             let (l, e) = light.at_f64(p);
             let wi = local(l);
             if wi.z > 0.0 {

@@ -91,7 +91,7 @@ impl<'a> FramePrep<'a> {
             Some(m) => (scene.render.drop_lights, m),
             None => (0.0, Vec3::ZERO),
         };
-        let dropped = skip::drop_weak_lights(&scene.lights, fraction, max_f_cos);
+        let dropped = skip::drop_weak_lights(&scene.delta_lights(), fraction, max_f_cos);
         let dir = DirLights::from_lights(&dropped.kept);
         let dropped_dir = DirLights::from_lights(&dropped.removed);
         let chunk_live = (0..dir.chunks())
@@ -125,7 +125,7 @@ impl<'a> FramePrep<'a> {
             dropped_chunks: (0..dropped_dir.chunks() as u32).collect(),
             dropped_dir,
             points: scene
-                .lights
+                .delta_lights()
                 .iter()
                 .copied()
                 .filter(|l| matches!(l, Light::Point { .. }))
@@ -145,7 +145,7 @@ impl<'a> FramePrep<'a> {
             cull_lights: opts.cull_lights,
             chunk_live,
             lights_total: scene
-                .lights
+                .delta_lights()
                 .iter()
                 .filter(|l| matches!(l, Light::Directional { .. }))
                 .count(),

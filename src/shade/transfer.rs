@@ -65,7 +65,12 @@ pub(super) fn add_transfer(
                     let k = m.albedo / std::f32::consts::PI;
                     c.copy_from_slice(&[k.x, k.y, k.z]);
                 }
-                _ => return,
+                Material::Phong(_)
+                | Material::BlinnPhong(_)
+                | Material::AshikhminShirley(_)
+                | Material::DBrdf(_)
+                | Material::LambertDbrdf(_)
+                | Material::Merl(_) => return,
             }
             band[p.at] += table.radiance_with(p.surface.normal, c, tbuf);
         });
@@ -90,7 +95,12 @@ pub(super) fn fits(table: &TransferTable, material: &Material) -> bool {
     match material {
         Material::Sh(ds) => table.terms() == ds.bands() * ds.bands(),
         Material::Lambert(_) => table.terms() == 1,
-        _ => false,
+        Material::Phong(_)
+        | Material::BlinnPhong(_)
+        | Material::AshikhminShirley(_)
+        | Material::DBrdf(_)
+        | Material::LambertDbrdf(_)
+        | Material::Merl(_) => false,
     }
 }
 
@@ -107,10 +117,16 @@ pub(crate) struct TransferTerm<'a> {
 impl<'a> TransferTerm<'a> {
     /// The scene's transfer term, if it has a table.
     pub(super) fn of(scene: &'a Scene) -> Option<TransferTerm<'a>> {
-        let table = scene.transfer.as_deref()?;
+        let table = scene.environment.transfer_table()?;
         let lambert = match &scene.material {
             Material::Lambert(m) => Some((m.albedo / std::f32::consts::PI).to_array()),
-            _ => None,
+            Material::Sh(_)
+            | Material::Phong(_)
+            | Material::BlinnPhong(_)
+            | Material::AshikhminShirley(_)
+            | Material::DBrdf(_)
+            | Material::LambertDbrdf(_)
+            | Material::Merl(_) => None,
         };
         Some(TransferTerm { table, lambert })
     }

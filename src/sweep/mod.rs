@@ -124,4 +124,4 @@ pub use grid::{
 };
 pub use merge::merge;
 pub use pareto::{fastest_within, finish_rows, pareto_front, ERROR_BOUND};
-pub use run::{Environment, Sweep};
+pub use run::Sweep;

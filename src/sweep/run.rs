@@ -6,49 +6,33 @@
 //! each configuration's scene, times it and measures it ([`super::metrics`]). Times are
 //! wall-clock ([`Instant`]) and kept at the CSV's precision.
 //!
-//! A row's environment ([`Sweep::environment`]) is made from the decoded probe exactly as
-//! `brdfkit render` makes it for that `[env]` (the same calls, so the same bits): `lights`,
-//! the sampler's light set ([`crate::env::prepare::prepare`]); `transfer`, the table and
-//! the brightest texels as lights ([`crate::env::transfer::prepare_transfer`]), built for
-//! the row's SH order (the truncated data set's bands); `lightcuts`, the light tree of every
-//! texel with the row's cut parameters ([`crate::env::lightcuts::prepare_lightcuts`]).
+//! A row's environment ([`Sweep::environment`]) is the scene's `[env]` with the row's method
+//! and parameters, built by the one function `brdfkit render` builds it with
+//! ([`crate::scene::build_environment`]) from the probe decoded once
+//! ([`ProbeSource::Decoded`]), so the same bits; a `transfer` row's table is built for the
+//! row's SH order (the truncated data set's bands).
 
 use super::cache::write_cached_reference;
 use super::MethodAxis;
 use super::{metrics, read_cached_reference, reference_key};
 use super::{Config, DefaultConfig, Grid, Row};
 use crate::compare::Loaded;
-use crate::env::lightcuts::{LightCuts, LightTree};
-use crate::env::prepare::EnvSpec;
-use crate::env::transfer::{self, TransferBasis, TransferTable};
-use crate::env::{LightSet, Probe};
+use crate::env::prepare::{EnvMethod, EnvSpec};
+use crate::env::transfer::TransferBasis;
+use crate::env::Probe;
 use crate::error::{Error, Result};
 use crate::image_io::Image;
-use crate::light::Light;
 use crate::progress::Progress;
-use crate::scene::{Precision, Scene, SceneFile};
+use crate::scene::{build_environment, Environment, Precision, ProbeSource, Scene, SceneFile};
 use crate::sh::dataset::ShDataset;
 use crate::shard::Shard;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
-
-/// What a row's environment method made from the probe: delta lights (the sampler's, or
-/// the texels summed exactly beside a transfer table), the transfer table and the light
-/// cuts, if any.
-#[derive(Clone)]
-pub struct Environment {
-    pub lights: LightSet,
-    pub transfer: Option<Arc<TransferTable>>,
-    pub lightcuts: Option<Arc<LightCuts>>,
-}
 
 /// What a prepared sweep holds: the scene template, the probe, the reference.
 pub struct Sweep {
-    /// The scene without its environment lights (explicit lights kept), f32.
+    /// The scene without its environment (its own lights kept), f32.
     template: Scene,
-    /// The explicit (non-environment) lights of the scene.
-    explicit: Vec<Light>,
     env: EnvSpec,
     probe: Probe,
     /// The SH data set of the material, if SH.
@@ -103,8 +87,6 @@ impl Sweep {
         // Resolve with the full probe: the reference's light set (computed: no light-set
         // cache; collapsing a probe into one light per texel is cheaper than reading one).
         let full = Scene::resolve(&file, base)?;
-        let env_lights = full.env.as_ref().map_or(0, |e| e.lights);
-        let explicit = full.lights[..full.lights.len() - env_lights].to_vec();
         let sh = full.material.as_sh().cloned();
         let mut notes = grid.fit_material(sh.as_ref().map(ShDataset::bands), |m| match m {
             super::MethodKind::Lights => None,
@@ -209,10 +191,9 @@ impl Sweep {
             precision: Precision::F32,
         };
         let mut template = full;
-        template.lights = Vec::new();
+        template.environment = Environment::None;
         Ok(Sweep {
             template,
-            explicit,
             env,
             probe,
             sh,
@@ -258,76 +239,42 @@ impl Sweep {
     /// in [`Sweep::prepare`], for every row.
     pub fn environment(&self, method: &MethodAxis, order: usize) -> Result<(Environment, f64)> {
         let start = Instant::now();
-        let env = match *method {
+        let mut spec = self.env.clone();
+        // The probe is sampled (a light set file, if the scene names one, is not read).
+        spec.lights = None;
+        let material = match *method {
             MethodAxis::Lights { sampler, count } => {
-                let mut ls = sampler.config(count, self.env.seed).run(&self.probe);
-                // The scene's `[env] intensity`, exactly as `env::prepare::prepare` applies it.
-                self.env.scale_intensity(&mut ls);
-                Environment {
-                    lights: ls,
-                    transfer: None,
-                    lightcuts: None,
-                }
+                spec.method = EnvMethod::Lights;
+                (spec.sampler, spec.count) = (sampler, count);
+                self.template.material.clone()
             }
             MethodAxis::Transfer {
                 azimuth,
                 polar,
                 exact_lights,
             } => {
-                let basis = match self.dataset(order)? {
-                    Some(ds) => TransferBasis::for_material(&crate::material::Material::from(ds)),
-                    None => TransferBasis::for_material(&self.template.material),
-                }
-                .ok_or_else(|| {
-                    Error::field("--methods", "transfer shades SH data sets and Lambert only")
-                })?;
-                // As `env::transfer::prepare_transfer` does for the scene's `[env]`.
-                let exact = transfer::brightest_texels(&self.probe, exact_lights);
-                let table = transfer::build_table(
-                    &self.probe,
-                    basis,
-                    (azimuth, polar),
-                    &exact,
-                    self.env.intensity,
-                    &Progress::hidden(),
-                    transfer::BuildFault::None,
-                )?;
-                Environment {
-                    lights: transfer::build::texel_lights(&self.probe, &exact, self.env.intensity),
-                    transfer: Some(Arc::new(table)),
-                    lightcuts: None,
+                spec.method = EnvMethod::Transfer;
+                (spec.transfer_azimuth, spec.transfer_polar) = (azimuth, polar);
+                spec.exact_lights = exact_lights;
+                match self.dataset(order)? {
+                    Some(ds) => ds.into(),
+                    None => self.template.material.clone(),
                 }
             }
             MethodAxis::Lightcuts { cut_error, cut_max } => {
-                // As `env::lightcuts::prepare_lightcuts` does for the scene's `[env]`.
-                let mut spec = self.env.clone();
-                spec.cut_error = cut_error;
-                spec.cut_max = cut_max;
-                spec.check()?;
-                Environment {
-                    lights: LightSet::default(),
-                    transfer: None,
-                    lightcuts: Some(Arc::new(LightCuts {
-                        tree: LightTree::build(&self.probe, self.env.intensity),
-                        cut_error,
-                        cut_max,
-                        fault: crate::material::cone_bound::BoundFault::None,
-                        tile_fault: crate::env::lightcuts::TileFault::None,
-                    })),
-                }
+                spec.method = EnvMethod::Lightcuts;
+                (spec.cut_error, spec.cut_max) = (cut_error, cut_max);
+                self.template.material.clone()
             }
         };
+        let (env, _) = build_environment(&spec, &material, ProbeSource::Decoded(&self.probe))?;
         Ok((env, start.elapsed().as_secs_f64() * 1e3))
     }
 
     /// The scene of a configuration with its environment.
     pub fn scene(&self, c: &Config, env: &Environment) -> Result<Scene> {
         let mut s = self.template.clone();
-        s.lights = self.explicit.clone();
-        s.lights
-            .extend(crate::env::prepare::to_scene_lights(&env.lights));
-        s.transfer = env.transfer.clone();
-        s.lightcuts = env.lightcuts.clone();
+        s.environment = env.clone();
         s.render.precision = c.precision;
         if let Some(mut d) = self.dataset(c.order)? {
             if let Some(l) = c.lookup {

@@ -156,14 +156,17 @@ impl App {
                 // The names a scene file and the command line spell (`median-cut`), never
                 // Rust's (`MedianCut`).
                 let m = e.method.name();
+                use crate::env::prepare::EnvMethod;
                 match e.method {
-                    crate::env::prepare::EnvMethod::Lights => {
+                    EnvMethod::Lights => {
                         let sampler = clap::ValueEnum::to_possible_value(&e.sampler)
                             .map(|v| v.get_name().to_string())
                             .unwrap_or_default();
                         format!("{probe} {m} {sampler} {}", e.count)
                     }
-                    _ => format!("{probe} {m}"),
+                    EnvMethod::Auto | EnvMethod::Transfer | EnvMethod::Lightcuts => {
+                        format!("{probe} {m}")
+                    }
                 }
             }
         };

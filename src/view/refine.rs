@@ -63,8 +63,8 @@ pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
                     .min(MAX_LIGHTS)
             }
             EnvMethod::Lightcuts => env.cut_error /= factor as f32,
-            #[allow(unreachable_patterns)]
-            _ => {}
+            // Made concrete above (`resolve_env_method`).
+            EnvMethod::Auto => {}
         }
     }
     if k >= steps {

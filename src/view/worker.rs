@@ -14,11 +14,9 @@
 
 use super::background::Background;
 use crate::aov::Aov;
-use crate::conventions::rotate_about_up;
 use crate::env::prepare::CacheDir;
 use crate::image_io::display::display_u8;
 use crate::image_io::Image;
-use crate::light::Light;
 use crate::render::{self, RenderOptions};
 use crate::scene::{resolve_camera, Scene, SceneFile};
 use std::collections::BTreeSet;
@@ -192,8 +190,7 @@ fn run_job(
     let rotation = job.file.env.as_ref().map(|e| e.rotation);
     let reuse = kept.as_ref().is_some_and(|k| {
         k.key == key
-            && (k.rotation == rotation
-                || (job.preview && k.scene.transfer.is_none() && k.scene.lightcuts.is_none()))
+            && (k.rotation == rotation || (job.preview && k.scene.environment.previews_rigidly()))
     });
     if !reuse {
         let scene = Scene::resolve_with_cache(&job.file, Path::new("."), cache)
@@ -209,15 +206,12 @@ fn run_job(
     let mut scene = k.scene.clone();
     let exact = k.rotation == rotation;
     if !exact {
-        // Turn the environment's lights (the last `env.lights` of the scene's) rigidly.
+        // Turn the environment rigidly (a preview: `Environment::previews_rigidly`).
         let turn = (rotation.unwrap_or(0.0) - k.rotation.unwrap_or(0.0)).to_radians();
-        let n = scene.env.as_ref().map_or(0, |e| e.lights);
-        let first = scene.lights.len() - n.min(scene.lights.len());
-        for l in &mut scene.lights[first..] {
-            if let Light::Directional { to_light, .. } = l {
-                *to_light = rotate_about_up(to_light.as_dvec3(), turn).as_vec3();
-            }
-        }
+        scene.environment = scene
+            .environment
+            .turned_rigidly(turn)
+            .ok_or("a preview turns a light set only")?;
     }
     let r = &job.file.render;
     scene.render.width = r.width;
@@ -251,7 +245,7 @@ fn run_job(
         pixels,
         frame_ms: start.elapsed().as_secs_f64() * 1e3,
         render_ms,
-        lights: scene.lights.len(),
+        lights: scene.delta_lights().len(),
     })
 }
 

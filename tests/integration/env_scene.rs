@@ -287,6 +287,84 @@ fn env_errors_name_the_field_or_file() {
     assert!(e.contains("cuont"), "{e}");
 }
 
+/// A field of another method than the `[env]`'s is an error naming the field (on its line)
+/// and the method it belongs to; under `auto` every method's fields are accepted; a table
+/// written back states its method and reads back as the same spec.
+#[test]
+fn a_field_of_another_method_is_an_error_naming_both() {
+    let text = "[material]\nkind = \"lambert\"\n[env]\nfile = \"x.exr\"\nmethod = \"transfer\"\ncut_error = 0.02\n";
+    let e = SceneFile::parse(text).unwrap_err();
+    assert_eq!(
+        e,
+        "line 6: env.cut_error: belongs to method = \"lightcuts\", not to this [env]'s \
+         method \"transfer\""
+    );
+    for (stated, field, owner) in [
+        (
+            "method = \"lights\"\nexact_lights = 4",
+            "exact_lights",
+            "transfer",
+        ),
+        (
+            "method = \"lightcuts\"\nsampler = \"full\"",
+            "sampler",
+            "lights",
+        ),
+        (
+            "method = \"transfer\"\nlights = \"set.json\"",
+            "lights",
+            "lights",
+        ),
+        ("count = 16\ncut_max = 10", "cut_max", "lightcuts"),
+    ] {
+        let e = SceneFile::parse(&format!("[env]\nfile = \"x.exr\"\n{stated}\n")).unwrap_err();
+        assert!(
+            e.starts_with(&format!(
+                "line 4: env.{field}: belongs to method = \"{owner}\""
+            )),
+            "{e}"
+        );
+    }
+    let e = SceneFile::parse("[env]\nfile = \"x.exr\"\ncount = 16\ncut_max = 10\n").unwrap_err();
+    assert!(
+        e.ends_with("(it states sampler or count and no method)"),
+        "{e}"
+    );
+    // Under `auto`, each applies when `auto` chooses its method.
+    let auto = "[env]\nfile = \"x.exr\"\nexact_lights = 8\ncut_error = 0.02\nseed = 3\n";
+    let f = SceneFile::parse(auto).unwrap();
+    let env = f.env.as_ref().unwrap();
+    assert_eq!(env.method, brdfkit::env::prepare::EnvMethod::Auto);
+    assert_eq!((env.exact_lights, env.cut_error, env.seed), (8, 0.02, 3));
+    // Written back: each method's table reads back as the same method and fields.
+    for method in ["auto", "lights", "transfer", "lightcuts"] {
+        let mut f =
+            SceneFile::parse(&format!("[env]\nfile = \"x.exr\"\nmethod = \"{method}\"\n")).unwrap();
+        f.env.as_mut().unwrap().rotation = 30.0;
+        let back = SceneFile::parse(&toml::to_string(&f).unwrap()).unwrap();
+        assert_eq!(
+            format!("{:?}", back.env),
+            format!("{:?}", f.env),
+            "{method}"
+        );
+    }
+    // The command line: one line naming the scene file, the line and the field.
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("s.toml");
+    std::fs::write(&path, text).unwrap();
+    let r =
+        crate::common::brdfkit(tmp.path()).run(&["render", path.to_str().unwrap(), "-o", "x.png"]);
+    assert!(!r.success());
+    let line = r.stderr.trim();
+    assert!(
+        line.contains("s.toml")
+            && line.contains("line 6: env.cut_error: belongs to method = \"lightcuts\"")
+            && !line.contains('\n'),
+        "{line}"
+    );
+    assert!(!tmp.path().join("x.png").exists());
+}
+
 /// The lines of `stderr` that are the probe loader's negative-texel warning.
 fn negative_warnings(stderr: &str) -> Vec<&str> {
     stderr

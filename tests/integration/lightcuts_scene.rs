@@ -7,7 +7,7 @@ use brdfkit::env::lightcuts::LightCuts;
 use brdfkit::image_io::Image;
 use brdfkit::material::cone_bound::BoundFault;
 use brdfkit::render::{rasterize, render, RenderOptions};
-use brdfkit::scene::{Scene, SceneFile};
+use brdfkit::scene::{Environment, Scene, SceneFile};
 use brdfkit::shade::{shade, CutStats, ShadeOptions, ShadingPath};
 use std::path::Path;
 use std::sync::Arc;
@@ -55,7 +55,7 @@ fn lightcuts_match_the_converged_reference() {
             let r = reference(probe, material);
             let s = scene(probe, material, "method = \"lightcuts\"").unwrap();
             assert!(
-                s.lights.is_empty(),
+                s.delta_lights().is_empty(),
                 "the probe is in the tree, not in lights"
             );
             let (got, cuts) = cut_render(&s);
@@ -158,9 +158,9 @@ fn seeded_bound_faults_fail_the_accuracy_check() {
     let s = scene("city", BLINN_PHONG_200, "method = \"lightcuts\"").unwrap();
     for fault in [BoundFault::IgnoreCone, BoundFault::HalfCone] {
         let mut faulty = s.clone();
-        let mut cuts: LightCuts = (**s.lightcuts.as_ref().unwrap()).clone();
+        let mut cuts: LightCuts = (**s.environment.light_cuts().unwrap()).clone();
         cuts.fault = fault;
-        faulty.lightcuts = Some(Arc::new(cuts));
+        faulty.environment = Environment::LightCuts(Arc::new(cuts));
         let (got, _) = cut_render(&faulty);
         let e = brdfkit::metrics::relative_rmse(&r, &got, None);
         eprintln!("{fault:?}: rel RMSE {e:.5}");

@@ -59,5 +59,6 @@ mod suspicious_input;
 mod sweep;
 mod sweep_check;
 mod transfer_scene;
+mod turntable_env;
 mod usage_errors;
 mod watertight;

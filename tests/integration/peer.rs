@@ -52,7 +52,7 @@ use brdfkit::material::Material;
 use brdfkit::mesh::{sphere::uv_sphere, Mesh};
 use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::camera::Camera;
-use brdfkit::scene::{OutputSpec, Precision, RenderSpec, Scene};
+use brdfkit::scene::{Environment, OutputSpec, Precision, RenderSpec, Scene};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use serde_json::Value;
@@ -209,9 +209,8 @@ fn scene(meta: &Value, config: Config, lights: Option<Vec<Light>>) -> Scene {
             ..RenderSpec::default()
         },
         output: OutputSpec::default(),
+        environment: Environment::None,
         env: None,
-        transfer: None,
-        lightcuts: None,
     }
 }
 

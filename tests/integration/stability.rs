@@ -464,7 +464,7 @@ fn sh_orders_1_to_10_under_sky_and_studio_f32_within_bound_of_f64() {
             spec.file.display().to_string()
         );
         let env_scene = scene_from(&toml, Path::new("."));
-        s.lights = env_scene.lights.clone();
+        s.lights = env_scene.delta_lights().to_vec();
         assert_eq!(s.lights.len(), 64, "{probe}");
         for bands in 1..=10 {
             s.material = brdfkit::material::Material::from(ds.truncated(bands).unwrap());

@@ -3,7 +3,7 @@
 //! under the shipped probes, and the scene errors of the method.
 
 use brdfkit::render::{render, RenderOptions};
-use brdfkit::scene::{Scene, SceneFile};
+use brdfkit::scene::{Environment, Scene, SceneFile};
 use std::path::Path;
 
 fn scene(probe: &str, material: &str, env_extra: &str) -> brdfkit::error::Result<Scene> {
@@ -33,13 +33,13 @@ fn lambert_transfer_matches_the_converged_reference() {
         )
         .image;
         let s = scene(probe, LAMBERT, grid).unwrap();
-        assert_eq!(s.lights.len(), 16);
+        assert_eq!(s.delta_lights().len(), 16);
         let got = render(&s, &RenderOptions::default()).image;
         let e = brdfkit::metrics::relative_rmse(&reference, &got, None);
         eprintln!("{probe}: Lambert transfer rel RMSE {e:.5}");
         assert!(e < 0.005, "{probe}: rel RMSE {e}");
         let mut lights_only = s.clone();
-        lights_only.transfer = None;
+        lights_only.environment = Environment::Lights(s.environment.delta_lights().to_vec());
         let bare = render(&lights_only, &RenderOptions::default()).image;
         let e0 = brdfkit::metrics::relative_rmse(&reference, &bare, None);
         assert!(e0 > 0.05, "{probe}: the table adds too little ({e0})");
@@ -73,9 +73,14 @@ fn reference_of_a_transfer_scene_is_the_full_probe() {
     let d = tmp.path();
     let probe = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/studio.exr");
     for (name, method) in [("t", "transfer"), ("l", "lights")] {
+        // The table's grid is a field of `transfer` alone (another method's is an error).
+        let grid = match method {
+            "transfer" => "transfer_azimuth = 64\ntransfer_polar = 33\n",
+            _ => "",
+        };
         let text = format!(
             "[mesh]\nsource = \"sphere\"\n[material]\n{LAMBERT}\n[env]\nfile = {:?}\n\
-             method = \"{method}\"\ntransfer_azimuth = 64\ntransfer_polar = 33\n",
+             method = \"{method}\"\n{grid}",
             probe.to_str().unwrap()
         );
         std::fs::write(d.join(format!("{name}.toml")), text).unwrap();
@@ -161,7 +166,7 @@ fn fast_path_matches_the_scalar_oracle_within_the_tolerance() {
         assert!(worst <= FAST_PATH_TOLERANCE, "{probe}: {worst:.2e}");
         // The check sees the term: without it the fast image is far off.
         let mut bare = s.clone();
-        bare.transfer = None;
+        bare.environment = Environment::Lights(s.environment.delta_lights().to_vec());
         let vis = brdfkit::render::rasterize(&bare, false);
         let no_term = brdfkit::shade::shade(&bare, &vis, &ShadeOptions::default()).image;
         assert!(worst_relative(&no_term, &oracle) > 100.0 * FAST_PATH_TOLERANCE);
@@ -202,7 +207,7 @@ fn env_method_flag_and_table_cache() {
     let probe = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr");
     let text = format!(
         "[mesh]\nsource = \"sphere\"\n[material]\n{LAMBERT}\n[env]\nfile = {:?}\n\
-         method = \"lights\"\ntransfer_azimuth = 32\ntransfer_polar = 17\n",
+         method = \"auto\"\ntransfer_azimuth = 32\ntransfer_polar = 17\n",
         probe.to_str().unwrap()
     );
     std::fs::write(d.join("s.toml"), text).unwrap();
@@ -257,7 +262,7 @@ fn env_method_flag_and_table_cache() {
     );
     assert!(first == third);
     assert_eq!(std::fs::read(&files[0]).unwrap(), entry);
-    // The flag does take effect: the scene's own method renders another image.
+    // The flag does take effect: `--env-method lights` renders another image.
     let (_, lights) = render("lights", "d.exr");
     assert!(lights != first);
     let show = cli.run(&["cache"]);

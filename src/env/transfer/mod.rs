@@ -82,7 +82,12 @@ impl TransferBasis {
                 cosine: !ds.cosine_included(),
             }),
             Material::Lambert(_) => Some(TransferBasis::Irradiance),
-            _ => None,
+            Material::Phong(_)
+            | Material::BlinnPhong(_)
+            | Material::AshikhminShirley(_)
+            | Material::DBrdf(_)
+            | Material::LambertDbrdf(_)
+            | Material::Merl(_) => None,
         }
     }
 

@@ -45,6 +45,17 @@ impl TransferTable {
         }
     }
 
+    /// The same table read with the probe turned by `angle` radians more about +y (the
+    /// values are in the probe's own frame; only the lookup's rotation changes).
+    pub fn turned(&self, angle: f64) -> TransferTable {
+        let rotation = self.rotation as f64 + angle;
+        TransferTable {
+            rotation: rotation as f32,
+            unrotate: (-(rotation as f32)).sin_cos(),
+            ..self.clone()
+        }
+    }
+
     /// Every value (layout in the type's doc).
     pub fn values(&self) -> &[f32] {
         &self.values

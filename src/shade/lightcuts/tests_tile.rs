@@ -97,7 +97,7 @@ fn nodes_at(tree: &LightTree, depth: usize) -> Vec<(usize, Vec<usize>)> {
 /// number of pairs checked and the largest tile spread seen.
 fn violations(material: &str, fault: TileFault) -> (usize, usize, f32) {
     let scene = patch_scene(material);
-    let cuts = scene.lightcuts.as_ref().unwrap();
+    let cuts = scene.environment.light_cuts().unwrap();
     let tree = &cuts.tree;
     let bound = ConeBound::new(&scene.material).unwrap();
     let m: &Material = &scene.material;

@@ -186,7 +186,11 @@ impl TileFrame {
         let k = match material {
             Material::DBrdf(_) | Material::LambertDbrdf(_) => k1,
             Material::AshikhminShirley(_) => k1 * k2,
-            _ => 1.0,
+            Material::Lambert(_)
+            | Material::Phong(_)
+            | Material::BlinnPhong(_)
+            | Material::Merl(_)
+            | Material::Sh(_) => 1.0,
         };
         let (a, delta) = (a + ANGLE_SLACK, delta + ANGLE_SLACK);
         TileFrame {
