@@ -47,6 +47,52 @@ pub fn spectral_wavelengths() -> Vec<f32> {
     (0..24).map(|k| 370.0 + 20.0 * k as f32).collect()
 }
 
+fn blinn_rgb() -> BlinnPhong {
+    BlinnPhong {
+        kd: Vec3::new(0.3, 0.2, 0.1),
+        ks: Vec3::splat(0.5),
+        exponent: 20.0,
+    }
+}
+
+fn aniso() -> AshikhminShirley {
+    AshikhminShirley {
+        nu: 8.0,
+        nv: 64.0,
+        rs: Vec3::splat(0.25),
+        rd: Vec3::new(0.35, 0.2, 0.1),
+    }
+}
+
+const SPECTRAL_KS: f64 = 0.4;
+const SPECTRAL_EXPONENT: f64 = 40.0;
+
+/// The RGB Blinn-Phong the spectral material stands for (module doc).
+fn spectral_reference() -> BlinnPhong {
+    let waves = spectral_wavelengths();
+    let weights = srgb_weights(&waves.iter().map(|&w| w as f64).collect::<Vec<_>>());
+    let mut kd = DVec3::ZERO;
+    for (w, c) in waves.iter().zip(&weights) {
+        kd += DVec3::from(*c) * spectral_kd(*w as f64);
+    }
+    BlinnPhong {
+        kd: kd.as_vec3(),
+        ks: Vec3::splat(SPECTRAL_KS as f32),
+        exponent: SPECTRAL_EXPONENT as f32,
+    }
+}
+
+/// The analytic RGB BRDF of the test material `name` without writing its file, or `None`
+/// for an unknown name.
+pub fn source(name: &str) -> Option<Box<dyn Brdf>> {
+    Some(match name {
+        "blinn-rgb" => Box::new(blinn_rgb()),
+        "aniso-rgb" => Box::new(aniso()),
+        "blinn-spectral" => Box::new(spectral_reference()),
+        _ => return None,
+    })
+}
+
 /// The test material `name` (module doc), or `None` for an unknown name.
 pub fn sample(name: &str) -> Option<Sample> {
     let iso = Layout {
@@ -59,11 +105,7 @@ pub fn sample(name: &str) -> Option<Sample> {
     };
     Some(match name {
         "blinn-rgb" => {
-            let m = BlinnPhong {
-                kd: Vec3::new(0.3, 0.2, 0.1),
-                ks: Vec3::splat(0.5),
-                exponent: 20.0,
-            };
+            let m = blinn_rgb();
             let f = move |l: DVec3, v: DVec3| m.eval_f64(l, v).to_array().to_vec();
             let desc = "brdfkit test material: Blinn-Phong kd 0.3/0.2/0.1, ks 0.5, n 20";
             Sample {
@@ -72,12 +114,7 @@ pub fn sample(name: &str) -> Option<Sample> {
             }
         }
         "aniso-rgb" => {
-            let m = AshikhminShirley {
-                nu: 8.0,
-                nv: 64.0,
-                rs: Vec3::splat(0.25),
-                rd: Vec3::new(0.35, 0.2, 0.1),
-            };
+            let m = aniso();
             let (nu, nv) = (m.nu as f64, m.nv as f64);
             let ndf = move |h: DVec3| {
                 let s2 = (1.0 - h.z * h.z).max(0.0);
@@ -106,7 +143,7 @@ pub fn sample(name: &str) -> Option<Sample> {
         }
         "blinn-spectral" => {
             let waves = spectral_wavelengths();
-            let (ks, n) = (0.4f64, 40.0f64);
+            let (ks, n) = (SPECTRAL_KS, SPECTRAL_EXPONENT);
             let lobe = BlinnPhong {
                 kd: Vec3::ZERO,
                 ks: Vec3::splat(1.0),
@@ -124,11 +161,6 @@ pub fn sample(name: &str) -> Option<Sample> {
                     .map(|&w| spectral_kd(w as f64) * d + spec)
                     .collect()
             };
-            let weights = srgb_weights(&waves.iter().map(|&w| w as f64).collect::<Vec<_>>());
-            let mut kd = DVec3::ZERO;
-            for (w, c) in waves.iter().zip(&weights) {
-                kd += DVec3::from(*c) * spectral_kd(*w as f64);
-            }
             let layout = Layout {
                 wavelengths: Some(waves),
                 ..iso
@@ -136,11 +168,7 @@ pub fn sample(name: &str) -> Option<Sample> {
             let desc = "brdfkit test material: spectral Blinn-Phong, orange kd, ks 0.4, n 40";
             Sample {
                 bytes: tabulate(&layout, &blinn_ndf(n), &f, desc),
-                source: Box::new(BlinnPhong {
-                    kd: kd.as_vec3(),
-                    ks: Vec3::splat(ks as f32),
-                    exponent: n as f32,
-                }),
+                source: Box::new(spectral_reference()),
             }
         }
         _ => return None,
