@@ -20,7 +20,7 @@
 //! (what adaptive light cuts need), a function of this enum.
 
 use crate::brdf::{
-    AshikhminShirley, BlinnPhong, Brdf, DBrdf, Lambert, LambertDbrdf, MerlBrdf, Phong,
+    AshikhminShirley, BlinnPhong, Brdf, DBrdf, Lambert, LambertDbrdf, MerlBrdf, Phong, RglBrdf,
 };
 use crate::conventions::{texel_center, FrameRule};
 use crate::sh::dataset::ShDataset;
@@ -48,6 +48,8 @@ pub enum Material {
     LambertDbrdf(Arc<LambertDbrdf>),
     /// A MERL table ([`MerlBrdf`]).
     Merl(Arc<MerlBrdf>),
+    /// An RGL `.bsdf` material ([`RglBrdf`]): measured, isotropic or anisotropic.
+    Rgl(Arc<RglBrdf>),
     /// An SH data set (thesis 2.3.3-2.3.4): an SH file or a library acquisition; shaded by
     /// the SH kernel.
     Sh(Arc<ShDataset>),
@@ -64,6 +66,7 @@ macro_rules! dispatch {
             Material::DBrdf($m) => $body,
             Material::LambertDbrdf($m) => $body,
             Material::Merl($m) => $body,
+            Material::Rgl($m) => $body,
             Material::Sh($m) => $body,
         }
     };
@@ -80,6 +83,7 @@ impl Material {
             Material::DBrdf(m) => m.as_ref(),
             Material::LambertDbrdf(m) => m.as_ref(),
             Material::Merl(m) => m.as_ref(),
+            Material::Rgl(m) => m.as_ref(),
             Material::Sh(m) => m.as_ref(),
         }
     }
@@ -118,7 +122,7 @@ impl Material {
     /// isotropic tabulated materials"): the view-aligned frame for the isotropic tabulated
     /// models (an isotropic SH data set with the view at azimuth texel 0's centre, an
     /// isotropic D-BRDF or Lambert + D-BRDF with the view at azimuth 0), the world-up frame
-    /// for every other material (anisotropic tables, and the analytic models and MERL,
+    /// for every other material (anisotropic tables, and the analytic models, MERL and RGL,
     /// which are exact functions of the angles).
     pub fn frame_rule(&self) -> FrameRule {
         match self {
@@ -166,7 +170,8 @@ macro_rules! from_shared {
         }
     )*};
 }
-from_shared!(DBrdf => DBrdf, LambertDbrdf => LambertDbrdf, MerlBrdf => Merl, ShDataset => Sh);
+from_shared!(DBrdf => DBrdf, LambertDbrdf => LambertDbrdf, MerlBrdf => Merl,
+    RglBrdf => Rgl, ShDataset => Sh);
 
 #[cfg(test)]
 mod tests {

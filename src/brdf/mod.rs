@@ -15,7 +15,8 @@
 //! ([`dbrdf::file`]; MERL's reader is [`MerlBrdf::read`]).
 //!
 //! Layout: one file per model ([`lambert`], [`phong`], [`blinn_phong`],
-//! [`ashikhmin_shirley`], [`dbrdf`] with its file format, [`merl`], [`lambert_dbrdf`] the
+//! [`ashikhmin_shirley`], [`dbrdf`] with its file format, [`merl`], [`rgl`] (RGL `.bsdf`
+//! tensor files, reader and writer), [`lambert_dbrdf`] the
 //! Lambert + D-BRDF lobe); [`stand_ins`] the library's source models by name; [`real`]
 //! the f32/f64 operations an analytic model's one generic formula uses.
 
@@ -27,6 +28,7 @@ pub mod lambert_dbrdf;
 pub mod merl;
 pub mod phong;
 pub mod real;
+pub mod rgl;
 pub mod stand_ins;
 #[cfg(test)]
 mod tests_analytic;
@@ -50,6 +52,7 @@ pub use lambert::Lambert;
 pub use lambert_dbrdf::LambertDbrdf;
 pub use merl::MerlBrdf;
 pub use phong::Phong;
+pub use rgl::RglBrdf;
 
 use glam::Vec3;
 

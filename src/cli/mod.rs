@@ -70,7 +70,7 @@ pub enum Command {
     },
     /// Acquire a BRDF as an SH data set (f_r cos per view texel) and print its error table.
     #[command(
-        after_help = "SOURCE is a library material (`brdfkit materials`), a MERL .binary path, or an analytic spec:\n  lambert:albedo=0.8/0.2/0.1\n  blinn-phong:kd=0.5,ks=0.2,exponent=60   (also phong)\n  ashikhmin-shirley:nu=10,nv=200,rs=0.05,rd=0.5/0.1/0.1\n\nExample:\n  brdfkit acquire teal-paint --bands 8 --method lsq --grid 16x8 -o teal.exr\n\nThe table lists bands 1..N for every method: relative L2 error of f_r cos over the hemisphere,\nthe most negative value relative to the peak, and the share of samples below zero."
+        after_help = "SOURCE is a library material (`brdfkit materials`), a MERL .binary or RGL .bsdf path, or an analytic spec:\n  lambert:albedo=0.8/0.2/0.1\n  blinn-phong:kd=0.5,ks=0.2,exponent=60   (also phong)\n  ashikhmin-shirley:nu=10,nv=200,rs=0.05,rd=0.5/0.1/0.1\n\nExample:\n  brdfkit acquire teal-paint --bands 8 --method lsq --grid 16x8 -o teal.exr\n\nThe table lists bands 1..N for every method: relative L2 error of f_r cos over the hemisphere,\nthe most negative value relative to the peak, and the share of samples below zero."
     )]
     Acquire(AcquireArgs),
     /// Fit a D-BRDF (p(h) table, c, R_s) to a BRDF, print its error and write it.
@@ -241,7 +241,7 @@ pub struct SweepArgs {
 
 #[derive(clap::Args, Debug)]
 pub struct AcquireArgs {
-    /// Library material name, MERL .binary path, or analytic spec (see below).
+    /// Library material name, MERL .binary or RGL .bsdf path, or analytic spec (see below).
     pub source: String,
     /// Number of SH bands (orders), 1 to 10.
     #[arg(long, default_value_t = 8)]
@@ -268,7 +268,7 @@ pub struct AcquireArgs {
 
 #[derive(clap::Args, Debug)]
 pub struct FitDbrdfArgs {
-    /// Library material name, MERL .binary path, or analytic spec (as for `acquire`).
+    /// Library material name, MERL .binary or RGL .bsdf path, or analytic spec (as for `acquire`).
     pub source: String,
     /// Half-vector table NUxNV (each 1 to 1024).
     #[arg(long, default_value = "64x32", value_parser = parse::grid)]
@@ -324,7 +324,7 @@ pub struct SceneArgs {
     /// How the environment is shaded (with --env or a scene's [env]); overrides the scene's `[env] method`. `transfer`: SH data sets and Lambert only. `render --reference` always shades the full probe.
     #[arg(long, value_enum, value_name = "METHOD")]
     pub env_method: Option<crate::env::prepare::EnvMethod>,
-    /// Material: a library name (`brdfkit materials`) or a file: .exr (an SH data set from `brdfkit acquire` or a D-BRDF from `brdfkit fit-dbrdf`) or .binary (a MERL table). Overrides the scene's `[material]`.
+    /// Material: a library name (`brdfkit materials`) or a file: .exr (an SH data set from `brdfkit acquire` or a D-BRDF from `brdfkit fit-dbrdf`) or .binary (a MERL table) or .bsdf (an RGL material). Overrides the scene's `[material]`.
     #[arg(long)]
     pub material: Option<String>,
     /// Coefficient lookup of an SH material (library or file): nearest (GL_NEAREST) or bilinear (GL_LINEAR). Overrides the scene's `material.lookup` and the lookup the file records (acquired files record bilinear; files without one use nearest). An error for a material that is not an SH data set.

@@ -462,6 +462,9 @@ fn set_lookup(material: &mut MaterialSpec, mode: Lookup) -> Result<()> {
         MaterialSpec::MerlFile { path } => {
             Err(not_sh(&format!("the MERL table {}", path.display())))
         }
+        MaterialSpec::RglFile { path } => {
+            Err(not_sh(&format!("the RGL material {}", path.display())))
+        }
         MaterialSpec::Lambert { .. } => Err(not_sh("analytic (lambert)")),
         MaterialSpec::BlinnPhong { .. } => Err(not_sh("analytic (blinn-phong)")),
     }

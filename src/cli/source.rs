@@ -3,7 +3,8 @@
 //! Design rule: one parser, tried in a fixed order, each form unambiguous:
 //! 1. a library material name ([`crate::library::LIBRARY`], e.g. `blue-silk`): its
 //!    *source model* ([`crate::brdf::stand_ins`], not its rendering representation);
-//! 2. a path ending in `.binary`: a MERL table ([`crate::brdf::MerlBrdf::read`]);
+//! 2. a path ending in `.binary`: a MERL table ([`crate::brdf::MerlBrdf::read`]); a path
+//!    ending in `.bsdf`: an RGL material ([`crate::brdf::RglBrdf::read`]);
 //! 3. an analytic spec `KIND[:KEY=VALUE,...]` with KIND `lambert` (albedo),
 //!    `blinn-phong` / `phong` (kd, ks, exponent) or `ashikhmin-shirley` (nu, nv, rs, rd).
 //!    A colour is `r/g/b` or one number for grey; omitted keys take the scene defaults
@@ -12,7 +13,7 @@
 //!
 //! Errors name the argument (`SOURCE`) or the key and say what is wrong, in one line.
 
-use crate::brdf::{AshikhminShirley, BlinnPhong, Brdf, Lambert, MerlBrdf, Phong};
+use crate::brdf::{AshikhminShirley, BlinnPhong, Brdf, Lambert, MerlBrdf, Phong, RglBrdf};
 use crate::error::{Error, Result};
 use glam::Vec3;
 use std::path::Path;
@@ -47,13 +48,17 @@ fn colour(key: &str, v: &str) -> Result<Vec3> {
 }
 
 /// Parses `SOURCE` (module doc). Fails with a field error naming `SOURCE` or the key, or
-/// with the MERL reader's error naming the file.
+/// with the MERL or RGL reader's error naming the file.
 pub fn parse_source(s: &str) -> Result<Arc<dyn Brdf>> {
     if let Some(m) = crate::brdf::stand_ins::source_model(s) {
         return Ok(m);
     }
     if s.ends_with(".binary") {
         let m = MerlBrdf::read(Path::new(s)).map_err(|e| Error::format(s, e.to_string()))?;
+        return Ok(Arc::new(m));
+    }
+    if s.ends_with(".bsdf") {
+        let m = RglBrdf::read(Path::new(s)).map_err(|e| Error::format(s, e.to_string()))?;
         return Ok(Arc::new(m));
     }
     let (kind, rest) = s.split_once(':').unwrap_or((s, ""));
@@ -73,7 +78,7 @@ pub fn parse_source(s: &str) -> Result<Arc<dyn Brdf>> {
                 "SOURCE",
                 format!(
                     "{s:?} is not a library material (see `brdfkit materials`), a MERL .binary \
-                     path, or an analytic spec (lambert, blinn-phong, phong, ashikhmin-shirley)"
+                     or RGL .bsdf path, or an analytic spec (lambert, blinn-phong, phong, ashikhmin-shirley)"
                 ),
             ))
         }
@@ -140,5 +145,7 @@ mod tests {
         assert!(e.starts_with("SOURCE"), "{e}");
         let e = err("/nonexistent/x.binary");
         assert!(e.contains("x.binary"), "{e}");
+        let e = err("/nonexistent/y.bsdf");
+        assert!(e.contains("y.bsdf") && e.contains("RGL"), "{e}");
     }
 }

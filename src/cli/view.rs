@@ -34,7 +34,8 @@ fn absolute_paths(file: &mut SceneFile, base: &Path) {
     match &mut file.material {
         MaterialSpec::ShFile { path, .. }
         | MaterialSpec::DbrdfFile { path }
-        | MaterialSpec::MerlFile { path } => *path = base.join(&*path),
+        | MaterialSpec::MerlFile { path }
+        | MaterialSpec::RglFile { path } => *path = base.join(&*path),
         _ => {}
     }
     if let Some(env) = file.env.as_mut() {

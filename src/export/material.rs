@@ -38,12 +38,15 @@ pub(super) fn material_json(m: &Material, file: Option<&str>) -> serde_json::Val
             "coeff_lookup": ds.coeff_lookup,
             "cosine_included": ds.cosine_included(),
         }),
-        Material::Merl(_) => json!({}),
+        Material::Merl(_) | Material::Rgl(_) => json!({}),
     };
     v["model"] = json!(m.name());
     v["file"] = json!(file);
     if matches!(m, Material::Merl(_)) {
         v["note"] = json!("MERL tables are not exported: use the scene's table file");
+    }
+    if matches!(m, Material::Rgl(_)) {
+        v["note"] = json!("RGL tables are not exported: use the scene's .bsdf file");
     }
     v
 }

@@ -36,6 +36,7 @@ pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
         MaterialSpec::ShFile { path, .. } => format!("sh-file {}{representation}", file_name(path)),
         MaterialSpec::DbrdfFile { path } => format!("dbrdf-file {}", file_name(path)),
         MaterialSpec::MerlFile { path } => format!("merl-file {}", file_name(path)),
+        MaterialSpec::RglFile { path } => format!("rgl-file {}", file_name(path)),
     });
     let specs = file.light_specs();
     let count = |point: bool| {

@@ -65,7 +65,7 @@ pub fn unsupported(scene: &Scene, aov: Option<Aov>) -> Option<String> {
         return Some(why.into());
     }
     match &scene.material {
-        Material::AshikhminShirley(_) | Material::Merl(_) => Some(format!(
+        Material::AshikhminShirley(_) | Material::Merl(_) | Material::Rgl(_) => Some(format!(
             "material '{}' is not implemented on the GPU",
             scene.material.name()
         )),

@@ -214,7 +214,7 @@ impl Uploads {
                 ks = v4(m.lobe.rs, m.lobe.c);
                 5
             }
-            Material::AshikhminShirley(_) | Material::Merl(_) => {
+            Material::AshikhminShirley(_) | Material::Merl(_) | Material::Rgl(_) => {
                 unreachable!("refused by gpu::unsupported")
             }
         };

@@ -47,6 +47,7 @@ impl<'a> LaneModel<'a> {
             | Material::AshikhminShirley(_)
             | Material::LambertDbrdf(_)
             | Material::Merl(_)
+            | Material::Rgl(_)
             | Material::Sh(_) => LaneModel::Scalar(material.as_brdf()),
         }
     }

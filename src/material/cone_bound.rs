@@ -272,7 +272,7 @@ impl ConeBound {
                 kd: m.rd / PI,
                 lobe: DbrdfBound::new(&m.lobe),
             },
-            Material::Merl(_) | Material::Sh(_) => {
+            Material::Merl(_) | Material::Rgl(_) | Material::Sh(_) => {
                 return Err(format!(
                     "light cuts have no bound of f cos over a cone for {} (Lambert, Phong, \
                      Blinn-Phong, Ashikhmin-Shirley, D-BRDF and Lambert + D-BRDF have one)",

@@ -80,7 +80,7 @@ pub fn auto_method(material: &MaterialSpec) -> EnvMethod {
     match material {
         MaterialSpec::Lambert { .. } | MaterialSpec::ShFile { .. } => EnvMethod::Transfer,
         MaterialSpec::BlinnPhong { .. } | MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
-        MaterialSpec::MerlFile { .. } => EnvMethod::Lights,
+        MaterialSpec::MerlFile { .. } | MaterialSpec::RglFile { .. } => EnvMethod::Lights,
         MaterialSpec::Library { name, .. } => match library::find(name).map(|e| e.representation) {
             Some(Representation::Sh { .. }) => EnvMethod::Transfer,
             Some(Representation::Dbrdf) => EnvMethod::Lightcuts,

@@ -2,7 +2,7 @@
 //! (the file's extension, then its header), and building the material a spec names.
 //!
 //! Design rule: every way a scene names a material (analytic model, library name, SH file,
-//! D-BRDF file, MERL table) is one [`MaterialSpec`] variant, and [`resolve_material`] is the one place
+//! D-BRDF file, MERL table, RGL file) is one [`MaterialSpec`] variant, and [`resolve_material`] is the one place
 //! that turns a spec into a [`Material`] (the renderer's closed set of models), checking its
 //! values once with errors naming the `material.*` field.
 
@@ -53,16 +53,19 @@ pub enum MaterialSpec {
     /// scene file. Under an environment it is shaded with delta lights (`[env] method =
     /// "auto"` is `lights`).
     MerlFile { path: PathBuf },
+    /// An RGL material (`.bsdf` tensor file, [`crate::brdf::RglBrdf::read`]), path relative
+    /// to the scene file. Under an environment it is shaded with delta lights, as MERL.
+    RglFile { path: PathBuf },
 }
 
 /// The material files `--material` (and `[material] path`) take, by extension, as one
 /// clause of an error message.
 pub const MATERIAL_FILE_KINDS: &str = ".exr (an SH data set from `brdfkit acquire` or a \
-     D-BRDF from `brdfkit fit-dbrdf`) or .binary (a MERL table)";
+     D-BRDF from `brdfkit fit-dbrdf`), .binary (a MERL table) or .bsdf (an RGL material)";
 
 impl MaterialSpec {
     /// The spec for a `--material` value: a library name, else a file path: a MERL table by
-    /// its `.binary` extension, an SH data set or D-BRDF by the `brdfkit.format` attribute
+    /// its `.binary` extension, an RGL material by `.bsdf`, an SH data set or D-BRDF by the `brdfkit.format` attribute
     /// of its EXR header (`MATERIAL_FILE_KINDS`). Fails with a field error naming
     /// `--material` when the value is none of these (one line saying which kinds it takes).
     pub fn from_cli(value: &str) -> Result<MaterialSpec> {
@@ -95,6 +98,7 @@ impl MaterialSpec {
         match ext.as_deref() {
             // Read (and its size checked) when the scene is resolved.
             Some("binary") => return Ok(MaterialSpec::MerlFile { path }),
+            Some("bsdf") => return Ok(MaterialSpec::RglFile { path }),
             Some("exr") => {}
             _ => {
                 return Err(Error::field(
@@ -128,7 +132,7 @@ impl MaterialSpec {
                 format!(
                     "{}: not a brdfkit material file (brdfkit.format is {}; expected '{sh}' \
                      from `brdfkit acquire` or '{dbrdf}' from `brdfkit fit-dbrdf`; a MERL \
-                     table is a .binary file)",
+                     table is a .binary file, an RGL material a .bsdf file)",
                     path.display(),
                     found.map_or("missing".to_string(), |f| format!("'{f}'"))
                 ),
@@ -208,6 +212,10 @@ pub(super) fn resolve_material(spec: &MaterialSpec, base: &Path) -> Result<Mater
         ),
         MaterialSpec::MerlFile { path } => Material::from(
             crate::brdf::MerlBrdf::read(&base.join(path))
+                .map_err(|e| Error::field("material.path", e.to_string()))?,
+        ),
+        MaterialSpec::RglFile { path } => Material::from(
+            crate::brdf::RglBrdf::read(&base.join(path))
                 .map_err(|e| Error::field("material.path", e.to_string()))?,
         ),
     })

@@ -75,7 +75,8 @@ pub fn material_name(m: &MaterialSpec) -> String {
         MaterialSpec::Library { name, .. } => name.clone(),
         MaterialSpec::ShFile { path, .. }
         | MaterialSpec::DbrdfFile { path }
-        | MaterialSpec::MerlFile { path } => path
+        | MaterialSpec::MerlFile { path }
+        | MaterialSpec::RglFile { path } => path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default(),

@@ -300,6 +300,9 @@ fn the_set_covers_every_configuration() {
             // Not required below: a MERL table is 35 MB (tests/integration/material_files.rs
             // renders one).
             MaterialSpec::MerlFile { .. } => ("merl-file", None),
+            // Not required below either: tests/integration/material_files.rs renders RGL
+            // files written by the tests.
+            MaterialSpec::RglFile { .. } => ("rgl-file", None),
         };
         seen.insert(format!("material {kind}"));
         if let Some(l) = lookup {

@@ -95,17 +95,17 @@ const RATIO_SYS: f64 = 2e-4;
 /// `P(|N| > 6) = 2e-9`).
 const RATIO_SIGMAS: f64 = 6.0;
 
-fn data_dir() -> PathBuf {
+pub(crate) fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/peer")
 }
 
-struct Peer {
-    meta: Value,
-    image: Image,
-    stderr: Image,
+pub(crate) struct Peer {
+    pub(crate) meta: Value,
+    pub(crate) image: Image,
+    pub(crate) stderr: Image,
 }
 
-fn load_peer(name: &str) -> Peer {
+pub(crate) fn load_peer(name: &str) -> Peer {
     let dir = data_dir();
     let text = std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap();
     let meta: Value = serde_json::from_str(&text).unwrap();
@@ -157,13 +157,20 @@ fn material(meta: &Value) -> Material {
             ks: v3(&m["ks"]),
             exponent: m["exponent"].as_f64().unwrap() as f32,
         }),
+        // An RGL test material, written again here (the writer is deterministic; the
+        // peer's JSON records the SHA-256 of the file Mitsuba read, checked in peer_rgl).
+        "rgl-file" => {
+            let name = m["sample"].as_str().unwrap();
+            let bytes = brdfkit::brdf::rgl::samples::sample(name).unwrap().bytes;
+            Material::from(brdfkit::brdf::RglBrdf::from_bytes(&bytes, Path::new(name)).unwrap())
+        }
         k => panic!("unknown material {k}"),
     }
 }
 
 /// Which brdfkit configuration renders the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Config {
+pub(crate) enum Config {
     /// `render --reference`: `full` sampler, f64 path.
     Reference,
     /// The defaults: `lloyd`, 128 lights, f32 kernels, default light dropping.
@@ -179,7 +186,7 @@ fn env_spec(meta: &Value, config: Config) -> EnvSpec {
 }
 
 /// The brdfkit scene of a peer scene; `lights` overrides the scene's lights (faults).
-fn scene(meta: &Value, config: Config, lights: Option<Vec<Light>>) -> Scene {
+pub(crate) fn scene(meta: &Value, config: Config, lights: Option<Vec<Light>>) -> Scene {
     let l = &meta["light"];
     let lights = lights.unwrap_or_else(|| match l["kind"].as_str().unwrap() {
         "directional" => vec![Light::Directional {
@@ -214,7 +221,7 @@ fn scene(meta: &Value, config: Config, lights: Option<Vec<Light>>) -> Scene {
     }
 }
 
-fn render_config(s: &Scene, config: Config) -> Image {
+pub(crate) fn render_config(s: &Scene, config: Config) -> Image {
     match config {
         Config::Reference => render(s, &RenderOptions::converged_reference()).image,
         Config::Default => render(s, &RenderOptions::default()).image,
@@ -261,6 +268,20 @@ fn analytic_hits(meta: &Value) -> Vec<Option<(DVec3, DVec3)>> {
     hits
 }
 
+/// The analytic source of an RGL test material, built once per process.
+fn rgl_source(name: &str) -> &'static dyn brdfkit::brdf::Brdf {
+    use brdfkit::brdf::rgl::samples::{source, SAMPLE_NAMES};
+    type Sources = Vec<(&'static str, Box<dyn brdfkit::brdf::Brdf>)>;
+    static S: OnceLock<Sources> = OnceLock::new();
+    let all = S.get_or_init(|| {
+        SAMPLE_NAMES
+            .iter()
+            .map(|n| (*n, source(n).unwrap()))
+            .collect()
+    });
+    all.iter().find(|(n, _)| *n == name).unwrap().1.as_ref()
+}
+
 /// The BRDF of a peer scene in closed form, f64, written here from the formulas (not
 /// brdfkit's code), extended below the horizon (no `wi.z > 0` test): the allowance of
 /// [`horizon_allowance`] needs its value on either side of the horizon.
@@ -269,6 +290,17 @@ fn brdf_closed_form(meta: &Value, n: DVec3, wi: DVec3, wo: DVec3) -> DVec3 {
     let pi = std::f64::consts::PI;
     match m["kind"].as_str().unwrap() {
         "lambert" => v3(&m["albedo"]).as_dvec3() / pi,
+        // The analytic source of an RGL test material (brdfkit's model: this bounds an
+        // allowance, it is not what is compared), in the shading frame of
+        // src/conventions/frame.rs, a light below the horizon mirrored above it (the
+        // models are zero below).
+        "rgl-file" => {
+            let src = rgl_source(m["sample"].as_str().unwrap());
+            let f = brdfkit::conventions::ShadingFrame::from_normal(n.as_vec3());
+            let (mut l, v) = (f.to_local(wi.as_vec3()), f.to_local(wo.as_vec3()));
+            l.z = l.z.abs().max(1e-6);
+            src.eval_f64(l.as_dvec3(), v.as_dvec3())
+        }
         _ => {
             let e = m["exponent"].as_f64().unwrap();
             let nh = (wi + wo).normalize_or_zero().dot(n).max(0.0);
@@ -341,9 +373,9 @@ fn horizon_allowance(meta: &Value, hits: &[Option<(DVec3, DVec3)>]) -> Vec<DVec3
 
 /// The comparison of one brdfkit image with a peer image.
 #[derive(Debug)]
-struct Stats {
+pub(crate) struct Stats {
     /// Mean of brdfkit over mean of the peer (all channels, compared pixels).
-    ratio_of_means: f64,
+    pub(crate) ratio_of_means: f64,
     /// Standard error of that ratio from the peer's noise alone.
     ratio_stderr: f64,
     /// Root mean square and largest |z| (see the module doc), over pixels and channels.
@@ -352,7 +384,7 @@ struct Stats {
     /// Largest |b - p| over the channel's peak, and the root mean square of |b - p| over the
     /// image mean (per channel, then over channels); raw differences, no allowance.
     max_rel: f64,
-    rms_rel: f64,
+    pub(crate) rms_rel: f64,
     /// Mean of the one-sided horizon allowance over the peer's mean (0 for directional).
     allowance_rel: f64,
     pixels: usize,
@@ -423,7 +455,7 @@ fn compare(
 }
 
 /// [`compare`] with the scene's own hits and allowance.
-fn compare_scene(b: &Image, peer: &Peer) -> Stats {
+pub(crate) fn compare_scene(b: &Image, peer: &Peer) -> Stats {
     let hits = analytic_hits(&peer.meta);
     let below = horizon_allowance(&peer.meta, &hits);
     compare(b, peer, &hits, &below, TAU)
@@ -441,7 +473,7 @@ const SCENES: [&str; 8] = [
 ];
 
 /// The reference check: `Err` says which bound failed.
-fn check_reference(st: &Stats) -> Result<(), String> {
+pub(crate) fn check_reference(st: &Stats) -> Result<(), String> {
     let ratio_bound = RATIO_SIGMAS * st.ratio_stderr + RATIO_SYS;
     let mut why = Vec::new();
     if (st.ratio_of_means - 1.0).abs() > ratio_bound {
@@ -472,7 +504,7 @@ fn reference_stats(peer: &Peer, lights: Option<Vec<Light>>, brdf: Option<Materia
     compare_scene(&img, peer)
 }
 
-fn row(name: &str, what: &str, st: &Stats) -> String {
+pub(crate) fn row(name: &str, what: &str, st: &Stats) -> String {
     format!(
         "{name:20} {what:9} ratio {:.6} (peer stderr {:.1e})  rms z {:6.3}  max |z| {:8.2}  \
          rms |b-p|/mean {:.2e}  max |b-p|/peak {:.2e}  allowance/mean {:.1e}  ({} px)",
