@@ -13,7 +13,6 @@
 //! ([`super::Scene::delta_lights`]).
 
 use super::env_method::gpu_unsupported;
-use super::resolve::EnvSummary;
 use crate::conventions::rotate_about_up;
 use crate::env::lightcuts::{prepare_lightcuts, LightCuts, LightTree, TileFault};
 use crate::env::prepare::{self, CacheDir, EnvMethod, EnvSpec, SamplerKind};
@@ -24,8 +23,34 @@ use crate::light::Light;
 use crate::material::cone_bound::{BoundFault, ConeBound};
 use crate::material::Material;
 use crate::progress::Progress;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
+
+/// A summary of the environment light preparation, for the command line to report.
+#[derive(Clone, Debug)]
+pub struct EnvSummary {
+    pub file: PathBuf,
+    /// Lights the method prepared: a light set's, a transfer table's exact lights, or the
+    /// leaves (texels) of a light cuts tree.
+    pub lights: usize,
+    pub cache_hit: bool,
+    /// Why an existing cache entry was ignored ([`crate::env::prepare::Prepared::cache_rejected`]).
+    pub cache_rejected: Option<String>,
+    pub negative_texels: usize,
+    /// What the probe loader changed (negative power moved, [`crate::env::LoadReport::negative_warning`]);
+    /// `None` on a cache hit (the probe was not decoded).
+    pub probe_report: Option<crate::env::LoadReport>,
+    /// The probe's size in texels when it was decoded (`None` on a cache hit).
+    pub probe_size: Option<(usize, usize)>,
+    /// The lights' RGB irradiances at normal incidence summed, after `[env] intensity`
+    /// ([`crate::env::LightSet::total_irradiance`], W/m^2 for a probe in W/(m^2 sr)).
+    pub total_irradiance: [f64; 3],
+    /// The `[env]` table the environment was built from (its method concrete), and the
+    /// directory its paths resolve against: what [`super::Scene::with_environment_turned`] builds
+    /// again at another rotation.
+    pub spec: crate::env::prepare::EnvSpec,
+    pub base: PathBuf,
+}
 
 /// How a scene's environment is shaded: one variant per method, holding what that method
 /// prepared. Directions are world directions (the probe's rotation applied).

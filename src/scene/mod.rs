@@ -23,18 +23,19 @@
 
 pub mod camera;
 pub mod env_method;
-mod fields;
 mod env_table;
 mod environment;
+mod fields;
 mod file;
 mod material;
 mod resolve;
 
 pub use env_table::method_fields;
+pub use environment::EnvSummary;
 pub use environment::{build_environment, Environment, ProbeSource};
 pub use file::{
     default_lights, CameraSpec, LightSpec, MeshSpec, OutputSpec, Precision, RenderSpec, SceneFile,
     TransferFileSpec, MAX_SCENE_BYTES,
 };
 pub use material::MaterialSpec;
-pub use resolve::{load_mesh, resolve_camera, EnvSummary, Scene, MAX_SIDE};
+pub use resolve::{load_mesh, resolve_camera, Scene, MAX_SIDE};

@@ -7,8 +7,8 @@
 //! [`crate::env::prepare`].
 
 use super::camera::{self, Camera};
+use super::environment::{build_environment, EnvSummary, Environment, ProbeSource};
 use super::fields::{nonneg, rgb, vec3};
-use super::environment::{build_environment, Environment, ProbeSource};
 use super::material::resolve_material;
 use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
 use crate::env::prepare::{self, CacheDir};
@@ -19,7 +19,7 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::mesh::{self, Mesh};
 use crate::progress::Progress;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 /// Largest accepted image side (pixels).
@@ -41,32 +41,6 @@ pub struct Scene {
     pub environment: Environment,
     /// What environment preparation did, when the scene has an `[env]`.
     pub env: Option<EnvSummary>,
-}
-
-/// A summary of the environment light preparation, for the command line to report.
-#[derive(Clone, Debug)]
-pub struct EnvSummary {
-    pub file: PathBuf,
-    /// Lights the method prepared: a light set's, a transfer table's exact lights, or the
-    /// leaves (texels) of a light cuts tree.
-    pub lights: usize,
-    pub cache_hit: bool,
-    /// Why an existing cache entry was ignored ([`prepare::Prepared::cache_rejected`]).
-    pub cache_rejected: Option<String>,
-    pub negative_texels: usize,
-    /// What the probe loader changed (negative power moved, [`crate::env::LoadReport::negative_warning`]);
-    /// `None` on a cache hit (the probe was not decoded).
-    pub probe_report: Option<crate::env::LoadReport>,
-    /// The probe's size in texels when it was decoded (`None` on a cache hit).
-    pub probe_size: Option<(usize, usize)>,
-    /// The lights' RGB irradiances at normal incidence summed, after `[env] intensity`
-    /// ([`crate::env::LightSet::total_irradiance`], W/m^2 for a probe in W/(m^2 sr)).
-    pub total_irradiance: [f64; 3],
-    /// The `[env]` table the environment was built from (its method concrete), and the
-    /// directory its paths resolve against: what [`Scene::with_environment_turned`] builds
-    /// again at another rotation.
-    pub spec: prepare::EnvSpec,
-    pub base: PathBuf,
 }
 
 /// Loads the mesh named by `source`: "teapot", "sphere" or an OBJ path (relative paths

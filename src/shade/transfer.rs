@@ -70,7 +70,8 @@ pub(super) fn add_transfer(
                 | Material::AshikhminShirley(_)
                 | Material::DBrdf(_)
                 | Material::LambertDbrdf(_)
-                | Material::Merl(_) => return,
+                | Material::Merl(_)
+                | Material::Rgl(_) => return,
             }
             band[p.at] += table.radiance_with(p.surface.normal, c, tbuf);
         });
@@ -100,7 +101,8 @@ pub(super) fn fits(table: &TransferTable, material: &Material) -> bool {
         | Material::AshikhminShirley(_)
         | Material::DBrdf(_)
         | Material::LambertDbrdf(_)
-        | Material::Merl(_) => false,
+        | Material::Merl(_)
+        | Material::Rgl(_) => false,
     }
 }
 
@@ -126,7 +128,8 @@ impl<'a> TransferTerm<'a> {
             | Material::AshikhminShirley(_)
             | Material::DBrdf(_)
             | Material::LambertDbrdf(_)
-            | Material::Merl(_) => None,
+            | Material::Merl(_)
+            | Material::Rgl(_) => None,
         };
         Some(TransferTerm { table, lambert })
     }

@@ -42,8 +42,11 @@ pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
     match &file.material {
         MaterialSpec::ShFile { path, .. }
         | MaterialSpec::DbrdfFile { path }
-        | MaterialSpec::MerlFile { path } => files.push(base.join(path)),
-        _ => {}
+        | MaterialSpec::MerlFile { path }
+        | MaterialSpec::RglFile { path } => files.push(base.join(path)),
+        MaterialSpec::Lambert { .. }
+        | MaterialSpec::BlinnPhong { .. }
+        | MaterialSpec::Library { .. } => {}
     }
     for f in files {
         let bytes = std::fs::read(&f).map_err(|e| Error::io(&f, "cannot read", e))?;

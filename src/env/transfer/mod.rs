@@ -87,7 +87,8 @@ impl TransferBasis {
             | Material::AshikhminShirley(_)
             | Material::DBrdf(_)
             | Material::LambertDbrdf(_)
-            | Material::Merl(_) => None,
+            | Material::Merl(_)
+            | Material::Rgl(_) => None,
         }
     }
 

@@ -190,6 +190,7 @@ impl TileFrame {
             | Material::Phong(_)
             | Material::BlinnPhong(_)
             | Material::Merl(_)
+            | Material::Rgl(_)
             | Material::Sh(_) => 1.0,
         };
         let (a, delta) = (a + ANGLE_SLACK, delta + ANGLE_SLACK);
