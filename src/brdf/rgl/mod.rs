@@ -3,7 +3,7 @@
 //! 2018): the `.bsdf` tensor files that Mitsuba 3 (`measured`) and pbrt-v4
 //! (`MeasuredBxDF`) read, isotropic and anisotropic, spectral or RGB.
 //!
-//! Layout: [`tensor`] the file container, [`file`] the fields of a material and the checks
+//! Layout: [`tensor`] the file container, [`mod@file`] the fields of a material and the checks
 //! made on them, [`warp`] the piecewise-bilinear tables and the 2D warp, [`colour`]
 //! spectral samples to linear sRGB, [`writer`] a tabulator of any [`Brdf`] into the
 //! format (test files) and [`samples`] the analytic test materials, [`real`] the f32/f64 scalar operations; the evaluation is here.

@@ -1,6 +1,6 @@
 //! The scalar operations the RGL evaluation uses, for `f32` (the kernel paths, the
 //! arithmetic of the published readers) and `f64` (the converged reference): one generic
-//! formula ([`super::warp`], [`super::eval`]) and its two instances.
+//! formula ([`super::warp`] and the evaluation in [`super`]) and its two instances.
 
 /// `f32` or `f64` (see the module doc). Literals are written in f64 and rounded once.
 pub trait Real:
