@@ -14,8 +14,14 @@ use rayon::prelude::*;
 
 /// Index of the nearest light (largest dot product) for every texel with non-zero weight,
 /// `u32::MAX` for the others. Brute force over lights, parallel over texels: O(texels x
-/// lights). Ties go to the lowest light index.
+/// lights), the lights taken [`LANES`] at a time ([`nearest_light`]). Ties go to the
+/// lowest light index.
+///
+/// # Panics
+/// With more than 2^24 lights (an index must be exact in f32; light sets are capped at
+/// [`crate::env::prepare::MAX_LIGHTS`] = 2^16).
 pub fn nearest_light_cells(tables: &ProbeTables, dirs: &[DVec3]) -> Vec<u32> {
+    assert!(dirs.len() <= 1 << 24, "{} lights: at most 2^24", dirs.len());
     let lx: Vec<f32> = dirs.iter().map(|d| d.x as f32).collect();
     let ly: Vec<f32> = dirs.iter().map(|d| d.y as f32).collect();
     let lz: Vec<f32> = dirs.iter().map(|d| d.z as f32).collect();
@@ -28,19 +34,60 @@ pub fn nearest_light_cells(tables: &ProbeTables, dirs: &[DVec3]) -> Vec<u32> {
             if w <= 0.0 || dirs.is_empty() {
                 return u32::MAX;
             }
-            let (x, y, z) = (d.x as f32, d.y as f32, d.z as f32);
-            let mut best = f32::NEG_INFINITY;
-            let mut arg = 0u32;
-            for k in 0..lx.len() {
-                let dot = x * lx[k] + y * ly[k] + z * lz[k];
-                if dot > best {
-                    best = dot;
-                    arg = k as u32;
-                }
-            }
-            arg
+            nearest_light([d.x as f32, d.y as f32, d.z as f32], &lx, &ly, &lz)
         })
         .collect()
+}
+
+/// Lights compared side by side in [`nearest_light`]: independent running maxima the
+/// compiler keeps in vector registers.
+const LANES: usize = 8;
+
+/// Index of the light (directions as f32 columns `lx, ly, lz`, not empty) with the largest
+/// `d.l`, ties to the lowest index: the same index as a sequential scan keeping the first
+/// strict maximum (each dot product is the same f32 expression, `x lx + y ly + z lz` in
+/// that order, so the same bits). Lane `j` keeps the first maximum of the lights
+/// `j, j + LANES, ...`; the lanes are then reduced to the largest value and, among equal
+/// values, the lowest index; the lights past the last whole group of [`LANES`] follow
+/// sequentially (their indices are higher, so a strict `>` keeps the lowest).
+fn nearest_light(d: [f32; 3], lx: &[f32], ly: &[f32], lz: &[f32]) -> u32 {
+    let [x, y, z] = d;
+    let whole = lx.len() / LANES * LANES;
+    let mut best = [f32::NEG_INFINITY; LANES];
+    // Light indices as f32 (exact: at most `MAX_LIGHTS` = 2^16 lights, below 2^24), so
+    // that the index follows the maximum in the same vector select.
+    let mut arg = [0f32; LANES];
+    let mut index: [f32; LANES] = std::array::from_fn(|j| j as f32);
+    let groups = lx[..whole]
+        .chunks_exact(LANES)
+        .zip(ly[..whole].chunks_exact(LANES))
+        .zip(lz[..whole].chunks_exact(LANES));
+    for ((cx, cy), cz) in groups {
+        for j in 0..LANES {
+            let dot = x * cx[j] + y * cy[j] + z * cz[j];
+            let better = dot > best[j];
+            best[j] = if better { dot } else { best[j] };
+            arg[j] = if better { index[j] } else { arg[j] };
+            index[j] += LANES as f32;
+        }
+    }
+    let mut top = f32::NEG_INFINITY;
+    let mut top_arg = 0u32;
+    for j in 0..LANES {
+        let a = arg[j] as u32;
+        if best[j] > top || (best[j] == top && a < top_arg) {
+            top = best[j];
+            top_arg = a;
+        }
+    }
+    for k in whole..lx.len() {
+        let dot = x * lx[k] + y * ly[k] + z * lz[k];
+        if dot > top {
+            top = dot;
+            top_arg = k as u32;
+        }
+    }
+    top_arg
 }
 
 /// Lights at `dirs`, each carrying the summed power of the texels in its cell (`cells`
@@ -57,4 +104,60 @@ pub(super) fn lights_from_cells(tables: &ProbeTables, dirs: &[DVec3], cells: &[u
         ls.push(*d, *p);
     }
     ls
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nearest_light;
+
+    /// The sequential scan [`nearest_light`] must agree with: the first strict maximum.
+    fn sequential(d: [f32; 3], lx: &[f32], ly: &[f32], lz: &[f32]) -> u32 {
+        let mut best = f32::NEG_INFINITY;
+        let mut arg = 0u32;
+        for k in 0..lx.len() {
+            let dot = d[0] * lx[k] + d[1] * ly[k] + d[2] * lz[k];
+            if dot > best {
+                best = dot;
+                arg = k as u32;
+            }
+        }
+        arg
+    }
+
+    #[test]
+    fn lanes_pick_the_same_light_as_a_sequential_scan_ties_included() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+        };
+        for n in [1usize, 3, 7, 8, 9, 16, 17, 129] {
+            let mut l: Vec<[f32; 3]> = (0..n).map(|_| [next(), next(), next()]).collect();
+            // Repeated directions: ties, across lanes, within a lane and in the tail.
+            if n > 2 {
+                l[n - 1] = l[0];
+                l[n / 2] = l[1];
+            }
+            let (lx, ly, lz): (Vec<f32>, Vec<f32>, Vec<f32>) = (
+                l.iter().map(|v| v[0]).collect(),
+                l.iter().map(|v| v[1]).collect(),
+                l.iter().map(|v| v[2]).collect(),
+            );
+            for i in 0..400 {
+                // Half the texels point exactly at a light (its ties decide), half anywhere.
+                let d = if i % 2 == 0 {
+                    l[i / 2 % n]
+                } else {
+                    [next(), next(), next()]
+                };
+                assert_eq!(
+                    nearest_light(d, &lx, &ly, &lz),
+                    sequential(d, &lx, &ly, &lz),
+                    "n = {n}, texel {i}"
+                );
+            }
+        }
+    }
 }
