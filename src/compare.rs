@@ -26,6 +26,7 @@ pub mod coverage;
 mod load;
 mod verdict;
 
+pub use crate::metrics::Radiometric;
 pub use alpha::AlphaMetrics;
 pub use coverage::Pixels;
 pub use load::{load, Layout, Loaded, MAX_SIDE, PNG_ALLOC_SLACK, PNG_MAX_EXPANSION};
@@ -48,13 +49,43 @@ pub enum AlphaMode {
     Compare,
 }
 
-/// Pass thresholds: FLIP mean and the FLIP value at a percentile (both in [0, 1]).
+/// Pass thresholds: FLIP mean and the FLIP value at a percentile (both in [0, 1]), and the
+/// radiometric bounds where set ([`RadiometricBounds`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Thresholds {
     pub flip_mean: f32,
-    /// Percentile in (0, 1), e.g. 0.99.
+    /// Percentile in (0, 1), e.g. 0.99: of the FLIP bound and of the relative error's.
     pub percentile: f32,
     pub flip_at_percentile: f32,
+    pub radiometric: RadiometricBounds,
+}
+
+/// Bounds on the radiometric measures ([`crate::metrics::Radiometric`], over the covered
+/// pixels whose coverage agrees), each unset by default: FLIP measures what a person sees,
+/// these what a numerical method's two implementations must agree to (a GPU build 0.5% too
+/// bright passes FLIP and fails `mean_error`). `golden/gpu-bounds.toml` sets them per entry
+/// from a measurement ([`crate::golden::GpuBound`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct RadiometricBounds {
+    /// Largest `|mean ratio - 1|` of a channel.
+    pub mean_error: Option<f32>,
+    /// Largest relative RMSE.
+    pub rel_rmse: Option<f32>,
+    /// Largest per-pixel relative error at [`Thresholds::percentile`].
+    pub rel_error_at_percentile: Option<f32>,
+    /// Largest share of the covered pixels covered in one image only (the silhouette: a
+    /// rasterizer's edge rule), which the radiometric measures leave out.
+    pub coverage_mismatch: Option<f32>,
+}
+
+impl RadiometricBounds {
+    /// No radiometric bound.
+    pub const NONE: RadiometricBounds = RadiometricBounds {
+        mean_error: None,
+        rel_rmse: None,
+        rel_error_at_percentile: None,
+        coverage_mismatch: None,
+    };
 }
 
 impl Thresholds {
@@ -77,6 +108,7 @@ impl Thresholds {
         flip_mean: 0.01,
         percentile: 0.99,
         flip_at_percentile: 0.1,
+        radiometric: RadiometricBounds::NONE,
     };
 }
 
@@ -122,6 +154,18 @@ pub struct Metrics {
     pub non_finite_at: Vec<[u32; 2]>,
     /// The alpha channel's measures under [`AlphaMode::Compare`].
     pub alpha: Option<AlphaMetrics>,
+    /// Measured pixels covered in one image only (black in the other): silhouette pixels
+    /// that one rasterizer covers and the other does not.
+    pub coverage_mismatch: usize,
+    /// The radiometric measures over the measured pixels non-black in both images.
+    pub radiometric: crate::metrics::Radiometric,
+}
+
+impl Metrics {
+    /// [`Metrics::coverage_mismatch`] as a share of the measured pixels (0 when none).
+    pub fn coverage_mismatch_share(&self) -> f64 {
+        self.coverage_mismatch as f64 / self.measured.max(1) as f64
+    }
 }
 
 /// How many non-finite pixels [`Metrics::non_finite_at`] lists.
@@ -262,6 +306,25 @@ pub fn compare_with(
         }
     };
     let non_finite = bad.iter().filter(|&&b| b).count();
+    // Radiometric measures: the measured pixels lit in both images, so a silhouette pixel
+    // one rasterizer covers is counted, not averaged in.
+    let black = |p: Vec3| p == Vec3::ZERO;
+    let (mut re, mut ra, mut coverage_mismatch) = (Vec::new(), Vec::new(), 0usize);
+    for (i, (&pe, &pa)) in e.pixels.iter().zip(&a.pixels).enumerate() {
+        let measured = !bad[i] && mask.as_ref().is_none_or(|m| m[i]);
+        if !measured {
+            continue;
+        }
+        match (black(pe), black(pa)) {
+            (true, true) => {}
+            (false, false) => {
+                re.push(pe);
+                ra.push(pa);
+            }
+            _ => coverage_mismatch += 1,
+        }
+    }
+    let radiometric = crate::metrics::radiometric(&re, &ra, th.percentile as f64);
     let metrics = Metrics {
         width: e.width,
         height: e.height,
@@ -283,6 +346,8 @@ pub fn compare_with(
         non_finite_at,
         alpha: (alpha == AlphaMode::Compare)
             .then(|| alpha::measure(expected, actual, th, mask.as_deref())),
+        coverage_mismatch,
+        radiometric,
     };
     Ok((metrics, flip))
 }

@@ -177,6 +177,101 @@ pub fn differences(expected: &Image, actual: &Image) -> Differences {
     }
 }
 
+/// A pixel darker than this fraction of the reference's brightest pixel (RGB Euclidean
+/// norm) has its relative error taken against the fraction instead
+/// ([`Radiometric::rel_error_at_percentile`]): near-black pixels, where a tiny absolute
+/// difference is a large relative one, are measured against 1% of the peak.
+pub const DARK_FLOOR: f64 = 0.01;
+
+/// Radiometric agreement of an image with its reference over a set of pixels (linear
+/// values): the measures that catch a small global error (a gain, a normalisation
+/// constant, a dropped light) that a perceptual measure lets pass. All in f64, summed in
+/// pixel order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Radiometric {
+    /// Per channel, `sum actual / sum expected` (1 when both sums are 0, infinite when only
+    /// the expected one is).
+    pub mean_ratio: [f64; 3],
+    /// `max_c |mean_ratio_c - 1|`: the largest relative error of a channel's mean.
+    pub mean_error: f64,
+    /// Relative RMSE `sqrt(sum |a - e|^2 / sum |e|^2)` ([`relative_l2`]).
+    pub rel_rmse: f64,
+    /// Per-pixel relative error `|a - e| / max(|e|, DARK_FLOOR x peak)` (RGB Euclidean
+    /// norms, `peak` the largest `|e|`) at the 99th percentile.
+    pub rel_error_p99: f64,
+    /// The same at the percentile asked for.
+    pub rel_error_at_percentile: f64,
+    /// Pixels measured.
+    pub pixels: usize,
+}
+
+/// The [`Radiometric`] measures of `actual` against `expected` (equally long lists of RGB
+/// values, the pixels to measure; panics otherwise), with the relative error read at
+/// `percentile` in (0, 1) besides the 99th (nearest rank: the smallest value at or above
+/// that share of the pixels). No pixels: every measure 0, ratios 1.
+pub fn radiometric(expected: &[Vec3], actual: &[Vec3], percentile: f64) -> Radiometric {
+    assert_eq!(expected.len(), actual.len(), "pixel counts differ");
+    let (mut sum_e, mut sum_a) = (DVec3::ZERO, DVec3::ZERO);
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    let mut peak = 0.0f64;
+    for (e, a) in expected.iter().zip(actual) {
+        let (e, a) = (e.as_dvec3(), a.as_dvec3());
+        sum_e += e;
+        sum_a += a;
+        num += (a - e).length_squared();
+        den += e.length_squared();
+        peak = peak.max(e.length());
+    }
+    let ratio = |a: f64, e: f64| {
+        if e != 0.0 {
+            a / e
+        } else if a == 0.0 {
+            1.0
+        } else {
+            f64::INFINITY
+        }
+    };
+    let mean_ratio = [
+        ratio(sum_a.x, sum_e.x),
+        ratio(sum_a.y, sum_e.y),
+        ratio(sum_a.z, sum_e.z),
+    ];
+    let mean_error = mean_ratio
+        .iter()
+        .map(|r| (r - 1.0).abs())
+        .fold(0.0, f64::max);
+    let floor = DARK_FLOOR * peak;
+    let mut rel: Vec<f64> = expected
+        .iter()
+        .zip(actual)
+        .map(|(e, a)| {
+            let (e, a) = (e.as_dvec3(), a.as_dvec3());
+            let d = (a - e).length();
+            if d == 0.0 {
+                0.0
+            } else {
+                d / e.length().max(floor)
+            }
+        })
+        .collect();
+    rel.sort_by(f64::total_cmp);
+    let at = |q: f64| {
+        if rel.is_empty() {
+            return 0.0;
+        }
+        let k = ((q * rel.len() as f64).ceil() as usize).clamp(1, rel.len());
+        rel[k - 1]
+    };
+    Radiometric {
+        mean_ratio,
+        mean_error,
+        rel_rmse: relative_l2(num, den),
+        rel_error_p99: at(0.99),
+        rel_error_at_percentile: at(percentile),
+        pixels: expected.len(),
+    }
+}
+
 /// `sum_i |a_i - b_i|^2` and `sum_i |b_i|^2` of two equally long lists of RGB values, in
 /// index order: the two sums of [`relative_l2`] for signals other than images.
 pub fn squared_error_sums(a: &[DVec3], b: &[DVec3]) -> (f64, f64) {
@@ -250,6 +345,42 @@ mod tests {
         assert_eq!(d.max_abs, f32::INFINITY);
         assert_eq!(d.histogram.last().unwrap().1, 1);
         assert_eq!(d.rmse, 0.0);
+    }
+
+    #[test]
+    fn radiometric_closed_forms() {
+        let e = [Vec3::new(1.0, 2.0, 2.0), Vec3::splat(4.0), Vec3::ZERO];
+        // A 0.5% gain: every mean 0.5% high, relative RMSE and every pixel's error 0.005
+        // (the black pixel stays 0).
+        let a: Vec<Vec3> = e.iter().map(|p| *p * 1.005).collect();
+        let r = radiometric(&e, &a, 0.5);
+        for m in r.mean_ratio {
+            assert!((m - 1.005).abs() < 1e-6, "{m}");
+        }
+        assert!((r.mean_error - 0.005).abs() < 1e-6);
+        assert!((r.rel_rmse - 0.005).abs() < 1e-6);
+        assert!((r.rel_error_p99 - 0.005).abs() < 1e-6);
+        // Nearest rank: the median of {0, 0.005, 0.005} is 0.005.
+        assert!((r.rel_error_at_percentile - 0.005).abs() < 1e-6);
+        assert_eq!(r.pixels, 3);
+        // A near-black pixel is measured against 1% of the peak (|e| = sqrt(48)), not
+        // against itself: an error of 1e-3 on a 1e-6 pixel is 1e-3 / 0.0693, not 1000.
+        let e = [Vec3::splat(4.0), Vec3::new(1e-6, 0.0, 0.0)];
+        let a = [Vec3::splat(4.0), Vec3::new(1e-6 + 1e-3, 0.0, 0.0)];
+        let r = radiometric(&e, &a, 0.99);
+        let want = 1e-3 / (DARK_FLOOR * 48f64.sqrt());
+        assert!(
+            (r.rel_error_p99 - want).abs() < 1e-6 * want,
+            "{}",
+            r.rel_error_p99
+        );
+        // Equal images: all zero, ratios 1; an empty set likewise.
+        let r = radiometric(&e, &e, 0.99);
+        assert_eq!((r.mean_error, r.rel_rmse, r.rel_error_p99), (0.0, 0.0, 0.0));
+        assert_eq!(radiometric(&[], &[], 0.99).mean_ratio, [1.0; 3]);
+        // A channel the reference does not have, lit in the image: infinite.
+        let r = radiometric(&[Vec3::X], &[Vec3::new(1.0, 0.1, 0.0)], 0.99);
+        assert_eq!(r.mean_ratio[1], f64::INFINITY);
     }
 
     #[test]

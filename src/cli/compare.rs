@@ -3,7 +3,9 @@
 //! The report (text, or `--json`) is over the covered pixels ([`crate::compare::coverage`]);
 //! a non-finite pixel is reported first and fails, and no measure is printed beside it.
 
-use crate::compare::{self, coverage, AlphaMode, Loaded, Metrics, Pixels, Thresholds};
+use crate::compare::{
+    self, coverage, AlphaMode, Loaded, Metrics, Pixels, RadiometricBounds, Thresholds,
+};
 use crate::error::Result;
 use std::path::{Path, PathBuf};
 
@@ -13,8 +15,8 @@ pub struct CompareArgs {
     pub expected: PathBuf,
     /// The image under test (e.g. a GPU build's render).
     pub actual: PathBuf,
-    /// File to take the FLIP bounds from (with --entry): golden/gpu-bounds.toml (the bounds `golden check --device gpu` applies: the file's own for the entries it lists, the manifest's beside it for the others) or a golden manifest such as golden/manifest.toml (the entry's `flip`, else its tolerance's).
-    #[arg(long, visible_alias = "manifest", requires = "entry")]
+    /// File to take the bounds from (with --entry): golden/gpu-bounds.toml (the bounds `golden check --device gpu` applies: the file's own FLIP and radiometric bounds for the entries it lists, the manifest's FLIP bounds beside it for the rest) or a golden manifest such as golden/manifest.toml (the entry's `flip`, else its tolerance's; no radiometric bounds).
+    #[arg(long, visible_aliases = ["manifest", "bounds-from"], requires = "entry")]
     pub bounds: Option<PathBuf>,
     /// Golden entry whose bounds apply (with --bounds); the flags below still override.
     #[arg(long, requires = "bounds")]
@@ -28,6 +30,18 @@ pub struct CompareArgs {
     /// Largest passing FLIP value at --percentile over the covered pixels (default 0.1, or the entry's).
     #[arg(long)]
     pub max_flip_at_percentile: Option<f32>,
+    /// Largest passing error of a channel's mean, |sum actual / sum expected - 1| over the pixels lit in both images (default: not checked, or the entry's). 0.001 fails a build 0.1% too bright.
+    #[arg(long)]
+    pub max_mean_error: Option<f32>,
+    /// Largest passing relative RMSE, sqrt(sum |a - e|^2 / sum |e|^2) over the pixels lit in both images (default: not checked, or the entry's).
+    #[arg(long)]
+    pub max_rel_rmse: Option<f32>,
+    /// Largest passing per-pixel relative error |a - e| / max(|e|, 1% of the brightest |e|) at --percentile, over the pixels lit in both images (default: not checked, or the entry's).
+    #[arg(long)]
+    pub max_rel_error: Option<f32>,
+    /// Largest passing share of the covered pixels that are black in one image only (a silhouette one rasterizer covers and the other does not; left out of the three measures above) (default: not checked, or the entry's).
+    #[arg(long)]
+    pub max_coverage_mismatch: Option<f32>,
     /// Where to write expected | heatmap | actual on failure (default: ACTUAL's name with .diff.png). A diff that cannot be written is a warning; the exit status stays 1.
     #[arg(long)]
     pub diff: Option<PathBuf>,
@@ -86,7 +100,28 @@ fn thresholds(a: &CompareArgs) -> Result<(Thresholds, Source)> {
         flip_mean: a.max_flip_mean.unwrap_or(base.flip_mean),
         percentile: a.percentile.unwrap_or(base.percentile),
         flip_at_percentile: a.max_flip_at_percentile.unwrap_or(base.flip_at_percentile),
+        radiometric: RadiometricBounds {
+            mean_error: a.max_mean_error.or(base.radiometric.mean_error),
+            rel_rmse: a.max_rel_rmse.or(base.radiometric.rel_rmse),
+            rel_error_at_percentile: a.max_rel_error.or(base.radiometric.rel_error_at_percentile),
+            coverage_mismatch: a
+                .max_coverage_mismatch
+                .or(base.radiometric.coverage_mismatch),
+        },
     };
+    for (flag, v) in [
+        ("--max-mean-error", th.radiometric.mean_error),
+        ("--max-rel-rmse", th.radiometric.rel_rmse),
+        ("--max-rel-error", th.radiometric.rel_error_at_percentile),
+        ("--max-coverage-mismatch", th.radiometric.coverage_mismatch),
+    ] {
+        if v.is_some_and(|v| !(v >= 0.0 && v.is_finite())) {
+            return Err(crate::error::Error::field(
+                flag,
+                format!("{} must be finite and >= 0", v.unwrap_or_default()),
+            ));
+        }
+    }
     if !(th.percentile > 0.0 && th.percentile < 1.0) {
         return Err(crate::error::Error::field(
             "--percentile",
@@ -115,11 +150,12 @@ pub fn run(a: CompareArgs) -> Result<bool> {
     let pass = m.passes(&th);
     if !a.json && source.file.is_some() {
         println!(
-            "thresholds of {}: FLIP mean <= {}, {} <= {}",
+            "thresholds of {}: FLIP mean <= {}, {} <= {}{}",
             source.text,
             th.flip_mean,
             compare::percentile_label(th.percentile),
-            th.flip_at_percentile
+            th.flip_at_percentile,
+            radiometric_text(&th)
         );
     }
     if !a.json {
@@ -156,6 +192,26 @@ pub fn run(a: CompareArgs) -> Result<bool> {
         );
     }
     Ok(pass)
+}
+
+/// The radiometric bounds `th` sets, for the thresholds line (empty when none).
+fn radiometric_text(th: &Thresholds) -> String {
+    let r = &th.radiometric;
+    [
+        ("mean error", r.mean_error),
+        ("relative RMSE", r.rel_rmse),
+        (
+            &*format!(
+                "relative error {}",
+                compare::percentile_label(th.percentile)
+            ),
+            r.rel_error_at_percentile,
+        ),
+        ("coverage mismatch", r.coverage_mismatch),
+    ]
+    .iter()
+    .filter_map(|(name, v)| v.map(|v| format!(", {name} <= {v}")))
+    .collect()
 }
 
 /// The text report: header, non-finite pixels first, pixel counts, measures, verdict.
@@ -232,6 +288,39 @@ fn print_report(
         println!(
             "  differing pixels {} of {} measured",
             m.differing_pixels, m.measured
+        );
+        let r = &m.radiometric;
+        let limit = |v: Option<f32>| v.map_or(String::new(), |v| format!("  (max {v})"));
+        println!(
+            "  mean ratio      R {:.6} G {:.6} B {:.6}, mean error {:.3e}{}",
+            r.mean_ratio[0],
+            r.mean_ratio[1],
+            r.mean_ratio[2],
+            r.mean_error,
+            limit(th.radiometric.mean_error)
+        );
+        println!(
+            "  relative RMSE   {:.3e}{}",
+            r.rel_rmse,
+            limit(th.radiometric.rel_rmse)
+        );
+        println!(
+            "  relative error  {} {:.3e}{}{} (over {} pixels lit in both; dark ones against 1% of the peak)",
+            p,
+            r.rel_error_at_percentile,
+            limit(th.radiometric.rel_error_at_percentile),
+            if p == "p99" {
+                String::new()
+            } else {
+                format!(", p99 {:.3e}", r.rel_error_p99)
+            },
+            r.pixels
+        );
+        println!(
+            "  coverage mismatch {} pixels ({:.3e} of measured){}",
+            m.coverage_mismatch,
+            m.coverage_mismatch_share(),
+            limit(th.radiometric.coverage_mismatch)
         );
     }
     if let Some(al) = &m.alpha {
@@ -312,6 +401,13 @@ fn json_report(
             "flip_p999": d(m.flip_p999),
             "flip_at_percentile": d(m.flip_at_percentile),
             "differing_pixels": m.differing_pixels,
+            "mean_ratio": m.radiometric.mean_ratio,
+            "mean_error": m.radiometric.mean_error,
+            "rel_rmse": m.radiometric.rel_rmse,
+            "rel_error_at_percentile": m.radiometric.rel_error_at_percentile,
+            "rel_error_p99": m.radiometric.rel_error_p99,
+            "radiometric_pixels": m.radiometric.pixels,
+            "coverage_mismatch": m.coverage_mismatch,
             "histogram": m.histogram.iter().map(|&(ub, n)| serde_json::json!({
                 "upper": d(ub),
                 "count": n,
@@ -354,6 +450,10 @@ fn json_report(
             "flip_mean": d(th.flip_mean),
             "percentile": d(th.percentile),
             "flip_at_percentile": d(th.flip_at_percentile),
+            "mean_error": th.radiometric.mean_error.map(d),
+            "rel_rmse": th.radiometric.rel_rmse.map(d),
+            "rel_error_at_percentile": th.radiometric.rel_error_at_percentile.map(d),
+            "coverage_mismatch": th.radiometric.coverage_mismatch.map(d),
             "from": source.file,
             "entry": source.entry,
         },

@@ -11,14 +11,17 @@ use super::{Metrics, Thresholds};
 /// One bound of the pass rule and how the comparison stands against it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Bound {
-    /// Stable name for scripts: `non_finite`, `flip_mean`, `flip_at_percentile`, and the
-    /// same prefixed `alpha_` for the alpha channel.
+    /// Stable name for scripts: `non_finite`, `flip_mean`, `flip_at_percentile`, the
+    /// radiometric `mean_error`, `rel_rmse`, `rel_error_at_percentile`,
+    /// `coverage_mismatch` (where set), and `alpha_` and the FLIP names for the alpha
+    /// channel.
     pub measure: &'static str,
     /// How the report names it: "non-finite pixels", "FLIP mean", "FLIP p99", "alpha FLIP
     /// mean", ...
     pub label: String,
-    /// The measured value (a count for `non_finite`, FLIP in [0, 1] otherwise); `None`
-    /// when not evaluated.
+    /// The measured value (a count for `non_finite`, a share of the measured pixels for
+    /// `coverage_mismatch`, a relative error for the radiometric bounds, FLIP in [0, 1]
+    /// otherwise); `None` when not evaluated.
     pub value: Option<f64>,
     /// Largest passing value.
     pub limit: f64,
@@ -49,9 +52,49 @@ pub fn percentile_label(p: f32) -> String {
 
 impl Metrics {
     /// Every bound of the pass rule against `th`, in report order: no non-finite pixel,
-    /// FLIP mean, FLIP at the percentile; then the same for the alpha channel when it is
-    /// compared.
+    /// FLIP mean, FLIP at the percentile, the radiometric bounds `th` sets; then the FLIP
+    /// bounds for the alpha channel when it is compared.
     pub fn bounds(&self, th: &Thresholds) -> Vec<Bound> {
+        let mut radiometric = Vec::new();
+        let finite = self.non_finite == 0;
+        let r = &self.radiometric;
+        let rb = &th.radiometric;
+        for (measure, label, value, limit) in [
+            (
+                "mean_error",
+                "mean error".to_string(),
+                r.mean_error,
+                rb.mean_error,
+            ),
+            (
+                "rel_rmse",
+                "relative RMSE".to_string(),
+                r.rel_rmse,
+                rb.rel_rmse,
+            ),
+            (
+                "rel_error_at_percentile",
+                format!("relative error {}", percentile_label(th.percentile)),
+                r.rel_error_at_percentile,
+                rb.rel_error_at_percentile,
+            ),
+            (
+                "coverage_mismatch",
+                "coverage mismatch".to_string(),
+                self.coverage_mismatch_share(),
+                rb.coverage_mismatch,
+            ),
+        ] {
+            if let Some(limit) = limit {
+                radiometric.push(Bound {
+                    measure,
+                    label,
+                    value: finite.then_some(value),
+                    limit: decimal(limit),
+                    passed: finite.then_some(value <= decimal(limit)),
+                });
+            }
+        }
         let mut out = Vec::new();
         let mut push =
             |prefix: &str, measure: [&'static str; 3], non_finite: usize, mean: f32, at: f32| {
@@ -101,6 +144,8 @@ impl Metrics {
                 a.flip_at_percentile,
             );
         }
+        // After the colour's three bounds, before the alpha channel's.
+        out.splice(3..3, radiometric);
         out
     }
 

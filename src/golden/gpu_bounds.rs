@@ -1,5 +1,6 @@
-//! `golden/gpu-bounds.toml`: GPU-side FLIP bounds that replace an entry's manifest bounds
-//! for a GPU build's image, each with the measurement behind it. Read by `golden check
+//! `golden/gpu-bounds.toml`: GPU-side bounds for a GPU build's image of an entry, each with
+//! the measurement behind it: FLIP bounds that replace the entry's manifest bounds, and the
+//! radiometric bounds ([`RadiometricBounds`]) that only this file sets. Read by `golden check
 //! --device gpu`, `brdfkit compare --bounds` and `golden list`, through this one parser.
 //!
 //! Design rule: one file, one parser, one resolution ([`entry_bounds`]): an entry the file
@@ -8,35 +9,66 @@
 //!
 //! ```toml
 //! [fig3-10-blue-silk-nearest]
-//! mean = 0.004          # FLIP mean bound
+//! mean = 0.004             # FLIP mean bound (unset: the manifest's)
 //! percentile = 0.99
-//! at_percentile = 0.05  # FLIP bound at that percentile
-//! why = "..."           # the measurement behind the change
+//! at_percentile = 0.05     # FLIP bound at that percentile
+//! mean_error = 3e-4        # largest |mean ratio - 1| of a channel (unset: not checked)
+//! rel_rmse = 1e-3          # largest relative RMSE
+//! rel_error = 5e-3         # largest per-pixel relative error at the percentile
+//! coverage_mismatch = 0.01 # largest share of pixels covered in one image only
+//! why = "..."              # the measurement behind the bounds
 //! ```
 
 use super::*;
 use std::collections::BTreeMap;
 
-/// GPU-side FLIP bounds of one entry (golden/gpu-bounds.toml), with the reason.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+/// GPU-side bounds of one entry (golden/gpu-bounds.toml), with the reason: FLIP bounds
+/// that replace the manifest's (each unset one keeps the manifest's), and radiometric
+/// bounds ([`RadiometricBounds`], unset: not checked).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GpuBound {
     /// Largest passing FLIP mean, in [0, 1].
-    pub mean: f32,
-    /// Percentile of the second bound, in (0, 1).
-    pub percentile: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean: Option<f32>,
+    /// Percentile of the FLIP bound and of the relative error's, in (0, 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub percentile: Option<f32>,
     /// Largest passing FLIP value at `percentile`, in [0, 1].
-    pub at_percentile: f32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at_percentile: Option<f32>,
+    /// Largest `|mean ratio - 1|` of a channel, >= 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_error: Option<f32>,
+    /// Largest relative RMSE, >= 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rel_rmse: Option<f32>,
+    /// Largest per-pixel relative error at `percentile`, >= 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rel_error: Option<f32>,
+    /// Largest share of the covered pixels covered in one image only, in [0, 1].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coverage_mismatch: Option<f32>,
     pub why: String,
 }
 
 impl GpuBound {
-    /// The bounds as [`Thresholds`].
-    pub fn thresholds(&self) -> Thresholds {
+    /// `base` (the entry's manifest bounds) with what this table sets in their place.
+    pub fn thresholds(&self, base: Thresholds) -> Thresholds {
         Thresholds {
-            flip_mean: self.mean,
-            percentile: self.percentile,
-            flip_at_percentile: self.at_percentile,
+            flip_mean: self.mean.unwrap_or(base.flip_mean),
+            percentile: self.percentile.unwrap_or(base.percentile),
+            flip_at_percentile: self.at_percentile.unwrap_or(base.flip_at_percentile),
+            radiometric: RadiometricBounds {
+                mean_error: self.mean_error.or(base.radiometric.mean_error),
+                rel_rmse: self.rel_rmse.or(base.radiometric.rel_rmse),
+                rel_error_at_percentile: self
+                    .rel_error
+                    .or(base.radiometric.rel_error_at_percentile),
+                coverage_mismatch: self
+                    .coverage_mismatch
+                    .or(base.radiometric.coverage_mismatch),
+            },
         }
     }
 }
@@ -83,13 +115,19 @@ pub fn parse_gpu_bounds(text: &str) -> std::result::Result<BTreeMap<String, GpuB
     let bounds: BTreeMap<String, GpuBound> =
         toml::from_str(text).map_err(|e| crate::error::toml_message(text, &e))?;
     for (name, b) in &bounds {
-        let in_range = (0.0..=1.0).contains(&b.mean)
-            && b.percentile > 0.0
-            && b.percentile < 1.0
-            && (0.0..=1.0).contains(&b.at_percentile);
+        let unit = |v: Option<f32>| v.is_none_or(|v| (0.0..=1.0).contains(&v));
+        let non_negative = |v: Option<f32>| v.is_none_or(|v| v >= 0.0 && v.is_finite());
+        let in_range = unit(b.mean)
+            && b.percentile.is_none_or(|p| p > 0.0 && p < 1.0)
+            && unit(b.at_percentile)
+            && non_negative(b.mean_error)
+            && non_negative(b.rel_rmse)
+            && non_negative(b.rel_error)
+            && unit(b.coverage_mismatch);
         if !in_range {
             return Err(format!(
-                "[{name}]: bounds out of range (mean, at_percentile in [0, 1]; percentile in (0, 1))"
+                "[{name}]: bounds out of range (mean, at_percentile, coverage_mismatch in [0, 1]; \
+                 percentile in (0, 1); mean_error, rel_rmse, rel_error finite and >= 0)"
             ));
         }
     }
@@ -100,12 +138,10 @@ pub fn parse_gpu_bounds(text: &str) -> std::result::Result<BTreeMap<String, GpuB
 /// `overrides` when it lists the entry (`true`), else the entry's manifest bounds
 /// ([`Entry::thresholds`], `false`).
 pub fn entry_bounds(entry: &Entry, overrides: &BTreeMap<String, GpuBound>) -> (Thresholds, bool) {
+    let base = entry.thresholds().expect("checked by parse_manifest");
     match overrides.get(&entry.name) {
-        Some(b) => (b.thresholds(), true),
-        None => (
-            entry.thresholds().expect("checked by parse_manifest"),
-            false,
-        ),
+        Some(b) => (b.thresholds(base), true),
+        None => (base, false),
     }
 }
 

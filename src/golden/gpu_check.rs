@@ -3,7 +3,9 @@
 //! at the entry's FLIP bounds ([`entry_bounds`]: [`Entry::thresholds`], unless
 //! `golden/gpu-bounds.toml` sets GPU-side bounds for it, each with its reason); every other
 //! entry listed as skipped with the reason. A GPU build never matches bits (another
-//! rasterizer, another evaluation order), so only the FLIP bounds apply, plus: no
+//! rasterizer, another evaluation order), so bounds apply: FLIP (what a person sees), the
+//! radiometric bounds the GPU bounds file sets per entry (what the method must agree to:
+//! mean, relative RMSE, relative error at the percentile, silhouette coverage), and no
 //! non-finite value. The comparison is `brdfkit compare`'s ([`compare::compare_with`] over
 //! the covered pixels), so `brdfkit compare --bounds golden/gpu-bounds.toml --entry NAME`
 //! of the same two images gives the same verdict. The bounds file's format:
@@ -23,6 +25,10 @@ pub struct GpuOutcome {
     pub flip_p99: f32,
     pub flip_at_percentile: f32,
     pub max_abs: f32,
+    /// The radiometric measures (over the pixels lit in both images) and the share of
+    /// covered pixels lit in one only.
+    pub radiometric: crate::compare::Radiometric,
+    pub coverage_mismatch: f64,
     /// The bounds applied, and whether they are GPU-side ones.
     pub bounds: Thresholds,
     pub gpu_side_bounds: bool,
@@ -57,6 +63,8 @@ pub fn check_gpu(
             flip_p99: f32::NAN,
             flip_at_percentile: f32::NAN,
             max_abs: f32::NAN,
+            radiometric: Default::default(),
+            coverage_mismatch: f64::NAN,
             bounds,
             gpu_side_bounds: gpu_side,
             message: String::new(),
@@ -76,13 +84,27 @@ pub fn check_gpu(
         o.flip_p99 = m.flip_p99;
         o.flip_at_percentile = m.flip_at_percentile;
         o.max_abs = m.max_abs;
+        o.radiometric = m.radiometric;
+        o.coverage_mismatch = m.coverage_mismatch_share();
+        let limit = |v: Option<f32>| v.map_or(String::new(), |v| format!(" (<= {v})"));
+        let r = &bounds.radiometric;
         o.message = format!(
-            "FLIP mean {:.4} (<= {}), p{} {:.4} (<= {}) over {} covered pixels{}{}",
+            "FLIP mean {:.4} (<= {}), p{} {:.4} (<= {}); mean error {:.2e}{}, rel RMSE {:.2e}{}, \
+             rel error p{} {:.2e}{}, coverage mismatch {:.2e}{} over {} covered pixels{}{}",
             m.flip_mean,
             bounds.flip_mean,
             (bounds.percentile * 100.0).round(),
             m.flip_at_percentile,
             bounds.flip_at_percentile,
+            m.radiometric.mean_error,
+            limit(r.mean_error),
+            m.radiometric.rel_rmse,
+            limit(r.rel_rmse),
+            (bounds.percentile * 100.0).round(),
+            m.radiometric.rel_error_at_percentile,
+            limit(r.rel_error_at_percentile),
+            o.coverage_mismatch,
+            limit(r.coverage_mismatch),
             m.covered,
             if m.non_finite > 0 {
                 format!(", {} non-finite values", m.non_finite)

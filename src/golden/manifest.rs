@@ -67,6 +67,7 @@ impl Entry {
                 flip_mean: f.mean,
                 percentile: f.percentile,
                 flip_at_percentile: f.at_percentile,
+                radiometric: RadiometricBounds::NONE,
             },
             None => tol.flip,
         })

@@ -61,7 +61,7 @@ pub use summary::*;
 pub use tolerance::*;
 
 use crate::aov::Aov;
-use crate::compare::{self, Loaded, Thresholds};
+use crate::compare::{self, Loaded, RadiometricBounds, Thresholds};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image};
 use crate::kernel::lanes::{Dispatch, KernelPath};

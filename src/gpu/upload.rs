@@ -267,6 +267,15 @@ impl Uploads {
         if transfer.is_empty() {
             transfer.push(0.0);
         }
+        let mut light_count = light_count;
+        faults.apply_to_uploads(super::fault::UploadedTables {
+            material: &mut table,
+            sh_terms: sh_terms as usize,
+            material_is_sh: kind == 3,
+            transfer: &mut transfer,
+            rotation: &mut xfer_rot[0],
+            light_count: &mut light_count,
+        });
 
         let frame = FrameUniform {
             clip_from_world: clip_from_world.to_cols_array_2d(),

@@ -126,6 +126,82 @@ fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
     }
 }
 
+/// The faults a GPU porter would recognise beyond the five above, caught by the radiometric
+/// bounds of golden/gpu-bounds.toml (FLIP lets most of them pass). A 0.5% gain must fail
+/// every entry that renders radiance (all but the debug and angle outputs); each other fault
+/// is run on entries it must fail (a subset, for CI's time; docs/gpu.md has every entry's
+/// margin).
+#[test]
+fn the_radiometric_bounds_catch_a_gain_and_the_porting_faults() {
+    let manifest = std::fs::read_to_string(golden_dir().join("manifest.toml")).unwrap();
+    let table: toml::Table = toml::from_str(&manifest).unwrap();
+    let entries = table["entry"].as_array().unwrap();
+    let name = |e: &toml::Value| e["name"].as_str().unwrap().to_string();
+    let lit: Vec<String> = entries
+        .iter()
+        .filter(|e| e.get("aov").is_none() && name(e) != "fig3-8-full-studio")
+        .map(name)
+        .collect();
+    let aov: Vec<String> = entries
+        .iter()
+        .filter(|e| e.get("aov").is_some() && name(e) != "debug-coverage")
+        .map(name)
+        .collect();
+    assert!(lit.len() >= 15 && aov.len() >= 4, "{lit:?} {aov:?}");
+    let failed = |r: &common::Run| -> Vec<String> {
+        entries(&r.stdout)
+            .into_iter()
+            .filter(|l| l.1 == "FAIL")
+            .map(|l| l.0)
+            .collect()
+    };
+
+    let mut args = vec!["--gpu-fault", "gain"];
+    args.extend(lit.iter().chain(&aov).map(String::as_str));
+    let r = check(&args);
+    assert_eq!(r.code, Some(1), "{}{}", r.stdout, r.stderr);
+    assert_eq!(
+        failed(&r),
+        lit,
+        "a 0.5% gain must fail every lit entry and no angle or debug output:\n{}",
+        r.stdout
+    );
+
+    for (fault, must_fail) in [
+        (
+            "nearest-azimuth",
+            &["fig3-10-blue-silk-bilinear", "fig3-11-lindt-paper"][..],
+        ),
+        (
+            "diffuse-no-inv-pi",
+            &["fig3-1-point-light-lambert", "env-transfer-lambert-studio"],
+        ),
+        (
+            "sh-sign",
+            &["fig3-10-blue-silk-bilinear", "fig3-13-teal-paint"],
+        ),
+        (
+            "f16-tables",
+            &[
+                "fig3-12-gold-dust-paint-median-cut",
+                "fig3-10-blue-silk-nearest",
+            ],
+        ),
+        (
+            "last-light-dropped",
+            &["default-160x120", "fig3-8-median-cut-city"],
+        ),
+        ("rotation-sign", &["env-transfer-lambert-studio"]),
+    ] {
+        let mut args = vec!["--gpu-fault", fault];
+        args.extend(must_fail);
+        let r = check(&args);
+        assert_eq!(r.code, Some(1), "{fault}: {}{}", r.stdout, r.stderr);
+        assert_eq!(failed(&r), must_fail, "{fault}:\n{}", r.stdout);
+        eprintln!("{fault}: fails {}", must_fail.join(", "));
+    }
+}
+
 #[test]
 fn an_unknown_fault_or_a_fault_on_the_cpu_is_a_one_line_error() {
     let r = check(&["--gpu-fault", "nonsense"]);

@@ -241,14 +241,33 @@ fn gpu_bounds_toml_gives_the_bounds_the_gpu_check_applies() {
             && out.contains("(max 0.04)"),
         "{out}"
     );
-    // An entry it does not list: the manifest's bounds beside it, as the GPU check does.
+    // Its radiometric bounds come along (the file lists every entry with them).
+    assert!(
+        out.contains(", mean error <= 0.0003, relative RMSE <= 0.0094, relative error p99 <= 0.024, coverage mismatch <= 0.002")
+            && out.contains("relative RMSE   0.000e0  (max 0.0094)"),
+        "{out}"
+    );
+    // An entry a bounds file does not list: the manifest's bounds beside it, as the GPU
+    // check does (a copy of the manifest beside a file that lists one entry).
     let other = "fig3-13-teal-paint";
     let (e, a) = (image(other), image(other));
-    let (code, out, err) = run(p, &["compare", &e, &a, "--bounds", b, "--entry", other]);
+    let sub = p.join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    std::fs::copy(&manifest, sub.join("manifest.toml")).unwrap();
+    std::fs::write(
+        sub.join("gpu-bounds.toml"),
+        format!("[{listed}]\nmean = 0.004\nwhy = \"x\"\n"),
+    )
+    .unwrap();
+    let (sb, sm) = (
+        sub.join("gpu-bounds.toml").to_str().unwrap().to_string(),
+        sub.join("manifest.toml").to_str().unwrap().to_string(),
+    );
+    let (code, out, err) = run(p, &["compare", &e, &a, "--bounds", &sb, "--entry", other]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(
         out.contains(&format!(
-            "thresholds of {m} entry '{other}' (not in {b}): FLIP mean <= 0.01, p99 <= 0.1"
+            "thresholds of {sm} entry '{other}' (not in {sb}): FLIP mean <= 0.01, p99 <= 0.1\n"
         )),
         "{out}"
     );
@@ -381,6 +400,89 @@ fn json_output_parses_and_carries_the_verdict_measures_and_bounds() {
     assert!(out.is_empty(), "{out}");
     assert!(
         err.lines().count() == 1 && err.contains("missing.exr"),
+        "{err}"
+    );
+}
+
+#[test]
+fn radiometric_bounds_catch_a_half_percent_gain() {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path();
+    let img = render(p, "a.exr", &["--width", "64", "--height", "48"]);
+    write_scaled(&p.join("gain.exr"), &img, 1.005);
+    // FLIP opened wide (each radiometric bound alone decides below).
+    let open = ["--max-flip-mean", "1", "--max-flip-at-percentile", "1"];
+    let with_open = |extra: &[&str]| {
+        let mut args = vec!["compare", "a.exr", "gain.exr"];
+        args.extend(open);
+        args.extend(extra);
+        run(p, &args)
+    };
+    let (code, out, _) = with_open(&[]);
+    assert_eq!(code, 0, "{out}");
+    let ratio_line = out
+        .lines()
+        .find(|l| l.trim_start().starts_with("mean ratio"))
+        .unwrap_or_else(|| panic!("no mean ratio line: {out}"));
+    assert!(
+        ratio_line.contains("R 1.005000 G 1.005000 B 1.005000"),
+        "{ratio_line}"
+    );
+    // The mean bound fails it and names itself on the FAIL line; each other bound too.
+    for (flag, limit, label) in [
+        ("--max-mean-error", "0.001", "mean error"),
+        ("--max-rel-rmse", "0.001", "relative RMSE"),
+        ("--max-rel-error", "0.001", "relative error p99"),
+    ] {
+        let (code, out, _) = with_open(&[flag, limit]);
+        assert_eq!(code, 1, "{flag}: {out}");
+        let fail = fail_line(&out);
+        assert!(
+            fail.starts_with(&format!("FAIL: {label} 0.00"))
+                && fail.contains(&format!("> {limit}")),
+            "{flag}: {fail}"
+        );
+        // At 0.01 it passes.
+        let (code, out, _) = with_open(&[flag, "0.01"]);
+        assert_eq!(code, 0, "{flag}: {out}");
+    }
+    // A silhouette pixel lit in one image only is counted, not averaged into the measures:
+    // one covered pixel blacked out leaves the means exact and the mismatch at 1 pixel.
+    let mut holed = img.clone();
+    let i = img
+        .pixels
+        .iter()
+        .position(|p| *p != glam::Vec3::ZERO)
+        .unwrap();
+    holed.pixels[i] = glam::Vec3::ZERO;
+    brdfkit::image_io::write_exr(&p.join("holed.exr"), &holed).unwrap();
+    let (code, out, _) = run(
+        p,
+        &[
+            "compare",
+            "holed.exr",
+            "a.exr",
+            "--json",
+            "--max-mean-error",
+            "0",
+            "--max-coverage-mismatch",
+            "0",
+        ],
+    );
+    assert_eq!(code, 1, "{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["measures"]["mean_error"], 0.0, "{out}");
+    assert_eq!(v["measures"]["coverage_mismatch"], 1, "{out}");
+    assert_eq!(
+        v["failed"],
+        serde_json::json!(["coverage_mismatch"]),
+        "{out}"
+    );
+    // A bound out of range is a one-line error naming the flag.
+    let (code, _, err) = run(p, &["compare", "a.exr", "gain.exr", "--max-rel-rmse=-1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.lines().count() == 1 && err.contains("--max-rel-rmse"),
         "{err}"
     );
 }

@@ -3,6 +3,9 @@
 // src/conventions/mod.rs items 6-7. Zero below either horizon (thesis 3.1.2).
 
 fn lambert(albedo: vec3<f32>) -> vec3<f32> {
+    if has_fault(FAULT_DIFFUSE_NO_INV_PI) {
+        return albedo;
+    }
     return albedo / PI;
 }
 

@@ -13,6 +13,10 @@ const FAULT_NO_COSINE: u32 = 2u;
 const FAULT_MIRROR_AZIMUTH: u32 = 4u;
 const FAULT_SRGB_TWICE: u32 = 8u;
 const FAULT_TRANSFER_MIRROR: u32 = 16u;
+const FAULT_GAIN: u32 = 32u;
+const FAULT_NEAREST_AZIMUTH: u32 = 64u;
+const FAULT_DIFFUSE_NO_INV_PI: u32 = 128u;
+// Bits 256-2048 are faults of the uploaded data (src/gpu/fault.rs), not tested here.
 
 fn has_fault(bit: u32) -> bool {
     return (frame.ints.z & bit) != 0u;
@@ -131,5 +135,10 @@ fn bilinear_texels(st: vec2<f32>, nu: u32, nv: u32) -> Bilinear {
     let i1 = (i0 + 1) % ni;
     let j0 = clamp(i32(vf), 0, i32(nv) - 1);
     let j1 = clamp(i32(vf) + 1, 0, i32(nv) - 1);
-    return Bilinear(u32(i0), u32(i1), u32(j0), u32(j1), u - uf, v - vf);
+    var a = u - uf;
+    if has_fault(FAULT_NEAREST_AZIMUTH) {
+        // Nearest on the azimuth axis: the weight snapped to the closer texel.
+        a = round(a);
+    }
+    return Bilinear(u32(i0), u32(i1), u32(j0), u32(j1), a, v - vf);
 }

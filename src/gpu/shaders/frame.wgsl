@@ -215,6 +215,9 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
         // The sum of the earlier passes at this pixel.
         radiance = radiance + textureLoad(previous, vec2<i32>(floor(in.clip.xy)), 0).rgb;
     }
+    if pass_info.w == 1u && has_fault(FAULT_GAIN) {
+        radiance = radiance * 1.005;
+    }
     if pass_info.w == 1u && has_fault(FAULT_SRGB_TWICE) {
         radiance = srgb_encode(radiance);
     }
