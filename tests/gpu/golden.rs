@@ -135,14 +135,14 @@ fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
 fn the_radiometric_bounds_catch_a_gain_and_the_porting_faults() {
     let manifest = std::fs::read_to_string(golden_dir().join("manifest.toml")).unwrap();
     let table: toml::Table = toml::from_str(&manifest).unwrap();
-    let entries = table["entry"].as_array().unwrap();
+    let manifest_entries = table["entry"].as_array().unwrap();
     let name = |e: &toml::Value| e["name"].as_str().unwrap().to_string();
-    let lit: Vec<String> = entries
+    let lit: Vec<String> = manifest_entries
         .iter()
         .filter(|e| e.get("aov").is_none() && name(e) != "fig3-8-full-studio")
         .map(name)
         .collect();
-    let aov: Vec<String> = entries
+    let aov: Vec<String> = manifest_entries
         .iter()
         .filter(|e| e.get("aov").is_some() && name(e) != "debug-coverage")
         .map(name)
