@@ -12,6 +12,7 @@ pub mod device;
 pub mod export;
 mod golden;
 pub mod lights;
+pub mod lights_overlay;
 pub mod lights_report;
 pub mod parse;
 mod render;
@@ -197,7 +198,7 @@ pub struct SweepArgs {
     pub exact_lights: Vec<usize>,
     /// Lights: samplers, comma-separated. Default: uniform,importance,stratified,median-cut,lloyd.
     #[arg(long, value_enum, value_delimiter = ',')]
-    pub samplers: Vec<crate::env::prepare::SamplerKind>,
+    pub samplers: Vec<crate::env::schema::SamplerKind>,
     /// Lights: light counts, comma-separated. Default: 1,2,4,...,1024.
     #[arg(long, value_delimiter = ',')]
     pub counts: Vec<usize>,
@@ -317,13 +318,13 @@ pub struct SceneArgs {
     pub env: Option<PathBuf>,
     /// How the probe becomes lights (with --env or a scene's [env]). Default lloyd (on the sweep's Pareto front; see `brdfkit sweep`).
     #[arg(long, value_enum)]
-    pub sampler: Option<crate::env::prepare::SamplerKind>,
+    pub sampler: Option<crate::env::schema::SamplerKind>,
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
     /// How the environment is shaded (with --env or a scene's [env]); overrides the scene's `[env] method`. `transfer`: SH data sets and Lambert only. `render --reference` always shades the full probe.
     #[arg(long, value_enum, value_name = "METHOD")]
-    pub env_method: Option<crate::env::prepare::EnvMethod>,
+    pub env_method: Option<crate::env::schema::EnvMethod>,
     /// Material: a library name (`brdfkit materials`) or a file: .exr (an SH data set from `brdfkit acquire` or a D-BRDF from `brdfkit fit-dbrdf`) or .binary (a MERL table) or .bsdf (an RGL material). Overrides the scene's `[material]`.
     #[arg(long)]
     pub material: Option<String>,

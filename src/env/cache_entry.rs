@@ -1,5 +1,5 @@
 //! What every disk cache entry of the environment says about the build that wrote it, and
-//! the one check of it: the light sets' JSON entries ([`super::prepare::cache`]) and the
+//! the one check of it: the light sets' JSON entries ([`super::lightset::prepare::cache`]) and the
 //! transfer tables' binary ones ([`super::transfer::cache`]) each store a format tag, the
 //! crate version, their algorithm's version, their key (16 hex digits, also in the file
 //! name) and an XXH3-64 checksum of their payload ([`crate::hash::tagged`] form). An entry is

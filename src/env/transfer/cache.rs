@@ -1,5 +1,5 @@
 //! The disk cache of transfer tables, beside the light-set cache
-//! ([`crate::env::prepare::cache`]): same directory ([`crate::env::prepare::CacheDir`]),
+//! ([`crate::env::lightset::prepare::cache`]): same directory ([`crate::env::lightset::prepare::CacheDir`]),
 //! same rules (only `brdfkit render` and `brdfkit view` pass one; tests, `golden` and
 //! `sweep` never do).
 //!
@@ -20,7 +20,7 @@
 //! [`crate::env::cache_entry`]), the grid and basis against what the caller wants, the byte
 //! count and the XXH3-64 checksum of the values ([`values_checksum`]); an entry that fails
 //! any of it is ignored (and rewritten), never trusted. Writes are atomic
-//! ([`crate::env::lightset_io::write_atomic`]: a unique temporary sibling, then a rename).
+//! ([`crate::image_io::write_atomic`]: a unique temporary sibling, then a rename).
 
 use super::table::TransferTable;
 use super::TransferBasis;

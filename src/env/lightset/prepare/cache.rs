@@ -24,7 +24,7 @@
 //! `$HOME/.cache/brdfkit` (with none of them set, nothing is cached); `--no-cache` uses none.
 
 use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp};
-use crate::env::lightset_io::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
+use crate::env::lightset::file::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
 use crate::env::{LightSet, LoadOptions, LoadReport, SamplerConfig};
 use crate::hash::{self, StableHasher};
 use serde::{Deserialize, Serialize};
@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 
 /// Version of the algorithm that turns probe bytes and settings into a light set: probe
 /// decoding, cleaning and rotation ([`crate::env::Probe::load`]), every sampler
-/// ([`SamplerConfig::run`], [`crate::env::samplers`]) and the full-probe set. Part of every
+/// ([`SamplerConfig::run`], [`crate::env::lightset::samplers`]) and the full-probe set. Part of every
 /// light-set cache key ([`file_cache_key`]) and stored in each entry.
 ///
 /// Bump when the output of `Probe::load` or of any sampler changes (a different light,
@@ -325,7 +325,7 @@ mod tests {
         let path = cache_file_name(tmp.path(), key);
         let mut ls = LightSet::default();
         ls.push(glam::DVec3::Y, glam::DVec3::ONE);
-        let header = crate::env::lightset_io::LightSetHeader::new(&cfg, None, &ls);
+        let header = crate::env::lightset::file::LightSetHeader::new(&cfg, None, &ls);
         let report = LoadReport {
             negative_texels: 3,
             non_finite_zeroed: 0,
