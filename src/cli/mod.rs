@@ -97,7 +97,7 @@ the fastest configuration within 1% marked). Prints the fastest configuration on
 at <= 1% relative RMSE.\n\n\
 Methods ([env] method): lights (sampler x light count), transfer (table grid azimuth x polar x \
 exact lights; SH data sets and Lambert only, left out for other materials), lightcuts (cut error x \
-largest cut; left out for SH data sets and MERL tables).\n\n\
+largest cut; left out for SH data sets, MERL and RGL tables).\n\n\
 Default scene: the teapot in blue-silk (library SH material, 8 bands) under assets/probes/city.exr, \
 160x120. --class diffuse|sh-glossy|glossy: a sphere in Lambert, teal-paint (SH, 8 bands) or \
 Blinn-Phong exponent 200 under the same probe, 128x96, with SH orders 2, 4, 6, 8 and the bilinear \
@@ -181,7 +181,7 @@ pub struct SweepArgs {
     /// The probe lighting the swept scene instead of its own: a shipped probe by name (city, sky, studio) or an HDR file (lat-long EXR). The reference and every method use it.
     #[arg(long, value_name = "NAME|FILE")]
     pub probe: Option<String>,
-    /// Environment methods, comma-separated: lights, transfer, lightcuts. Default all three (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets and MERL tables).
+    /// Environment methods, comma-separated: lights, transfer, lightcuts. Default all three (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets, MERL and RGL tables).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub methods: Vec<crate::sweep::MethodKind>,
     /// Lightcuts: cut error bounds (relative to the pixel), comma-separated. Default 0.005,0.01,0.02,0.05.

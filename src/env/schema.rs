@@ -68,7 +68,7 @@ impl SamplerKind {
 #[serde(rename_all = "kebab-case")]
 pub enum EnvMethod {
     /// Chosen per material (the default): `transfer` for Lambert and SH data sets,
-    /// `lightcuts` for analytic lobes and D-BRDFs, `lights` for MERL tables; `lights` when
+    /// `lightcuts` for analytic lobes and D-BRDFs, `lights` for MERL and RGL tables; `lights` when
     /// the `[env]` table states `sampler` or `count` or names a light set file (`lights`).
     #[default]
     Auto,
@@ -78,7 +78,7 @@ pub enum EnvMethod {
     /// brightest texels as delta lights; SH data sets and Lambert only.
     Transfer,
     /// Every texel a light in a light tree, a cut refined per pixel to `cut_error`;
-    /// analytic models and D-BRDFs (not SH data sets or MERL).
+    /// analytic models and D-BRDFs (not SH data sets, MERL or RGL tables).
     Lightcuts,
 }
 

@@ -38,18 +38,16 @@ pub(super) fn shade_kernels(
         &mut img,
         vis,
         Some(progress),
-        || (Vec::new(), kernel::gather::Scratch::default(), Vec::new()),
-        |(buf, scratch, surfaces), rect, band| {
-            scratch.reserve(room);
+        TileBuffers::default,
+        |bufs, rect, band| {
+            bufs.scratch.reserve(room);
             prep.dispatch.run(ShadeTile {
                 prep,
                 scene,
                 vis,
                 rect,
                 band,
-                buf,
-                scratch,
-                surfaces,
+                bufs,
             })
         },
     );
@@ -86,18 +84,25 @@ pub(super) fn shade_per_pixel(
     img
 }
 
+/// A worker's buffers, kept across the tiles it shades: the coefficient buffer, the
+/// gathered lights, the tile's surfaces.
+#[derive(Default)]
+struct TileBuffers {
+    buf: Vec<f32>,
+    scratch: kernel::gather::Scratch,
+    surfaces: Vec<(usize, Surface)>,
+}
+
 /// One occupied tile, as a [`Kernel`] so the whole tile loop is compiled for the
 /// instruction set dispatched once per frame. `band` is the image rows of the tile's row
-/// of tiles; buffers are the worker's, reused.
+/// of tiles; `bufs` are the worker's, reused.
 struct ShadeTile<'p, 'a, 'o> {
     prep: &'p FramePrep<'a>,
     scene: &'p Scene,
     vis: &'p VisBuffer,
     rect: PixelRect,
     band: &'o mut [Vec3],
-    buf: &'o mut Vec<f32>,
-    scratch: &'o mut kernel::gather::Scratch,
-    surfaces: &'o mut Vec<(usize, Surface)>,
+    bufs: &'o mut TileBuffers,
 }
 
 impl Kernel for ShadeTile<'_, '_, '_> {
@@ -110,10 +115,13 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             vis,
             rect,
             band,
+            bufs,
+        } = self;
+        let TileBuffers {
             buf,
             scratch,
             surfaces,
-        } = self;
+        } = bufs;
         tile_surfaces(&scene.mesh, vis, rect, surfaces);
         let cone = if prep.cull_lights {
             Cone::around(surfaces.iter().map(|(_, s)| s.normal))

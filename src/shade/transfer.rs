@@ -27,7 +27,7 @@ use crate::env::transfer::TransferTable;
 use crate::image_io::Image;
 use crate::kernel::approx::{acos_01, azimuth};
 use crate::kernel::lanes::{F32x8, Isa, LANES};
-use crate::material::Material;
+use crate::material::{Material, TransferModel};
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
 use crate::sh::dataset::MAX_BANDS;
@@ -55,8 +55,8 @@ pub(super) fn add_transfer(
     for_each_tile(image, vis, None, buffers, |(cbuf, tbuf), rect, band| {
         let c = &mut cbuf[..3 * nt];
         for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
-            match &scene.material {
-                Material::Sh(ds) => {
+            match scene.material.transfer_model() {
+                Some(TransferModel::Sh(ds)) => {
                     let (frame, wo) = frame_and_view(&p.surface, eye, rule);
                     let (polar, azimuth) = local_angles(wo);
                     let (u, v) = hemi_texcoord(polar, azimuth);
@@ -65,17 +65,11 @@ pub(super) fn add_transfer(
                         to_table_frame(c, ds.bands(), &frame);
                     }
                 }
-                Material::Lambert(m) => {
+                Some(TransferModel::Lambert(m)) => {
                     let k = m.albedo / std::f32::consts::PI;
                     c.copy_from_slice(&[k.x, k.y, k.z]);
                 }
-                Material::Phong(_)
-                | Material::BlinnPhong(_)
-                | Material::AshikhminShirley(_)
-                | Material::DBrdf(_)
-                | Material::LambertDbrdf(_)
-                | Material::Merl(_)
-                | Material::Rgl(_) => return,
+                None => return,
             }
             band[p.at] += table.radiance_with(p.surface.normal, c, tbuf);
         });
@@ -97,16 +91,10 @@ pub(super) fn to_table_frame(c: &mut [f32], bands: usize, frame: &ShadingFrame) 
 
 /// Whether `table` can shade `material` (its basis has the material's term count).
 pub(super) fn fits(table: &TransferTable, material: &Material) -> bool {
-    match material {
-        Material::Sh(ds) => table.terms() == ds.bands() * ds.bands(),
-        Material::Lambert(_) => table.terms() == 1,
-        Material::Phong(_)
-        | Material::BlinnPhong(_)
-        | Material::AshikhminShirley(_)
-        | Material::DBrdf(_)
-        | Material::LambertDbrdf(_)
-        | Material::Merl(_)
-        | Material::Rgl(_) => false,
+    match material.transfer_model() {
+        Some(TransferModel::Sh(ds)) => table.terms() == ds.bands() * ds.bands(),
+        Some(TransferModel::Lambert(_)) => table.terms() == 1,
+        None => false,
     }
 }
 
@@ -124,16 +112,9 @@ impl<'a> TransferTerm<'a> {
     /// The scene's transfer term, if it has a table.
     pub(super) fn of(scene: &'a Scene) -> Option<TransferTerm<'a>> {
         let table = scene.environment.transfer_table()?;
-        let lambert = match &scene.material {
-            Material::Lambert(m) => Some((m.albedo / std::f32::consts::PI).to_array()),
-            Material::Sh(_)
-            | Material::Phong(_)
-            | Material::BlinnPhong(_)
-            | Material::AshikhminShirley(_)
-            | Material::DBrdf(_)
-            | Material::LambertDbrdf(_)
-            | Material::Merl(_)
-            | Material::Rgl(_) => None,
+        let lambert = match scene.material.transfer_model() {
+            Some(TransferModel::Lambert(m)) => Some((m.albedo / std::f32::consts::PI).to_array()),
+            Some(TransferModel::Sh(_)) | None => None,
         };
         Some(TransferTerm { table, lambert })
     }

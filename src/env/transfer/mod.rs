@@ -75,21 +75,14 @@ impl TransferBasis {
     /// when the data set excludes it) or, for Lambert, the irradiance; `None` for other
     /// materials, which a transfer table cannot shade.
     pub fn for_material(material: &crate::material::Material) -> Option<TransferBasis> {
-        use crate::material::Material;
-        match material {
-            Material::Sh(ds) => Some(TransferBasis::Sh {
+        use crate::material::TransferModel;
+        Some(match material.transfer_model()? {
+            TransferModel::Sh(ds) => TransferBasis::Sh {
                 bands: ds.bands(),
                 cosine: !ds.cosine_included(),
-            }),
-            Material::Lambert(_) => Some(TransferBasis::Irradiance),
-            Material::Phong(_)
-            | Material::BlinnPhong(_)
-            | Material::AshikhminShirley(_)
-            | Material::DBrdf(_)
-            | Material::LambertDbrdf(_)
-            | Material::Merl(_)
-            | Material::Rgl(_) => None,
-        }
+            },
+            TransferModel::Lambert(_) => TransferBasis::Irradiance,
+        })
     }
 
     /// Number of terms per colour.

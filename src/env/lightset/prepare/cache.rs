@@ -23,7 +23,7 @@
 //! [`CacheDir::user`]: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else
 //! `$HOME/.cache/brdfkit` (with none of them set, nothing is cached); `--no-cache` uses none.
 
-use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp};
+use crate::env::cache_entry::{check_checksum, key_hasher, read_entry_bytes, EntryKind, Stamp};
 use crate::env::lightset::file::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
 use crate::env::{LightSet, LoadOptions, LoadReport, SamplerConfig};
 use crate::hash::{self, StableHasher};
@@ -52,6 +52,7 @@ const ENTRY: EntryKind = EntryKind {
     format: CACHE_FORMAT,
     algorithm: "light-set algorithm version",
     algorithm_version: LIGHT_SET_ALGORITHM_VERSION,
+    file: ("lights", "json"),
 };
 
 /// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light
@@ -158,13 +159,13 @@ fn versioned_key(
     opts: &LoadOptions,
     config: &SamplerConfig,
 ) -> u64 {
-    let mut h = StableHasher::new();
     // v3: XXH3-64 instead of FNV-1a (a v2 key names an FNV-1a hash).
-    h.write(b"brdfkit-env-file-v3");
-    h.write_str(crate_version);
-    h.write_u64(algorithm_version as u64);
-    h.write_u64(bytes.len() as u64);
-    h.write(bytes);
+    let mut h = key_hasher(
+        b"brdfkit-env-file-v3",
+        crate_version,
+        algorithm_version,
+        bytes,
+    );
     h.write_u64(opts.rotation.to_bits());
     h.write_u64(opts.zero_non_finite as u64);
     h.write_u64(opts.max_texels as u64);
@@ -236,7 +237,7 @@ impl CacheEntry {
 
 /// The cache file of `key` in `dir`.
 pub fn cache_file_name(dir: &Path, key: u64) -> PathBuf {
-    dir.join(format!("lights-{}.json", EntryKind::key_text(key)))
+    ENTRY.file_name(dir, key)
 }
 
 /// Reads and validates the cache entry `path` for `key`: a regular file of at most
