@@ -1,7 +1,7 @@
 //! Light sets: a probe collapsed into N directional lights ([`LightSet`], thesis 2.3.2,
-//! 3.2), how they are sampled ([`samplers`]), written and read ([`file`]), prepared for a
-//! scene and cached ([`prepare`]), and measured against the converged reference
-//! ([`reference`]).
+//! 3.2), how they are sampled ([`samplers`]), written and read ([`file`](mod@file)),
+//! prepared for a scene and cached ([`prepare`]), and measured against the converged
+//! reference ([`reference`](mod@reference)).
 //!
 //! Design rule: every light set carries **exactly** the probe's energy (the parent
 //! module's doc).
@@ -28,7 +28,7 @@ use serde::{Deserialize, Serialize};
 /// have the same length.
 ///
 /// Serialized names: `irradiance_r`, `irradiance_g`, `irradiance_b`; the former names
-/// `power_r`, `power_g`, `power_b` are still read ([`file`]).
+/// `power_r`, `power_g`, `power_b` are still read ([`file`](mod@file)).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct LightSet {
     pub dir_x: Vec<f32>,

@@ -55,7 +55,7 @@ pub fn prepare(spec: &EnvSpec, base: &Path, cache_dir: Option<&Path>) -> Result<
 }
 
 /// [`prepare`], counting on `progress` what the sampler iterates when the light set is
-/// computed ([`SamplerConfig::run_with_progress`]; nothing on a cache hit). Counting does
+/// computed ([`crate::env::SamplerConfig::run_with_progress`]; nothing on a cache hit). Counting does
 /// not change the light set.
 pub fn prepare_with_progress(
     spec: &EnvSpec,

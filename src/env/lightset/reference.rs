@@ -26,7 +26,7 @@ pub fn fibonacci_sphere(n: usize) -> Vec<DVec3> {
 /// Exact irradiance from the probe's texels at unit normal `n`, f64:
 /// `E(n) = sum_texels max(0, n.d_t) L_t Omega_t` with `d_t` the texel centre direction and
 /// `Omega_t` its exact solid angle. This is the converged reference every light set is
-/// measured against (it equals [`SamplerConfig::Full`]'s light set evaluated in f64).
+/// measured against (it equals [`crate::env::SamplerConfig::Full`]'s light set evaluated in f64).
 pub fn reference_irradiance(probe: &Probe, n: DVec3) -> DVec3 {
     let mut e = DVec3::ZERO;
     for row in 0..probe.height() {
