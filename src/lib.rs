@@ -104,7 +104,7 @@
 //! consumer matches without a wildcard arm. Adding the two variants, the compiler names
 //! every site that must say what the method does (20 matches in 10 files, measured with a
 //! dummy variant):
-//! 1. `src/env/prepare.rs`: the `EnvMethod` variant, its name and its `[env]` fields
+//! 1. `src/env/schema.rs`: the `EnvMethod` variant, its name and its `[env]` fields
 //!    ([`env::schema::EnvSpec`]);
 //! 2. `src/scene/env_table.rs`: the fields it reads ([`scene::method_fields`]; a field of
 //!    another method is an error) and how it is written back;
