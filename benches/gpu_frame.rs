@@ -6,7 +6,7 @@
 //! run. On this machine the adapter is lavapipe (Mesa's CPU Vulkan driver), so the GPU
 //! numbers are a software rasterizer's, not a GPU's.
 
-use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
+use brdfkit::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::gpu::{Faults, Gpu};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};

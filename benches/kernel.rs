@@ -8,7 +8,7 @@
 //!     beat it), for A/B runs of one path against another.
 
 use brdfkit::conventions::ShadingFrame;
-use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
+use brdfkit::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::kernel::cluster::DirLights;
 use brdfkit::kernel::gather::Scratch;
 use brdfkit::kernel::lanes::{Arith, Dispatch, Isa, Kernel, KernelPath, Width};

@@ -6,16 +6,14 @@
 //! ```
 //!
 //! Prints, for the shipped city and studio probes, the relative RMS irradiance error
-//! (`env::irradiance_error` over 256 Fibonacci normals against the exact per-texel integral)
+//! (`env::lightset::irradiance_error` over 256 Fibonacci normals against the exact per-texel integral)
 //! of each sampler at 16, 128 and 1024 lights, and writes `OUT_DIR/overlay_<probe>_<sampler>64.png`
 //! (64 lights drawn over the probe; median cut with its regions).
 
-use brdfkit::env::overlay::{write_overlay_png, OverlayOptions};
-use brdfkit::env::sampling::{full_probe, importance, lloyd, median_cut};
-use brdfkit::env::{
-    fibonacci_sphere, irradiance_error, reference_irradiance_many, LoadOptions, Probe,
-    SamplerConfig,
-};
+use brdfkit::cli::lights_overlay::{write_overlay_png, OverlayOptions};
+use brdfkit::env::lightset::samplers::{full_probe, importance, lloyd, median_cut};
+use brdfkit::env::lightset::{fibonacci_sphere, irradiance_error, reference_irradiance_many};
+use brdfkit::env::{LoadOptions, Probe, SamplerConfig};
 use std::path::{Path, PathBuf};
 
 fn main() {

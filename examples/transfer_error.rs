@@ -31,7 +31,7 @@
 //!   cached in a temporary directory for the run, so a basis already built under a probe
 //!   shows its cached time).
 
-use brdfkit::env::prepare::CacheDir;
+use brdfkit::env::lightset::prepare::CacheDir;
 use brdfkit::library::Representation;
 use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
@@ -81,7 +81,7 @@ fn main() {
     let k: usize = args
         .iter()
         .find_map(|a| a.strip_prefix("k=")?.parse().ok())
-        .unwrap_or(brdfkit::env::prepare::DEFAULT_EXACT_LIGHTS);
+        .unwrap_or(brdfkit::env::schema::DEFAULT_EXACT_LIGHTS);
     let only: Vec<&str> = args.iter().filter_map(|a| a.strip_prefix("m=")).collect();
     let mut probes: Vec<&str> = args
         .iter()

@@ -20,7 +20,7 @@
 //!   irradiance (W/m^2), point lights with their position and RGB intensity (W/sr); and
 //!   `env_lights`, which names `lights.json` and its count (shaded after these).
 //! - `lights.json` (when the scene has an `[env]`): the environment's delta lights in the
-//!   light-set format of `brdfkit lights -o` ([`crate::env::lightset_io`]), after the
+//!   light-set format of `brdfkit lights -o` ([`crate::env::lightset::file`]), after the
 //!   scene's `rotation` and `intensity` (world directions, irradiances as shaded); for
 //!   `method = "transfer"` the brightest texels the table leaves out. The one copy of them.
 //! - `transfer.json` and `transfer.bin` (when the scene shades with a transfer table):
@@ -48,7 +48,7 @@ pub use camera::{camera_json, CONVENTIONS};
 pub use mesh::mesh_obj;
 
 use crate::aov::Aov;
-use crate::env::prepare::EnvMethod;
+use crate::env::schema::EnvMethod;
 use crate::error::{Error, Result};
 use crate::scene::{env_method, Scene, SceneFile};
 use camera::{fa, fj};
@@ -77,7 +77,7 @@ pub struct Exported {
 }
 
 fn write_text(path: &Path, text: &str) -> Result<()> {
-    crate::env::lightset_io::write_atomic(path, text.as_bytes())
+    crate::image_io::write_atomic(path, text.as_bytes())
         .map_err(|e| Error::io(path, "cannot write", e))
 }
 

@@ -57,6 +57,17 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
     replace_via_temp(path, write, |e| Error::io(path, "cannot write output", e))
 }
 
+/// Writes `bytes` to `path` atomically: a unique temporary sibling file, synced, then
+/// renamed over `path` ([`replace_via_temp`]). Fails with the I/O error;
+/// the temporary file is removed on failure.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    replace_via_temp(
+        path,
+        |tmp| std::io::Write::write_all(&mut std::fs::File::create(tmp)?, bytes),
+        |e| e,
+    )
+}
+
 /// Writes linear RGB as a 32-bit float OpenEXR file.
 pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
     write_atomically(path, |tmp| {

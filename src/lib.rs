@@ -10,9 +10,12 @@
 //!    [`mesh`] (Utah teapot from Newell's patches, UV sphere, OBJ via tobj; the UV sphere
 //!    names its exact sphere, which shading intersects per pixel instead of its facets).
 //! 2. **Lights and materials prepared**: [`light`] (delta lights: point, directional),
-//!    [`env`](mod@env) (light probes collapsed into delta-light sets: uniform, importance sampling,
-//!    median cut, Lloyd relaxation, the full probe as reference; thesis 2.3.2, 3.2; and
-//!    the two methods `[env] method = "auto"`, the default, chooses between per material
+//!    [`env`](mod@env), one concept per module: the light probe [`env::probe`]; the
+//!    `[env]` table of every method [`env::schema`]; `method = "lights"`, the probe
+//!    collapsed into a delta-light set [`env::lightset`] (its samplers: uniform, importance
+//!    sampling, median cut, Lloyd relaxation, the full probe as reference; its file format,
+//!    its preparation and disk cache; thesis 2.3.2, 3.2); and the two methods
+//!    `[env] method = "auto"`, the default, chooses between per material
 //!    ([`scene::env_method`]): `transfer`, [`env::transfer`]: the full probe projected
 //!    onto an SH data set's basis or into irradiance per normal, tabulated once and
 //!    interpolated per pixel by [`shade`]; `lightcuts`, [`env::lightcuts`]: every texel a
@@ -46,7 +49,9 @@
 //!
 //! [`render`] strings the stages together (one entry point, [`render::render`], its settings
 //! in one struct, [`render::RenderOptions`]); [`cli`] is the command line (including the
-//! `SOURCE` argument of `acquire` and `fit-dbrdf`, [`cli::source`]).
+//! `SOURCE` argument of `acquire` and `fit-dbrdf`, [`cli::source`], and the `lights`
+//! command's reports: [`cli::lights_report`], the light set drawn on its probe
+//! [`cli::lights_overlay`], thesis figures 3.6 and 3.8).
 //! [`hash`] is the one stable hash (XXH3-64) behind every cache key, checksum and golden
 //! image hash.
 //!
@@ -78,8 +83,8 @@
 //! 4. [`sh`], [`compare`]: SH data sets (which implement the BRDF trait); image comparison.
 //! 5. [`material`], [`acquire`]: the closed set of models; measuring a model as an SH data set.
 //! 6. [`kernel`], [`env`](mod@env), [`library`]: the lane kernels; the environment prepared
-//!    (one exception stands: `env`'s transfer table does its lane lookup with the kernel's
-//!    lanes, until env is split by concept); the library of materials.
+//!    (its lookups on the kernel's lanes, as the transfer table's, live in [`shade`]); the
+//!    library of materials.
 //! 7. [`scene`]: the scene file resolved into its parts.
 //! 8. [`shade`]: pixels shaded.
 //! 9. [`aov`]: debug outputs (surfaces and views as shading sees them).
@@ -89,18 +94,18 @@
 //! 12. [`cli`]: the command line.
 //!
 //! A file format sits beside the type it stores ([`sh::file`], [`brdf::dbrdf::file`],
-//! [`env::lightset_io`]); a model never names a consumer (the BRDF trait has no hooks for the
+//! [`env::lightset::file`], [`env::transfer::file`]); a model never names a consumer (the BRDF trait has no hooks for the
 //! kernels: they match on [`material::Material`]).
 //!
 //! ## Adding an environment method
-//! An `[env] method` is a variant of two closed enums: [`env::prepare::EnvMethod`], the
+//! An `[env] method` is a variant of two closed enums: [`env::schema::EnvMethod`], the
 //! method as the scene file and the command line name it (with `auto`), and
 //! [`scene::Environment`], what the method prepared, which [`scene::Scene`] holds and every
 //! consumer matches without a wildcard arm. Adding the two variants, the compiler names
 //! every site that must say what the method does (20 matches in 10 files, measured with a
 //! dummy variant):
-//! 1. `src/env/prepare.rs`: the `EnvMethod` variant, its name and its `[env]` fields
-//!    ([`env::prepare::EnvSpec`]);
+//! 1. `src/env/schema.rs`: the `EnvMethod` variant, its name and its `[env]` fields
+//!    ([`env::schema::EnvSpec`]);
 //! 2. `src/scene/env_table.rs`: the fields it reads ([`scene::method_fields`]; a field of
 //!    another method is an error) and how it is written back;
 //! 3. `src/scene/env_method.rs`: whether the GPU build draws it and `export` writes it;

@@ -55,6 +55,17 @@ pub enum Material {
     Sh(Arc<ShDataset>),
 }
 
+/// The models a transfer table can shade ([`Material::transfer_model`]): the table holds
+/// the environment projected onto the SH basis of a data set, or the irradiance for
+/// Lambert.
+#[derive(Clone, Copy, Debug)]
+pub enum TransferModel<'a> {
+    /// An SH data set: `L_o = sum_k c_k(wo) T_k(n)`, `c` its coefficients at the view.
+    Sh(&'a ShDataset),
+    /// Lambert: `L_o = albedo / pi x E(n)`.
+    Lambert(&'a Lambert),
+}
+
 /// Calls `$body` with `$m` bound to the model inside `$self`, statically per variant.
 macro_rules! dispatch {
     ($self:expr, $m:ident => $body:expr) => {
@@ -132,6 +143,25 @@ impl Material {
             Material::DBrdf(d) if d.is_isotropic_table() => FrameRule::view_at(0.0),
             Material::LambertDbrdf(d) if d.lobe.is_isotropic_table() => FrameRule::view_at(0.0),
             _ => FrameRule::UP,
+        }
+    }
+
+    /// What a transfer table ([`crate::env::transfer`]) shades of this material: its SH data
+    /// set or its Lambert albedo; `None` for every other model, which a transfer table
+    /// cannot shade (the lights or the light cuts shade them). The one place that says which
+    /// models have a transfer basis: the table's basis, whether a table fits, and the
+    /// transfer term's coefficients all match on its answer.
+    pub fn transfer_model(&self) -> Option<TransferModel<'_>> {
+        match self {
+            Material::Sh(ds) => Some(TransferModel::Sh(ds)),
+            Material::Lambert(m) => Some(TransferModel::Lambert(m)),
+            Material::Phong(_)
+            | Material::BlinnPhong(_)
+            | Material::AshikhminShirley(_)
+            | Material::DBrdf(_)
+            | Material::LambertDbrdf(_)
+            | Material::Merl(_)
+            | Material::Rgl(_) => None,
         }
     }
 

@@ -1,7 +1,7 @@
 //! Error measures between two images (or two sampled signals): the one place each
 //! formula is written. [`crate::compare`] (what `brdfkit compare` reports and a GPU build's
 //! CI checks), [`crate::golden`]'s fast-vs-reference bounds, the sweep's CSV columns,
-//! the light-set irradiance error ([`crate::env::irradiance_error`]) and the acquisition
+//! the light-set irradiance error ([`crate::env::lightset::irradiance_error`]) and the acquisition
 //! error report ([`crate::acquire::hemisphere_error`]) all call it.
 //!
 //! Design rule: every measure is a pure function of its inputs, summed in index order in

@@ -23,7 +23,7 @@
 //! to a single run's.
 
 use crate::conventions::rotate_about_up;
-use crate::env::prepare::CacheDir;
+use crate::env::lightset::prepare::CacheDir;
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 use std::path::{Path, PathBuf};

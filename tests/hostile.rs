@@ -18,7 +18,7 @@
 mod common;
 use brdfkit::brdf::merl::{MerlBrdf, MERL_FILE_SIZE};
 use brdfkit::brdf::Lambert;
-use brdfkit::env::lightset_io::{read_csv, read_json, write_csv, write_json, LightSetHeader};
+use brdfkit::env::lightset::file::{read_csv, read_json, write_csv, write_json, LightSetHeader};
 use brdfkit::env::{LightSet, LoadOptions, Probe, SamplerConfig};
 use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::sh::{read_sh_dataset, write_sh_dataset, ShDataset};
@@ -1233,7 +1233,7 @@ fn oversized_text_inputs_are_refused_by_length() {
     let m = brdfkit::golden::load_manifest(d).unwrap_err().to_string();
     assert!(m.contains("manifest.toml") && m.contains("limit"), "{m}");
     drop(p);
-    let lim = brdfkit::env::lightset_io::MAX_LIGHTSET_BYTES + 1;
+    let lim = brdfkit::env::lightset::file::MAX_LIGHTSET_BYTES + 1;
     for name in ["big.json", "big.csv"] {
         let p = big(name, lim);
         let m = if name.ends_with("json") {

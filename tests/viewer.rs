@@ -162,7 +162,7 @@ fn scripted_orbit_material_and_probe_change_give_the_pixels_render_gives() {
     assert!(env.file.ends_with("city.exr"), "{}", env.file.display());
     assert_eq!(
         (env.count, env.sampler),
-        (32, brdfkit::env::prepare::SamplerKind::MedianCut)
+        (32, brdfkit::env::schema::SamplerKind::MedianCut)
     );
     let cam = file.camera.as_ref().expect("the orbit placed the camera");
     let (p, t) = (cam.position.unwrap(), cam.target.unwrap());
@@ -311,7 +311,7 @@ fn under_method_auto_the_moving_frame_is_the_delta_light_set() {
     let file = brdfkit::scene::SceneFile::parse(&text).unwrap();
     assert_eq!(
         file.env.as_ref().unwrap().method,
-        brdfkit::env::prepare::EnvMethod::Lights,
+        brdfkit::env::schema::EnvMethod::Lights,
         "the moving frame was not the delta light set:\n{text}"
     );
 }

@@ -6,5 +6,5 @@ mod common;
 
 fuzz_target!(|data: &[u8]| {
     let p = common::scratch("csv", data);
-    let _ = brdfkit::env::lightset_io::read_csv(&p);
+    let _ = brdfkit::env::lightset::file::read_csv(&p);
 });

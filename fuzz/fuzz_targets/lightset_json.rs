@@ -6,5 +6,5 @@ mod common;
 
 fuzz_target!(|data: &[u8]| {
     let p = common::scratch("json", data);
-    let _ = brdfkit::env::lightset_io::read_json(&p);
+    let _ = brdfkit::env::lightset::file::read_json(&p);
 });

@@ -9,8 +9,8 @@
 //! that builds before the XXH3 hash wrote), never a directory or any other
 //! file, so pointing `BRDFKIT_CACHE_DIR` at a directory that holds other things is safe.
 
-use crate::env::prepare::cap::{cache_files, DEFAULT_CACHE_MAX_BYTES};
-use crate::env::prepare::CacheDir;
+use crate::env::lightset::prepare::cap::{cache_files, DEFAULT_CACHE_MAX_BYTES};
+use crate::env::lightset::prepare::CacheDir;
 use crate::error::{Error, Result};
 use clap::Subcommand;
 use std::path::{Path, PathBuf};

@@ -1,10 +1,11 @@
 //! `brdfkit lights`: collapse a light probe into a light set, write it, draw it.
 
-use crate::env::lightset_io::{write_csv, write_json, LightSetHeader};
-use crate::env::overlay::{write_overlay_png, OverlayOptions};
-use crate::env::prepare::{load_probe, SamplerKind};
-use crate::env::samplers::median_cut_with_progress;
-use crate::env::{fibonacci_sphere, irradiance_error, reference_irradiance_many, LoadOptions};
+use crate::cli::lights_overlay::{write_overlay_png, OverlayOptions};
+use crate::env::lightset::file::{write_csv, write_json, LightSetHeader};
+use crate::env::lightset::samplers::median_cut_with_progress;
+use crate::env::lightset::{fibonacci_sphere, irradiance_error, reference_irradiance_many};
+use crate::env::LoadOptions;
+use crate::env::{probe::load_probe, schema::SamplerKind};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 use std::path::PathBuf;
@@ -15,7 +16,7 @@ pub struct LightsArgs {
     pub probe: PathBuf,
     /// Sampler.
     #[arg(long, value_enum, default_value = "median-cut")]
-    pub sampler: crate::env::prepare::SamplerKind,
+    pub sampler: crate::env::schema::SamplerKind,
     /// Number of lights (median cut: any N; powers of two split every region evenly).
     #[arg(short = 'n', long = "count", default_value_t = 128)]
     pub count: usize,
@@ -54,13 +55,13 @@ pub fn run(a: LightsArgs) -> Result<()> {
         zero_non_finite: a.zero_non_finite,
         ..LoadOptions::default()
     };
-    if a.count == 0 || a.count > crate::env::prepare::MAX_LIGHTS {
+    if a.count == 0 || a.count > crate::env::schema::MAX_LIGHTS {
         return Err(Error::field(
             "-n",
             format!(
                 "{} is out of range (1 to {})",
                 a.count,
-                crate::env::prepare::MAX_LIGHTS
+                crate::env::schema::MAX_LIGHTS
             ),
         ));
     }

@@ -13,7 +13,7 @@
 //! and 200 (`brdf::blinn_phong`, `kd = 0`, `ks = 1`: the bare lobe).
 
 use crate::brdf::{BlinnPhong, Lambert};
-use crate::env::prepare::to_scene_lights;
+use crate::env::lightset::to_scene_lights;
 use crate::env::{LightSet, Probe, SamplerConfig};
 use crate::material::Material;
 use crate::render::{render, RenderOptions};
@@ -151,11 +151,11 @@ mod tests {
         // error is well above the irradiance error the report already printed.
         let few = SamplerConfig::MedianCut { n: 16 }.run(&p);
         let e = sphere_errors(&p, &few, 24);
-        let normals = crate::env::fibonacci_sphere(256);
-        let irr = crate::env::irradiance_error(
+        let normals = crate::env::lightset::fibonacci_sphere(256);
+        let irr = crate::env::lightset::irradiance_error(
             &few,
             &normals,
-            &crate::env::reference_irradiance_many(&p, &normals),
+            &crate::env::lightset::reference_irradiance_many(&p, &normals),
         );
         eprintln!("irradiance error {irr:.4}; {e:?}");
         assert!(

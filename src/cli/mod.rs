@@ -12,6 +12,7 @@ pub mod device;
 pub mod export;
 mod golden;
 pub mod lights;
+pub mod lights_overlay;
 pub mod lights_report;
 pub mod parse;
 mod render;
@@ -96,7 +97,7 @@ the fastest configuration within 1% marked). Prints the fastest configuration on
 at <= 1% relative RMSE.\n\n\
 Methods ([env] method): lights (sampler x light count), transfer (table grid azimuth x polar x \
 exact lights; SH data sets and Lambert only, left out for other materials), lightcuts (cut error x \
-largest cut; left out for SH data sets and MERL tables).\n\n\
+largest cut; left out for SH data sets, MERL and RGL tables).\n\n\
 Default scene: the teapot in blue-silk (library SH material, 8 bands) under assets/probes/city.exr, \
 160x120. --class diffuse|sh-glossy|glossy: a sphere in Lambert, teal-paint (SH, 8 bands) or \
 Blinn-Phong exponent 200 under the same probe, 128x96, with SH orders 2, 4, 6, 8 and the bilinear \
@@ -180,7 +181,7 @@ pub struct SweepArgs {
     /// The probe lighting the swept scene instead of its own: a shipped probe by name (city, sky, studio) or an HDR file (lat-long EXR). The reference and every method use it.
     #[arg(long, value_name = "NAME|FILE")]
     pub probe: Option<String>,
-    /// Environment methods, comma-separated: lights, transfer, lightcuts. Default all three (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets and MERL tables).
+    /// Environment methods, comma-separated: lights, transfer, lightcuts. Default all three (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets, MERL and RGL tables).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub methods: Vec<crate::sweep::MethodKind>,
     /// Lightcuts: cut error bounds (relative to the pixel), comma-separated. Default 0.005,0.01,0.02,0.05.
@@ -197,7 +198,7 @@ pub struct SweepArgs {
     pub exact_lights: Vec<usize>,
     /// Lights: samplers, comma-separated. Default: uniform,importance,stratified,median-cut,lloyd.
     #[arg(long, value_enum, value_delimiter = ',')]
-    pub samplers: Vec<crate::env::prepare::SamplerKind>,
+    pub samplers: Vec<crate::env::schema::SamplerKind>,
     /// Lights: light counts, comma-separated. Default: 1,2,4,...,1024.
     #[arg(long, value_delimiter = ',')]
     pub counts: Vec<usize>,
@@ -317,13 +318,13 @@ pub struct SceneArgs {
     pub env: Option<PathBuf>,
     /// How the probe becomes lights (with --env or a scene's [env]). Default lloyd (on the sweep's Pareto front; see `brdfkit sweep`).
     #[arg(long, value_enum)]
-    pub sampler: Option<crate::env::prepare::SamplerKind>,
+    pub sampler: Option<crate::env::schema::SamplerKind>,
     /// Number of environment lights (with --env or a scene's [env]). Default 128.
     #[arg(long, value_name = "N")]
     pub lights: Option<usize>,
     /// How the environment is shaded (with --env or a scene's [env]); overrides the scene's `[env] method`. `transfer`: SH data sets and Lambert only. `render --reference` always shades the full probe.
     #[arg(long, value_enum, value_name = "METHOD")]
-    pub env_method: Option<crate::env::prepare::EnvMethod>,
+    pub env_method: Option<crate::env::schema::EnvMethod>,
     /// Material: a library name (`brdfkit materials`) or a file: .exr (an SH data set from `brdfkit acquire` or a D-BRDF from `brdfkit fit-dbrdf`) or .binary (a MERL table) or .bsdf (an RGL material). Overrides the scene's `[material]`.
     #[arg(long)]
     pub material: Option<String>,

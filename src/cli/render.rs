@@ -5,7 +5,10 @@
 
 use super::{CullArg, RenderArgs, SceneArgs};
 use crate::aov;
-use crate::env::prepare::{CacheDir, EnvMethod, EnvSpec};
+use crate::env::{
+    lightset::prepare::CacheDir,
+    schema::{EnvMethod, EnvSpec},
+};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::library::Representation;
@@ -55,7 +58,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let auto_method = file
         .env
         .as_ref()
-        .is_some_and(|e| e.method == crate::env::prepare::EnvMethod::Auto);
+        .is_some_and(|e| e.method == crate::env::schema::EnvMethod::Auto);
     if let Some(env) = &file.env {
         let renderer = match a.device {
             super::device::Device::Gpu => Renderer::Gpu,
@@ -108,7 +111,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         .iter()
         .map(|p| image_io::format_of(p))
         .collect::<Result<Vec<_>>>()?;
-    // The user's light-set cache (crate::env::prepare), unless --no-cache.
+    // The user's light-set cache (crate::env::lightset::prepare), unless --no-cache.
     let cache = if a.common.no_cache {
         CacheDir::None
     } else {
@@ -397,11 +400,10 @@ pub(super) fn scene_file(a: &SceneArgs, reference: bool) -> Result<(SceneFile, P
             env.count = n;
         }
         // Asking for a sampler or a light count asks for a delta light set.
-        if env.method == crate::env::prepare::EnvMethod::Auto {
-            env.method = crate::env::prepare::EnvMethod::Lights;
+        if env.method == crate::env::schema::EnvMethod::Auto {
+            env.method = crate::env::schema::EnvMethod::Lights;
         }
-        if a.lights.is_some()
-            && (reference || env.sampler == crate::env::prepare::SamplerKind::Full)
+        if a.lights.is_some() && (reference || env.sampler == crate::env::schema::SamplerKind::Full)
         {
             eprintln!(
                 "warning: --lights is ignored with the full probe (--sampler full or --reference): every texel is a light"

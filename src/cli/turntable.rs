@@ -4,7 +4,7 @@
 
 use super::RenderArgs;
 use crate::aov;
-use crate::env::prepare::CacheDir;
+use crate::env::lightset::prepare::CacheDir;
 use crate::error::{Error, Result};
 use crate::image_io::{self, Format};
 use crate::progress::Progress;

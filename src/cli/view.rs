@@ -1,7 +1,7 @@
 //! `brdfkit view`: the command line of the interactive viewer ([`crate::view`]).
 
 use super::ViewArgs;
-use crate::env::prepare::CacheDir;
+use crate::env::lightset::prepare::CacheDir;
 use crate::error::{Error, Result};
 use crate::image_io;
 use crate::scene::{MaterialSpec, SceneFile};

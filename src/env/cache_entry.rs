@@ -1,11 +1,13 @@
 //! What every disk cache entry of the environment says about the build that wrote it, and
-//! the one check of it: the light sets' JSON entries ([`super::prepare::cache`]) and the
+//! the one check of it: the light sets' JSON entries ([`super::lightset::prepare::cache`]) and the
 //! transfer tables' binary ones ([`super::transfer::cache`]) each store a format tag, the
 //! crate version, their algorithm's version, their key (16 hex digits, also in the file
 //! name) and an XXH3-64 checksum of their payload ([`crate::hash::tagged`] form). An entry is
 //! used only when its format, both versions and key are this build's and the caller's, and
 //! its payload hashes to its checksum; otherwise it is ignored (and rewritten), and the
 //! reason is one line ([`EntryKind::check_stamp`], [`check_checksum`]).
+
+use crate::hash::StableHasher;
 
 /// The crate version, in every cache key and entry (a cache never outlives a release).
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -27,12 +29,21 @@ pub struct EntryKind {
     /// What the algorithm version is of, in messages ("light-set algorithm version").
     pub algorithm: &'static str,
     pub algorithm_version: u32,
+    /// The entry's file name before the key and its extension: `("lights", "json")` names
+    /// `lights-KEY.json` ([`EntryKind::file_name`]).
+    pub file: (&'static str, &'static str),
 }
 
 impl EntryKind {
     /// `key` as entries store it and file names carry it: 16 hex digits.
     pub fn key_text(key: u64) -> String {
         format!("{key:016x}")
+    }
+
+    /// The entry file of `key` in `dir`: `STEM-KEY.EXT` (`file`, [`EntryKind::key_text`]).
+    pub fn file_name(&self, dir: &std::path::Path, key: u64) -> std::path::PathBuf {
+        let (stem, ext) = self.file;
+        dir.join(format!("{stem}-{}.{ext}", EntryKind::key_text(key)))
     }
 
     /// Checks that `stamp` is this build's (format, crate version, algorithm version) and
@@ -61,6 +72,24 @@ impl EntryKind {
         }
         Ok(())
     }
+}
+
+/// The start of every cache key: a [`StableHasher`] (XXH3-64) fed the key's tag (`tag`:
+/// the cache and its key layout), the crate version, the algorithm version and the probe
+/// file's length and bytes, in that order; each cache hashes its own settings after them.
+pub fn key_hasher(
+    tag: &[u8],
+    crate_version: &str,
+    algorithm_version: u32,
+    probe_bytes: &[u8],
+) -> StableHasher {
+    let mut h = StableHasher::new();
+    h.write(tag);
+    h.write_str(crate_version);
+    h.write_u64(algorithm_version as u64);
+    h.write_u64(probe_bytes.len() as u64);
+    h.write(probe_bytes);
+    h
 }
 
 /// Checks that an entry's stored checksum (`stored`, [`crate::hash::tagged`] form) is the one
@@ -102,6 +131,7 @@ mod tests {
         format: "test-cache-v1",
         algorithm: "test algorithm version",
         algorithm_version: 3,
+        file: ("test", "bin"),
     };
 
     #[test]

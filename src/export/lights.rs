@@ -3,8 +3,8 @@
 //! written once, not once per file).
 
 use super::camera::fa;
-use crate::env::lightset_io::{write_json, LightSetHeader};
-use crate::env::prepare::{EnvMethod, EnvSpec};
+use crate::env::lightset::file::{write_json, LightSetHeader};
+use crate::env::schema::{EnvMethod, EnvSpec};
 use crate::env::LightSet;
 use crate::error::{Error, Result};
 use crate::light::Light;
@@ -51,7 +51,7 @@ pub(super) fn scene_lights_json(own: &[Light], env_lights: Option<usize>) -> ser
 }
 
 /// Directional lights as a light set (bit-exact: the inverse of
-/// [`crate::env::prepare::to_scene_lights`]).
+/// [`crate::env::lightset::to_scene_lights`]).
 pub(super) fn light_set_of(lights: &[Light]) -> LightSet {
     let mut ls = LightSet::default();
     for l in lights {

@@ -75,8 +75,7 @@ pub(super) fn write_data_file(
             crate::image_io::MAX_EXR_FILE_BYTES,
             "material file",
         )?;
-        crate::env::lightset_io::write_atomic(&p, &bytes)
-            .map_err(|e| Error::io(&p, "cannot write", e))?;
+        crate::image_io::write_atomic(&p, &bytes).map_err(|e| Error::io(&p, "cannot write", e))?;
         return Ok(Some(p));
     }
     let provenance = format!("brdfkit export of {}", scene_path.display());

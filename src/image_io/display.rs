@@ -1,7 +1,7 @@
 //! The one display encoding of linear values: exposure, tone map, sRGB transfer curve,
 //! 8 bits. Every 8-bit image the crate writes from linear data goes through it: PNG
 //! output ([`super::write_png`]), golden previews and triptychs, `brdfkit compare`'s FLIP
-//! inputs and report images, and probe overlays ([`crate::env::overlay`]).
+//! inputs and report images, and probe overlays ([`crate::cli::lights_overlay`]).
 //!
 //! Design rule: one documented order, `x * 2^exposure` (stops), then `max(x, 0)` and the
 //! tone map ([`Tonemap`]), then the sRGB transfer curve (IEC 61966-2-1, [`srgb_encode`]),

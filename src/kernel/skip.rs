@@ -3,7 +3,7 @@
 //!
 //! Skips that change no bit are documented where they happen: per-tile normal-cone culling
 //! ([`crate::kernel`]), empty tiles and AOVs nobody asked for ([`crate::shade`],
-//! [`crate::render`]), probe preprocessing already cached ([`crate::env::prepare`]). The
+//! [`crate::render`]), probe preprocessing already cached ([`crate::env::lightset::prepare`]). The
 //! two skips here trade a bounded error for work:
 //!
 //! # Negligible lights ([`drop_weak_lights`], [`needs_restore`])

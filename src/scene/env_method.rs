@@ -9,10 +9,10 @@
 //! at the 99th percentile of the per-pixel relative error (`brdfkit sweep --max-p99 0.1`),
 //! under every shipped probe:
 //! - Lambert and SH data sets: `transfer` (a table over normals from the full probe plus
-//!   the [`DEFAULT_EXACT_LIGHTS`](crate::env::prepare::DEFAULT_EXACT_LIGHTS) brightest
+//!   the [`DEFAULT_EXACT_LIGHTS`](crate::env::schema::DEFAULT_EXACT_LIGHTS) brightest
 //!   texels summed exactly): the per-pixel cost does not grow with the probe.
 //! - Analytic lobes (Blinn-Phong) and D-BRDFs: `lightcuts` at the default `cut_error`
-//!   ([`DEFAULT_CUT_ERROR`](crate::env::prepare::DEFAULT_CUT_ERROR)). A delta light set
+//!   ([`DEFAULT_CUT_ERROR`](crate::env::schema::DEFAULT_CUT_ERROR)). A delta light set
 //!   that meets 1% RMSE for a narrow lobe (Lloyd, 1024 lights) is faster, but its 99th
 //!   percentile is tens of percent: the highlight shows the lights as spots. The cuts bound
 //!   every pixel's error instead.
@@ -32,7 +32,7 @@
 //! says. The CPU's choice ([`Renderer::Cpu`]) is [`concrete_method`], unchanged.
 
 use super::MaterialSpec;
-use crate::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
+use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::library::{self, Representation};
 
 /// Why the GPU renderer does not draw `[env] method = "lightcuts"`: said by the GPU build

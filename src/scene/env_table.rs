@@ -10,7 +10,7 @@
 //! stated (the method is chosen per material). Written back, a table states its method and
 //! that method's fields (all of them under `auto`), so it reads back as the same method.
 
-use crate::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
+use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::error::MISPLACED_FIELD;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::PathBuf;

@@ -6,7 +6,7 @@
 //! adds, what the GPU build draws, what `export` writes, turning the environment, the
 //! golden summary's words, the command line's report) is a method of [`Environment`] or an
 //! exhaustive `match` on it (or, before anything is built, on
-//! [`EnvMethod`](crate::env::prepare::EnvMethod)), never a wildcard arm, so a new variant
+//! [`EnvMethod`](crate::env::schema::EnvMethod)), never a wildcard arm, so a new variant
 //! does not compile until every consumer says what it does with it (the crate doc lists
 //! the files). The environment's delta lights are held apart from the scene's own
 //! `[[light]]`s ([`super::Scene::lights`]); shading takes both, the scene's own first
@@ -15,7 +15,9 @@
 use super::env_method::gpu_unsupported;
 use crate::conventions::rotate_about_up;
 use crate::env::lightcuts::{prepare_lightcuts, LightCuts, LightTree, TileFault};
-use crate::env::prepare::{self, CacheDir, EnvMethod, EnvSpec, SamplerKind};
+use crate::env::lightset::prepare::{self, CacheDir};
+use crate::env::lightset::to_scene_lights;
+use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::env::transfer::{self, prepare_transfer, TransferBasis, TransferTable};
 use crate::env::Probe;
 use crate::error::{Error, Result};
@@ -34,7 +36,7 @@ pub struct EnvSummary {
     /// leaves (texels) of a light cuts tree.
     pub lights: usize,
     pub cache_hit: bool,
-    /// Why an existing cache entry was ignored ([`crate::env::prepare::Prepared::cache_rejected`]).
+    /// Why an existing cache entry was ignored ([`crate::env::lightset::prepare::Prepared::cache_rejected`]).
     pub cache_rejected: Option<String>,
     pub negative_texels: usize,
     /// What the probe loader changed (negative power moved, [`crate::env::LoadReport::negative_warning`]);
@@ -48,7 +50,7 @@ pub struct EnvSummary {
     /// The `[env]` table the environment was built from (its method concrete), and the
     /// directory its paths resolve against: what [`super::Scene::with_environment_turned`] builds
     /// again at another rotation.
-    pub spec: crate::env::prepare::EnvSpec,
+    pub spec: crate::env::schema::EnvSpec,
     pub base: PathBuf,
 }
 
@@ -283,7 +285,7 @@ pub fn build_environment(
                     spec: spec.clone(),
                     base: base.to_path_buf(),
                 };
-                let lights = prepare::to_scene_lights(&p.lights);
+                let lights = to_scene_lights(&p.lights);
                 Ok((Environment::Lights(lights), Some(summary)))
             }
             ProbeSource::Decoded(probe) => {
@@ -291,7 +293,7 @@ pub fn build_environment(
                 let mut ls = spec.sampler_config().run(probe);
                 // The scene's `[env] intensity`, exactly as `prepare::prepare` applies it.
                 spec.scale_intensity(&mut ls);
-                Ok((Environment::Lights(prepare::to_scene_lights(&ls)), None))
+                Ok((Environment::Lights(to_scene_lights(&ls)), None))
             }
         },
         EnvMethod::Transfer => {
@@ -326,7 +328,7 @@ pub fn build_environment(
                     };
                     let env = Environment::Transfer {
                         table: Arc::new(p.table),
-                        exact: prepare::to_scene_lights(&p.lights),
+                        exact: to_scene_lights(&p.lights),
                     };
                     Ok((env, Some(summary)))
                 }
@@ -346,7 +348,7 @@ pub fn build_environment(
                     let lights = transfer::build::texel_lights(probe, &exact, spec.intensity);
                     let env = Environment::Transfer {
                         table: Arc::new(table),
-                        exact: prepare::to_scene_lights(&lights),
+                        exact: to_scene_lights(&lights),
                     };
                     Ok((env, None))
                 }

@@ -7,7 +7,7 @@
 //! part of the schema lives with the rest of the material in `material.rs`.
 
 use super::MaterialSpec;
-use crate::env::prepare::EnvSpec;
+use crate::env::schema::EnvSpec;
 use crate::error::{Error, Result};
 use crate::image_io::Tonemap;
 use crate::kernel::lanes::KernelPath;

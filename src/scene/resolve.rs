@@ -4,14 +4,14 @@
 //! the file and the field; later stages trust what a [`Scene`] holds. Relative paths
 //! resolve against the scene file's directory (`base`). The material is built by
 //! `material.rs` ([`MaterialSpec`](super::MaterialSpec)), an environment light set by
-//! [`crate::env::prepare`].
+//! [`crate::env::lightset::prepare`].
 
 use super::camera::{self, Camera};
 use super::environment::{build_environment, EnvSummary, Environment, ProbeSource};
 use super::fields::{nonneg, rgb, vec3};
 use super::material::resolve_material;
 use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
-use crate::env::prepare::{self, CacheDir};
+use crate::env::lightset::prepare::CacheDir;
 use crate::env::transfer::TransferBasis;
 use crate::error::{Error, Result};
 use crate::kernel::lanes::KernelPath;
@@ -62,14 +62,14 @@ impl Scene {
         Scene::resolve_with_cache(file, base, &CacheDir::None)
     }
 
-    /// [`Scene::resolve`] with the light-set cache `cache` ([`prepare::prepare`]): the
+    /// [`Scene::resolve`] with the light-set cache `cache` ([`crate::env::lightset::prepare::prepare`]): the
     /// command line passes the user's ([`CacheDir::user`]), everything else none.
     pub fn resolve_with_cache(file: &SceneFile, base: &Path, cache: &CacheDir) -> Result<Scene> {
         Scene::resolve_with_progress(file, base, cache, &Progress::hidden())
     }
 
     /// [`Scene::resolve_with_cache`], counting the environment's light-set preparation on
-    /// `progress` ([`prepare::prepare_with_progress`]: nothing on a cache hit). Counting
+    /// `progress` ([`crate::env::lightset::prepare::prepare_with_progress`]: nothing on a cache hit). Counting
     /// does not change the scene.
     pub fn resolve_with_progress(
         file: &SceneFile,
@@ -173,7 +173,7 @@ impl Scene {
         // A probe that is not there: named as the scene wrote it, under its field (every
         // method reads the probe, unless `[env] lights` names a light set file instead).
         // An empty `file` is reported as missing where the probe is read.
-        let named = |s: &&prepare::EnvSpec| s.lights.is_none() && !s.file.as_os_str().is_empty();
+        let named = |s: &&crate::env::EnvSpec| s.lights.is_none() && !s.file.as_os_str().is_empty();
         if let Some(spec) = env_spec.as_ref().filter(named) {
             if let Err(e) = std::fs::metadata(base.join(&spec.file)) {
                 if e.kind() == std::io::ErrorKind::NotFound {

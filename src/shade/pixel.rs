@@ -135,7 +135,7 @@ impl FramePrep<'_> {
                 if self.fault == Some(KernelFault::TransferAzimuthShift) {
                     n = shift_one_azimuth_node(term.table, n);
                 }
-                lights + term.table.radiance_lanes(s, n, c)
+                lights + super::transfer::radiance_lanes(term.table, s, n, c)
             }
             None => lights,
         }

@@ -7,8 +7,9 @@
 //! bands of one tile row; tiles no triangle touched skipped without looking at a pixel;
 //! every tile, shaded or skipped, counted once into the caller's [`Progress`], per tile,
 //! never per pixel: an atomic add beside a tile's thousand pixels). On the fast path the
-//! whole tile ([`ShadeTile`]) is one [`Kernel`], compiled for the instruction set
-//! dispatched once per frame: per tile, its surfaces (`traverse.rs`), the normal cone that culls light chunks (provably changing no bit), then
+//! tile's surfaces found (`traverse.rs`), the rest of the tile ([`ShadeTile`]) is one
+//! [`Kernel`], compiled for the instruction set dispatched once per frame: the normal cone
+//! that culls light chunks (provably changing no bit), then
 //! the per-pixel path (`pixel.rs`) or, for SH data sets under point lights only, the
 //! pixel-packed one (`packed.rs`).
 
@@ -18,7 +19,7 @@ use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES, MAX_LANES};
 use crate::kernel::{self, cluster::Cone, skip::needs_restore};
 use crate::progress::Progress;
-use crate::raster::{PixelRect, VisBuffer};
+use crate::raster::VisBuffer;
 use crate::scene::Scene;
 use glam::Vec3;
 
@@ -38,19 +39,11 @@ pub(super) fn shade_kernels(
         &mut img,
         vis,
         Some(progress),
-        || (Vec::new(), kernel::gather::Scratch::default(), Vec::new()),
-        |(buf, scratch, surfaces), rect, band| {
-            scratch.reserve(room);
-            prep.dispatch.run(ShadeTile {
-                prep,
-                scene,
-                vis,
-                rect,
-                band,
-                buf,
-                scratch,
-                surfaces,
-            })
+        TileBuffers::default,
+        |bufs, rect, band| {
+            bufs.scratch.reserve(room);
+            tile_surfaces(&scene.mesh, vis, rect, &mut bufs.surfaces);
+            prep.dispatch.run(ShadeTile { prep, band, bufs })
         },
     );
     let skipped = vis.tile_occupied.iter().filter(|o| !**o).count() as u64;
@@ -86,35 +79,34 @@ pub(super) fn shade_per_pixel(
     img
 }
 
-/// One occupied tile, as a [`Kernel`] so the whole tile loop is compiled for the
-/// instruction set dispatched once per frame. `band` is the image rows of the tile's row
-/// of tiles; buffers are the worker's, reused.
+/// A worker's buffers, kept across the tiles it shades: the coefficient buffer, the
+/// gathered lights, the tile's surfaces.
+#[derive(Default)]
+struct TileBuffers {
+    buf: Vec<f32>,
+    scratch: kernel::gather::Scratch,
+    surfaces: Vec<(usize, Surface)>,
+}
+
+/// One occupied tile, its surfaces found, as a [`Kernel`] so the whole tile loop is
+/// compiled for the instruction set dispatched once per frame. `band` is the image rows of
+/// the tile's row of tiles; `bufs` are the worker's, reused (`bufs.surfaces` the tile's).
 struct ShadeTile<'p, 'a, 'o> {
     prep: &'p FramePrep<'a>,
-    scene: &'p Scene,
-    vis: &'p VisBuffer,
-    rect: PixelRect,
     band: &'o mut [Vec3],
-    buf: &'o mut Vec<f32>,
-    scratch: &'o mut kernel::gather::Scratch,
-    surfaces: &'o mut Vec<(usize, Surface)>,
+    bufs: &'o mut TileBuffers,
 }
 
 impl Kernel for ShadeTile<'_, '_, '_> {
     type Out = ShadeCounts;
     #[inline(always)]
     fn run<S: Isa>(self, s: S) -> ShadeCounts {
-        let ShadeTile {
-            prep,
-            scene,
-            vis,
-            rect,
-            band,
+        let ShadeTile { prep, band, bufs } = self;
+        let TileBuffers {
             buf,
             scratch,
             surfaces,
-        } = self;
-        tile_surfaces(&scene.mesh, vis, rect, surfaces);
+        } = bufs;
         let cone = if prep.cull_lights {
             Cone::around(surfaces.iter().map(|(_, s)| s.normal))
         } else {

@@ -1,7 +1,7 @@
 //! The sweep's reference cache ([`super`], "The reference"): `reference-<key>.exr` and its
 //! checksum file `reference-<key>.exr.xxh3` in the `--cache` directory, keyed by
 //! [`reference_key`] (which includes the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
-//! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]) and checked on read
+//! [`crate::env::lightset::prepare::LIGHT_SET_ALGORITHM_VERSION`]) and checked on read
 //! ([`read_cached_reference`]).
 
 use crate::error::{Error, Result};
@@ -16,13 +16,13 @@ use std::path::{Path, PathBuf};
 ///
 /// Bump when the output of the converged reference changes for the same scene, so no reference
 /// rendered by older code is read. (Light-set changes are covered by
-/// [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`], also in the key.)
+/// [`crate::env::lightset::prepare::LIGHT_SET_ALGORITHM_VERSION`], also in the key.)
 /// 2: negative probe texels keep the signed integral (the reference's full probe changed);
 /// the UV sphere is shaded at the exact sphere seen through each pixel.
 pub const REFERENCE_ALGORITHM_VERSION: u32 = 2;
 
 /// Cache key of a reference render: [`StableHasher`] (XXH3-64) of a key tag, the crate version,
-/// [`REFERENCE_ALGORITHM_VERSION`], [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`],
+/// [`REFERENCE_ALGORITHM_VERSION`], [`crate::env::lightset::prepare::LIGHT_SET_ALGORITHM_VERSION`],
 /// the scene description (as parsed, with the output section and thread count cleared, and
 /// the environment's sampler set to `full`), the base directory, and the bytes of the probe
 /// and of a material file.
@@ -32,7 +32,7 @@ pub fn reference_key(file: &SceneFile, base: &Path) -> Result<u64> {
     h.write(b"brdfkit-sweep-reference-v3");
     h.write_str(env!("CARGO_PKG_VERSION"));
     h.write_u64(REFERENCE_ALGORITHM_VERSION as u64);
-    h.write_u64(crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION as u64);
+    h.write_u64(crate::env::lightset::prepare::LIGHT_SET_ALGORITHM_VERSION as u64);
     h.write(format!("{file:?}").as_bytes());
     h.write(base.to_string_lossy().as_bytes());
     let mut files = Vec::new();

@@ -13,7 +13,7 @@
 mod columns;
 
 use super::{Config, MethodAxis, MethodKind};
-use crate::env::prepare::SamplerKind;
+use crate::env::schema::SamplerKind;
 use crate::error::{Error, Result};
 use crate::image_io;
 use crate::scene::Precision;

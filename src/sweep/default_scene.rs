@@ -10,7 +10,7 @@
 //! each is where a class's default method is chosen ([`super::fastest_within`]).
 
 use super::Grid;
-use crate::env::prepare::EnvSpec;
+use crate::env::schema::EnvSpec;
 use crate::error::{Error, Result};
 use crate::scene::{MaterialSpec, SceneFile};
 use crate::sh::dataset::Lookup;

@@ -21,7 +21,7 @@
 //! [`Grid::method_points`], [`MethodAxis::of_spec`], the CSV's parameter columns (a new
 //! column changes the CSV format) and the runner's preparation of the method's scene.
 
-use crate::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
+use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::error::{Error, Result};
 use crate::scene::Precision;
 use crate::sh::dataset::Lookup;
@@ -49,7 +49,7 @@ pub fn default_transfer_grids() -> Vec<(usize, usize)> {
 }
 
 /// Default numbers of brightest texels summed exactly beside a transfer table: 0, 16 and
-/// 64 (the `[env]` default, [`DEFAULT_EXACT_LIGHTS`](crate::env::prepare::DEFAULT_EXACT_LIGHTS)).
+/// 64 (the `[env]` default, [`DEFAULT_EXACT_LIGHTS`](crate::env::schema::DEFAULT_EXACT_LIGHTS)).
 pub fn default_exact_lights() -> Vec<usize> {
     vec![0, 16, 64]
 }
@@ -62,7 +62,7 @@ pub fn default_cut_errors() -> Vec<f32> {
 
 /// Default largest cuts (`[env] cut_max`): the `[env]` default only.
 pub fn default_cut_maxes() -> Vec<usize> {
-    vec![crate::env::prepare::DEFAULT_CUT_MAX]
+    vec![crate::env::schema::DEFAULT_CUT_MAX]
 }
 
 /// The environment methods a sweep runs (the outer axis), a subset of `[env] method`

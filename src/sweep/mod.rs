@@ -12,7 +12,7 @@
 //! other materials); then `lightcuts`, cut error x largest cut ([`crate::env::lightcuts`]),
 //! for every material with a cone bound (left out with a note for SH data sets and MERL
 //! tables). Defaults ([`Grid::default`]): the five samplers of
-//! [`SamplerKind`](crate::env::prepare::SamplerKind) except `full`; counts 1, 2, 4, ...,
+//! [`SamplerKind`](crate::env::schema::SamplerKind) except `full`; counts 1, 2, 4, ...,
 //! 1024; tables 32x17, 64x33, 128x65 x exact lights 0, 16, 64; cut errors 0.005, 0.01,
 //! 0.02, 0.05 x largest cut 1000; orders (SH bands) 1..=8; lookups nearest and bilinear;
 //! precision f32 only: (55 + 9) x 8 x 2 = 1024 rows for an 8-band SH data set (lightcuts
@@ -35,14 +35,14 @@
 //! The scene with every texel of its probe as a light (sampler `full`), f64 shading, no
 //! culling and no skips ([`crate::render::RenderOptions::converged_reference`]), the same
 //! reference as `brdfkit render --reference`, whatever the scene's `[env] method`
-//! ([`crate::env::prepare::EnvSpec::use_full_probe`]). It renders the material as the scene stores it (every
+//! ([`crate::env::schema::EnvSpec::use_full_probe`]). It renders the material as the scene stores it (every
 //! band, its own lookup), so a row with fewer orders or the other lookup measures that
 //! difference too: for SH materials the truncation, not the light count, dominates the error
 //! at low orders. It takes minutes for the default scene, so it is cached (`--cache DIR`,
 //! default `target/brdfkit-cache`; `--no-cache`: not at all) as a linear EXR
 //! `reference-<key>.exr` named by [`reference_key`]: a hash of the scene's configuration and
 //! input files, the crate version, [`REFERENCE_ALGORITHM_VERSION`] and
-//! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`]. Beside it,
+//! [`crate::env::lightset::prepare::LIGHT_SET_ALGORITHM_VERSION`]. Beside it,
 //! `reference-<key>.exr.xxh3` holds [`image_checksum`] of its pixels; an entry is used only
 //! when both files exist, its size is the scene's, every value is finite, and
 //! the checksum matches ([`read_cached_reference`]); otherwise it is rendered again and

@@ -65,7 +65,7 @@ mod tests {
                 config: Config {
                     index,
                     method: MethodAxis::Lights {
-                        sampler: crate::env::prepare::SamplerKind::Lloyd,
+                        sampler: crate::env::schema::SamplerKind::Lloyd,
                         count: 1,
                     },
                     order: 0,

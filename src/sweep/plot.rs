@@ -9,7 +9,7 @@
 //! it), so no system font is needed.
 
 use super::{describe, sampler_name, MethodAxis, MethodKind, Row};
-use crate::env::prepare::SamplerKind;
+use crate::env::schema::SamplerKind;
 use crate::error::{Error, Result};
 use crate::scene::Precision;
 use plotters::prelude::*;

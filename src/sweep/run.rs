@@ -17,7 +17,7 @@ use super::MethodAxis;
 use super::{metrics, read_cached_reference, reference_key};
 use super::{Config, DefaultConfig, Grid, Row};
 use crate::compare::Loaded;
-use crate::env::prepare::{EnvMethod, EnvSpec};
+use crate::env::schema::{EnvMethod, EnvSpec};
 use crate::env::transfer::TransferBasis;
 use crate::env::Probe;
 use crate::error::{Error, Result};
@@ -104,12 +104,12 @@ impl Sweep {
             ));
         }
         for &n in &grid.counts {
-            if n == 0 || n > crate::env::prepare::MAX_LIGHTS {
+            if n == 0 || n > crate::env::schema::MAX_LIGHTS {
                 return Err(Error::field(
                     "--counts",
                     format!(
                         "{n} is out of range (1 to {})",
-                        crate::env::prepare::MAX_LIGHTS
+                        crate::env::schema::MAX_LIGHTS
                     ),
                 ));
             }
@@ -123,12 +123,12 @@ impl Sweep {
             }
         }
         for &k in &grid.exact_lights {
-            if k > crate::env::prepare::MAX_LIGHTS {
+            if k > crate::env::schema::MAX_LIGHTS {
                 return Err(Error::field(
                     "--exact-lights",
                     format!(
                         "{k} is out of range (0 to {})",
-                        crate::env::prepare::MAX_LIGHTS
+                        crate::env::schema::MAX_LIGHTS
                     ),
                 ));
             }
@@ -165,7 +165,7 @@ impl Sweep {
         };
         let covered = metrics::covered_pixels(&full);
         let (probe, report) =
-            crate::env::prepare::load_probe(&base.join(&env.file), &env.load_options())?;
+            crate::env::probe::load_probe(&base.join(&env.file), &env.load_options())?;
         // The probe is loaded once per sweep (every row samples this one): its loader
         // warning is one note, the file as the scene names it.
         notes.extend(report.negative_warning(&env.file.display().to_string()));

@@ -156,7 +156,7 @@ impl App {
                 // The names a scene file and the command line spell (`median-cut`), never
                 // Rust's (`MedianCut`).
                 let m = e.method.name();
-                use crate::env::prepare::EnvMethod;
+                use crate::env::schema::EnvMethod;
                 match e.method {
                     EnvMethod::Lights => {
                         let sampler = clap::ValueEnum::to_possible_value(&e.sampler)

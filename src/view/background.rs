@@ -3,7 +3,7 @@
 //! display encoding as the shaded pixels. Screenshots never include it (`brdfkit render`
 //! draws no background).
 
-use crate::env::prepare::EnvSpec;
+use crate::env::schema::EnvSpec;
 use crate::env::{LoadOptions, Probe};
 use crate::image_io::display::display_u8;
 use crate::raster::NO_TRIANGLE;

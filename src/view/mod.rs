@@ -37,7 +37,7 @@ pub mod state;
 mod stats;
 mod worker;
 
-use crate::env::prepare::CacheDir;
+use crate::env::lightset::prepare::CacheDir;
 use crate::error::{Error, Result};
 use crate::scene::SceneFile;
 use std::path::PathBuf;

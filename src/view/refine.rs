@@ -15,7 +15,7 @@
 //! it; its last step is what `brdfkit sweep` measures against that reference for the same
 //! configuration.
 
-use crate::env::prepare::{EnvMethod, SamplerKind, MAX_LIGHTS};
+use crate::env::schema::{EnvMethod, SamplerKind, MAX_LIGHTS};
 use crate::scene::SceneFile;
 
 /// Largest light count a refinement step asks for.
@@ -77,7 +77,7 @@ pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::env::prepare::EnvSpec;
+    use crate::env::schema::EnvSpec;
 
     #[test]
     fn under_auto_the_moving_frame_is_the_light_set_and_the_still_ones_the_auto_method() {
@@ -90,8 +90,8 @@ mod tests {
         assert_eq!(method(0), EnvMethod::Lights);
         assert_eq!(method(1), EnvMethod::Lightcuts);
         let cut = |k| step_file(&f, k, 3).env.unwrap().cut_error;
-        assert_eq!(cut(1), crate::env::prepare::DEFAULT_CUT_ERROR);
-        assert_eq!(cut(2), crate::env::prepare::DEFAULT_CUT_ERROR / 4.0);
+        assert_eq!(cut(1), crate::env::schema::DEFAULT_CUT_ERROR);
+        assert_eq!(cut(2), crate::env::schema::DEFAULT_CUT_ERROR / 4.0);
         assert_eq!(step_file(&f, 0, 3).env.unwrap().count, 128);
     }
 
@@ -112,7 +112,7 @@ mod tests {
     fn steps_raise_the_light_count_and_the_last_drops_no_light() {
         // A delta light set (`auto` is left as it is: its method has no light count).
         let mut env = EnvSpec::new("p.exr".into());
-        env.method = crate::env::prepare::EnvMethod::Lights;
+        env.method = crate::env::schema::EnvMethod::Lights;
         let f = SceneFile {
             env: Some(env),
             ..SceneFile::default()

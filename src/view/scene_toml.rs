@@ -28,7 +28,7 @@ pub fn write_scene(path: &Path, file: &SceneFile) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::env::prepare::EnvSpec;
+    use crate::env::schema::EnvSpec;
     use crate::scene::CameraSpec;
 
     #[test]

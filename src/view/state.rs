@@ -10,7 +10,7 @@
 
 use super::input::{Action, DRAG_PIXELS_PER_RADIAN, ENV_PIXELS_PER_DEGREE, ZOOM_PER_NOTCH};
 use crate::aov::Aov;
-use crate::env::prepare::{EnvMethod, EnvSpec, MAX_LIGHTS};
+use crate::env::schema::{EnvMethod, EnvSpec, MAX_LIGHTS};
 use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::scene::{resolve_camera, CameraSpec, MaterialSpec, SceneFile};

@@ -14,7 +14,7 @@
 
 use super::background::Background;
 use crate::aov::Aov;
-use crate::env::prepare::CacheDir;
+use crate::env::lightset::prepare::CacheDir;
 use crate::image_io::display::display_u8;
 use crate::image_io::Image;
 use crate::render::{self, RenderOptions};

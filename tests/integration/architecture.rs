@@ -164,13 +164,9 @@ fn doc_layers(lib_rs: &str) -> Vec<Vec<String>> {
     layers
 }
 
-/// Imports against the crate doc's order that stand until the code moves, each with why.
-const EXCEPTIONS: [(&str, &str, &str); 1] = [(
-    "env",
-    "kernel",
-    "the transfer table's lane lookup (env/transfer/table.rs: the kernel's lanes, `acos_01`, \
-     `azimuth`) moves to the kernel or shade layer when env is split by concept",
-)];
+/// Imports against the crate doc's order that stand until the code moves, each with why
+/// (none stands).
+const EXCEPTIONS: [(&str, &str, &str); 0] = [];
 
 /// The imports of `g` that go to a module of the same or a later layer than the importer's,
 /// the [`EXCEPTIONS`] left out; and the modules no layer names.

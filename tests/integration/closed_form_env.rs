@@ -3,12 +3,13 @@
 //! (a bright texel block must light the sphere where `brdfkit::conventions` says).
 //!
 //! Probes are written as small EXR files into a temporary directory; light sets are made
-//! with `env::prepare::prepare` without a cache directory (never the user's cache).
+//! with `env::lightset::prepare::prepare` without a cache directory (never the user's cache).
 
 use crate::closed_form_common;
 
 use brdfkit::brdf::Lambert;
-use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
+use brdfkit::env::lightset::{prepare::prepare, to_scene_lights};
+use brdfkit::env::schema::{EnvSpec, SamplerKind};
 use brdfkit::light::Light;
 use closed_form_common::*;
 use glam::{DVec3, Vec3};

@@ -268,7 +268,7 @@ fn seeded_issue_citations_are_reported() {
 fn numbers_the_readme_states_are_the_codes() {
     // The README's counts and defaults, each rebuilt from the code: a default changed in
     // the code and not in the README fails here, naming the sentence to change.
-    use brdfkit::env::prepare::{
+    use brdfkit::env::schema::{
         EnvSpec, DEFAULT_CUT_ERROR, DEFAULT_EXACT_LIGHTS, DEFAULT_TRANSFER_AZIMUTH,
         DEFAULT_TRANSFER_POLAR,
     };

@@ -3,7 +3,8 @@
 //! light-set cache (keys, validation on read). Scenes resolve without a cache
 //! ([`Scene::resolve`]); only the cache test uses one, in a temporary directory.
 
-use brdfkit::env::prepare::{prepare, CacheEntry, EnvSpec, SamplerKind};
+use brdfkit::env::lightset::prepare::{prepare, CacheEntry};
+use brdfkit::env::schema::{EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::render::render;
 use brdfkit::scene::{Scene, SceneFile};
@@ -334,7 +335,7 @@ fn a_field_of_another_method_is_an_error_naming_both() {
     let auto = "[env]\nfile = \"x.exr\"\nexact_lights = 8\ncut_error = 0.02\nseed = 3\n";
     let f = SceneFile::parse(auto).unwrap();
     let env = f.env.as_ref().unwrap();
-    assert_eq!(env.method, brdfkit::env::prepare::EnvMethod::Auto);
+    assert_eq!(env.method, brdfkit::env::schema::EnvMethod::Auto);
     assert_eq!((env.exact_lights, env.cut_error, env.seed), (8, 0.02, 3));
     // Written back: each method's table reads back as the same method and fields.
     for method in ["auto", "lights", "transfer", "lightcuts"] {

@@ -175,9 +175,9 @@ fn exported_files_read_back_as_the_scene() {
         ],
     );
     assert_eq!(code, 0, "{out}{err}");
-    let (_, mut want) = brdfkit::env::lightset_io::read_json(&p.join("ref.json")).unwrap();
+    let (_, mut want) = brdfkit::env::lightset::file::read_json(&p.join("ref.json")).unwrap();
     want.scale_irradiance(1.5);
-    let (_, got) = brdfkit::env::lightset_io::read_json(&g.join("lights.json")).unwrap();
+    let (_, got) = brdfkit::env::lightset::file::read_json(&g.join("lights.json")).unwrap();
     assert_eq!(got, want);
     // One copy of the environment's lights: scene_lights.json holds the scene's own light
     // and names lights.json for the other 16.

@@ -178,15 +178,15 @@ fn the_docs_state_the_light_set_keys_and_csv_header() {
     let p = d.path();
     let mut ls = brdfkit::env::LightSet::default();
     ls.push(glam::DVec3::Y, glam::DVec3::new(1.0, 2.0, 3.0));
-    let header = brdfkit::env::lightset_io::LightSetHeader {
+    let header = brdfkit::env::lightset::file::LightSetHeader {
         sampler: "median-cut".into(),
         n: 1,
         seed: None,
         probe_file: None,
         total_irradiance: [1.0, 2.0, 3.0],
     };
-    brdfkit::env::lightset_io::write_json(&p.join("l.json"), &header, &ls).unwrap();
-    brdfkit::env::lightset_io::write_csv(&p.join("l.csv"), &ls).unwrap();
+    brdfkit::env::lightset::file::write_json(&p.join("l.json"), &header, &ls).unwrap();
+    brdfkit::env::lightset::file::write_csv(&p.join("l.csv"), &ls).unwrap();
     let doc = std::fs::read_to_string(root().join("docs/file-formats.md")).unwrap();
     let s = section(&doc, "Light sets");
     let v: serde_json::Value =

@@ -4,7 +4,7 @@
 use crate::shading_paths;
 
 use brdfkit::aov::Aov;
-use brdfkit::env::prepare::SamplerKind;
+use brdfkit::env::schema::SamplerKind;
 use brdfkit::golden::{self, CheckOptions, CROSS_PLATFORM, KERNEL_DISPATCH};
 use brdfkit::image_io;
 use brdfkit::kernel::lanes::KernelPath;

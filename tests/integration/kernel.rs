@@ -2,7 +2,7 @@
 
 use crate::shading_paths;
 
-use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
+use brdfkit::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::kernel::lanes::{Dispatch, KernelPath};
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
 use brdfkit::render;

@@ -239,8 +239,8 @@ fn reference_of_a_lightcuts_scene_is_the_full_probe() {
     let text = "[env]\nfile = \"x.exr\"\nmethod = \"lightcuts\"\n";
     let mut file = SceneFile::parse(text).unwrap();
     let env = file.env.as_mut().unwrap();
-    assert_eq!(env.method, brdfkit::env::prepare::EnvMethod::Lightcuts);
+    assert_eq!(env.method, brdfkit::env::schema::EnvMethod::Lightcuts);
     env.use_full_probe();
-    assert_eq!(env.method, brdfkit::env::prepare::EnvMethod::Lights);
-    assert_eq!(env.sampler, brdfkit::env::prepare::SamplerKind::Full);
+    assert_eq!(env.method, brdfkit::env::schema::EnvMethod::Lights);
+    assert_eq!(env.sampler, brdfkit::env::schema::SamplerKind::Full);
 }

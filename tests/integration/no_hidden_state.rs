@@ -8,7 +8,7 @@
 //! temporary directory (set on the child only: this process's environment is never changed),
 //! so nothing here reads or writes the user's cache.
 
-use brdfkit::env::prepare::{lights_checksum, CacheEntry};
+use brdfkit::env::lightset::prepare::{lights_checksum, CacheEntry};
 use brdfkit::golden::{self, KERNEL_DISPATCH};
 use brdfkit::image_io::read_exr;
 use std::collections::BTreeMap;

@@ -43,8 +43,9 @@
 
 use brdfkit::brdf::{BlinnPhong, Lambert};
 use brdfkit::conventions::{probe_direction, texel_center_f64};
-use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
-use brdfkit::env::sampling::full_probe;
+use brdfkit::env::lightset::samplers::full_probe;
+use brdfkit::env::lightset::{prepare::prepare, to_scene_lights};
+use brdfkit::env::schema::{EnvSpec, SamplerKind};
 use brdfkit::env::{LoadOptions, Probe};
 use brdfkit::image_io::{read_exr, Image};
 use brdfkit::light::Light;

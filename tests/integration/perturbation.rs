@@ -14,7 +14,7 @@
 use brdfkit::acquire::{acquire, AcquireOptions, Method, DEFAULT_LAMBDA};
 use brdfkit::brdf::{AshikhminShirley, Brdf};
 use brdfkit::compare::{self, Loaded, Thresholds};
-use brdfkit::env::prepare::{EnvMethod, EnvSpec, SamplerKind};
+use brdfkit::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
 use brdfkit::sh::basis::sh_lm;

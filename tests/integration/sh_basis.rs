@@ -18,7 +18,8 @@
 
 use crate::shading_paths;
 
-use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
+use brdfkit::env::lightset::{prepare::prepare, to_scene_lights};
+use brdfkit::env::schema::{EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::kernel::lanes::Dispatch;
 use brdfkit::kernel::SH_KERNEL_TOLERANCE;

@@ -4,7 +4,8 @@
 //! `light_sets_are_cached_by_contents_and_parameters` in tests/integration/env_scene.rs.)
 
 use brdfkit::conventions::{hemi_texcoord, local_angles};
-use brdfkit::env::prepare::{prepare, to_scene_lights, EnvSpec, SamplerKind};
+use brdfkit::env::lightset::{prepare::prepare, to_scene_lights};
+use brdfkit::env::schema::{EnvSpec, SamplerKind};
 use brdfkit::image_io::Image;
 use brdfkit::kernel::skip::{band_tail_factor, summation_allowance};
 use brdfkit::light::Light;

@@ -19,11 +19,9 @@
 use brdfkit::aov::Aov;
 use brdfkit::brdf::eval_cosine_weighted;
 use brdfkit::conventions::ShadingFrame;
-use brdfkit::env::prepare::EnvSpec;
-use brdfkit::env::{
-    fibonacci_sphere, irradiance_error, reference_irradiance_many, LoadOptions, Probe,
-    SamplerConfig,
-};
+use brdfkit::env::lightset::{fibonacci_sphere, irradiance_error, reference_irradiance_many};
+use brdfkit::env::schema::EnvSpec;
+use brdfkit::env::{LoadOptions, Probe, SamplerConfig};
 use brdfkit::image_io::Image;
 use brdfkit::light::Light;
 use brdfkit::material::Material;

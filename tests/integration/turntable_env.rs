@@ -9,7 +9,7 @@
 //! case renders 24 x 24 pixels.
 
 use crate::common;
-use brdfkit::env::prepare::CacheDir;
+use brdfkit::env::lightset::prepare::CacheDir;
 use brdfkit::image_io::Image;
 use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};

@@ -204,20 +204,27 @@ impl<S: Real> Table<S> {
         (v00 * sx + v10 * tx) * sy + (v01 * sx + v11 * tx) * ty
     }
 
+    /// The density of the warp (channel 0) on the left and right edges of cell `(ix, iy)`,
+    /// each interpolated linearly to the height `ty` in the cell: what [`Table::invert`]
+    /// and [`Table::sample`] integrate across the cell.
+    fn cell_edges(&self, w: &Weights<S>, ix: usize, iy: usize, ty: S) -> (S, S) {
+        let (nx, d) = (self.nx, self.axes.len());
+        let n = nx * self.ny;
+        let i = w.base * n + iy * nx + ix;
+        let v00 = self.lookup(&self.data, i, n, w, d);
+        let v10 = self.lookup(&self.data, i + 1, n, w, d);
+        let v01 = self.lookup(&self.data, i + nx, n, w, d);
+        let v11 = self.lookup(&self.data, i + nx + 1, n, w, d);
+        (v00 + (v01 - v00) * ty, v10 + (v11 - v10) * ty)
+    }
+
     /// The warp's CDF map of `(x, y)` (module doc), in `[0, 1]^2`.
     pub fn invert(&self, x: S, y: S, params: &[S]) -> (S, S) {
         let w = self.weights(params);
         let d = self.axes.len();
         let (nx, ny) = (self.nx, self.ny);
         let (ix, iy, tx, ty) = self.cell(x, y);
-        let n = nx * ny;
-        let i = w.base * n + iy * nx + ix;
-        let v00 = self.lookup(&self.data, i, n, &w, d);
-        let v10 = self.lookup(&self.data, i + 1, n, &w, d);
-        let v01 = self.lookup(&self.data, i + nx, n, &w, d);
-        let v11 = self.lookup(&self.data, i + nx + 1, n, &w, d);
-        let c0 = v00 + (v01 - v00) * ty;
-        let c1 = v10 + (v11 - v10) * ty;
+        let (c0, c1) = self.cell_edges(&w, ix, iy, ty);
         let (px, py) = (
             S::ONE / S::lit((nx - 1) as f64),
             S::ONE / S::lit((ny - 1) as f64),
@@ -271,14 +278,7 @@ impl<S: Real> Table<S> {
         let target = u * (r0 + (r1 - r0) * ty);
         let ix = (0..nx - 2).filter(|&k| cond(k) < target).count();
         let left = if ix > 0 { cond(ix - 1) } else { S::ZERO };
-        let n = nx * ny;
-        let i = w.base * n + iy * nx + ix;
-        let v00 = self.lookup(&self.data, i, n, &w, d);
-        let v10 = self.lookup(&self.data, i + 1, n, &w, d);
-        let v01 = self.lookup(&self.data, i + nx, n, &w, d);
-        let v11 = self.lookup(&self.data, i + nx + 1, n, &w, d);
-        let c0 = v00 + (v01 - v00) * ty;
-        let c1 = v10 + (v11 - v10) * ty;
+        let (c0, c1) = self.cell_edges(&w, ix, iy, ty);
         let px = S::lit((nx - 1) as f64);
         let tx = solve_segment((target - left) * px, c0, c1);
         ((S::lit(ix as f64) + tx) / px, (S::lit(iy as f64) + ty) / py)

@@ -56,7 +56,7 @@ pub mod tree;
 
 pub use tree::LightTree;
 
-use crate::env::prepare::EnvSpec;
+use crate::env::schema::EnvSpec;
 use crate::env::LoadReport;
 use crate::error::Result;
 use crate::material::cone_bound::BoundFault;
@@ -110,7 +110,7 @@ pub fn prepare_lightcuts(spec: &EnvSpec, base: &Path) -> Result<PreparedLightCut
         "light probe",
     )
     .map_err(|e| crate::error::Error::Message(e.to_string()))?;
-    let (probe, report) = crate::env::prepare::load_probe(&path, &spec.load_options())?;
+    let (probe, report) = crate::env::probe::load_probe(&path, &spec.load_options())?;
     Ok(PreparedLightCuts {
         cuts: LightCuts {
             tree: LightTree::build(&probe, spec.intensity),

@@ -2,7 +2,7 @@
 //! texels, not against the tree).
 
 use super::tree::{LightTree, LEAF};
-use crate::env::samplers::ProbeTables;
+use crate::env::probe::ProbeTables;
 use crate::env::{LoadOptions, Probe};
 use glam::DVec3;
 use std::path::Path;

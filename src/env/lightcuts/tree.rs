@@ -1,7 +1,7 @@
 //! The light tree: a binary tree over every probe texel of positive weight, nodes stored as
 //! plain arrays (structure of arrays), root at index 0 (parent module doc, "The tree").
 
-use crate::env::samplers::ProbeTables;
+use crate::env::probe::ProbeTables;
 use crate::env::Probe;
 use glam::{DVec3, Vec3};
 

@@ -351,10 +351,18 @@ impl Probe {
     }
 }
 
+/// [`Probe::load`] with the crate's [`crate::error::Error`] (for tools and the methods'
+/// preparations).
+pub fn load_probe(path: &Path, opts: &LoadOptions) -> crate::error::Result<(Probe, LoadReport)> {
+    Probe::load(path, opts).map_err(|e| crate::error::Error::Message(e.to_string()))
+}
+
 mod clean;
 mod read;
+mod tables;
 use read::{check_size, read_exr, read_hdr};
 pub use read::{HDR_TEXELS_PER_BYTE, HDR_TEXEL_SLACK};
+pub use tables::ProbeTables;
 
 #[cfg(test)]
 mod tests;

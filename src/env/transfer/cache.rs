@@ -1,5 +1,5 @@
 //! The disk cache of transfer tables, beside the light-set cache
-//! ([`crate::env::prepare::cache`]): same directory ([`crate::env::prepare::CacheDir`]),
+//! ([`crate::env::lightset::prepare::cache`]): same directory ([`crate::env::lightset::prepare::CacheDir`]),
 //! same rules (only `brdfkit render` and `brdfkit view` pass one; tests, `golden` and
 //! `sweep` never do).
 //!
@@ -20,11 +20,13 @@
 //! [`crate::env::cache_entry`]), the grid and basis against what the caller wants, the byte
 //! count and the XXH3-64 checksum of the values ([`values_checksum`]); an entry that fails
 //! any of it is ignored (and rewritten), never trusted. Writes are atomic
-//! ([`crate::env::lightset_io::write_atomic`]: a unique temporary sibling, then a rename).
+//! ([`crate::image_io::write_atomic`]: a unique temporary sibling, then a rename).
 
 use super::table::TransferTable;
 use super::TransferBasis;
-use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp, CRATE_VERSION};
+use crate::env::cache_entry::{
+    check_checksum, key_hasher, read_entry_bytes, EntryKind, Stamp, CRATE_VERSION,
+};
 use crate::env::LoadOptions;
 use crate::hash::{self, StableHasher};
 use serde::{Deserialize, Serialize};
@@ -43,6 +45,7 @@ const ENTRY: EntryKind = EntryKind {
     format: TABLE_CACHE_FORMAT,
     algorithm: "transfer algorithm version",
     algorithm_version: TRANSFER_ALGORITHM_VERSION,
+    file: ("transfer", "bin"),
 };
 
 /// Largest entry read: 2^24 values ([`super::build::build_table`]'s limit) plus a header.
@@ -64,12 +67,12 @@ pub fn table_cache_key(bytes: &[u8], opts: &LoadOptions, p: &TableParams) -> u64
 }
 
 fn versioned_key(algorithm: u32, bytes: &[u8], opts: &LoadOptions, p: &TableParams) -> u64 {
-    let mut h = StableHasher::new();
-    h.write(b"brdfkit-transfer-table-v1");
-    h.write_str(CRATE_VERSION);
-    h.write_u64(algorithm as u64);
-    h.write_u64(bytes.len() as u64);
-    h.write(bytes);
+    let mut h = key_hasher(
+        b"brdfkit-transfer-table-v1",
+        CRATE_VERSION,
+        algorithm,
+        bytes,
+    );
     h.write_u64(opts.zero_non_finite as u64);
     h.write_u64(opts.max_texels as u64);
     match p.basis {
@@ -89,7 +92,7 @@ fn versioned_key(algorithm: u32, bytes: &[u8], opts: &LoadOptions, p: &TablePara
 
 /// The cache file of `key` in `dir`.
 pub fn table_file_name(dir: &Path, key: u64) -> PathBuf {
-    dir.join(format!("transfer-{}.bin", EntryKind::key_text(key)))
+    ENTRY.file_name(dir, key)
 }
 
 /// XXH3-64 of the value count and the values' bits, stored in each entry and recomputed

@@ -143,7 +143,7 @@ pub fn write_table(json: &Path, bin: &Path, table: &TransferTable) -> Result<()>
     let header = header_of(table, &name);
     let text = serde_json::to_string_pretty(&header).expect("a header serialises") + "\n";
     let write = |p: &Path, bytes: &[u8]| {
-        crate::env::lightset_io::write_atomic(p, bytes).map_err(|e| Error::io(p, "cannot write", e))
+        crate::image_io::write_atomic(p, bytes).map_err(|e| Error::io(p, "cannot write", e))
     };
     write(bin, &values_bytes(table))?;
     write(json, text.as_bytes())

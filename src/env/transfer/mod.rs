@@ -20,7 +20,7 @@
 //! exactly per pixel as directional lights through the ordinary kernels: each light that
 //! crosses a normal's horizon makes `T` jump, which no grid interpolates, and under a probe
 //! with a few dominant sources those jumps are most of the table's error (studio:
-//! [`crate::env::prepare::DEFAULT_EXACT_LIGHTS`] says by how much).
+//! [`crate::env::schema::DEFAULT_EXACT_LIGHTS`] says by how much).
 //!
 //! # Grid of normals
 //! Latitude-longitude in the probe's own convention ([`crate::conventions`], "Light
@@ -51,7 +51,7 @@ pub use build::{brightest_texels, build_table, BuildFault};
 pub use table::TransferTable;
 
 /// Largest difference allowed between the fast path's transfer term
-/// ([`TransferTable::radiance_lanes`] in the tile loop, polynomial angles, fused eight-lane
+/// (`crate::shade`'s lane lookup in the tile loop, polynomial angles, fused eight-lane
 /// sums, the data set truncated to its effective bands) and the scalar oracle's
 /// ([`TransferTable::radiance_with`] in a pass of its own, `std` angles, every band), per
 /// pixel and channel, relative to the pixel (or to 1% of the image's peak where SH terms
@@ -75,21 +75,14 @@ impl TransferBasis {
     /// when the data set excludes it) or, for Lambert, the irradiance; `None` for other
     /// materials, which a transfer table cannot shade.
     pub fn for_material(material: &crate::material::Material) -> Option<TransferBasis> {
-        use crate::material::Material;
-        match material {
-            Material::Sh(ds) => Some(TransferBasis::Sh {
+        use crate::material::TransferModel;
+        Some(match material.transfer_model()? {
+            TransferModel::Sh(ds) => TransferBasis::Sh {
                 bands: ds.bands(),
                 cosine: !ds.cosine_included(),
-            }),
-            Material::Lambert(_) => Some(TransferBasis::Irradiance),
-            Material::Phong(_)
-            | Material::BlinnPhong(_)
-            | Material::AshikhminShirley(_)
-            | Material::DBrdf(_)
-            | Material::LambertDbrdf(_)
-            | Material::Merl(_)
-            | Material::Rgl(_) => None,
-        }
+            },
+            TransferModel::Lambert(_) => TransferBasis::Irradiance,
+        })
     }
 
     /// Number of terms per colour.
@@ -101,7 +94,7 @@ impl TransferBasis {
     }
 }
 
-use crate::env::prepare::EnvSpec;
+use crate::env::schema::EnvSpec;
 use crate::env::{LightSet, LoadReport};
 use crate::error::Result;
 use crate::progress::Progress;
@@ -146,7 +139,7 @@ pub fn prepare_transfer(
         "light probe",
     )?;
     let opts = spec.load_options();
-    let (probe, report) = crate::env::prepare::load_probe(&path, &opts)?;
+    let (probe, report) = crate::env::probe::load_probe(&path, &opts)?;
     let exact = brightest_texels(&probe, spec.exact_lights);
     let params = cache::TableParams {
         basis,
@@ -180,7 +173,7 @@ pub fn prepare_transfer(
             if let Some(f) = &file {
                 // A cache that cannot be written only costs time: ignore the error.
                 if std::fs::create_dir_all(f.parent().unwrap_or(Path::new("."))).is_ok() {
-                    let _ = crate::env::lightset_io::write_atomic(f, &cache::encode_entry(&t, key));
+                    let _ = crate::image_io::write_atomic(f, &cache::encode_entry(&t, key));
                 }
             }
             t

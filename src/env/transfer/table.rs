@@ -2,8 +2,6 @@
 //! grid of normals, and its bilinear lookup (grid and frame in the parent module's doc).
 
 use super::TransferBasis;
-use crate::kernel::approx::{acos_01, azimuth};
-use crate::kernel::lanes::{F32x8, Isa, LANES};
 use glam::Vec3;
 
 /// A transfer table (parent module doc). Values are f32, node-major with the polar index
@@ -92,7 +90,8 @@ impl TransferTable {
     /// frame (rotation undone), its probe angles `(polar from +y, azimuth 2 pi u)` found as
     /// [`crate::conventions::probe_uv`] does (`std`'s `acos` and `atan2`), and the grid is
     /// interpolated linearly in both angles (azimuth wraps; polar nodes include the poles,
-    /// so no clamping is needed). The scalar oracle's and the f64 path's lookup.
+    /// so no clamping is needed). The scalar oracle's and the f64 path's lookup; the fast
+    /// path's is the same on polynomial angles (`crate::shade`'s transfer term).
     #[inline]
     pub fn corners(&self, n: Vec3) -> Corners {
         let (x, z) = self.unrotated_xz(n);
@@ -104,36 +103,20 @@ impl TransferTable {
         self.corners_at(polar, u)
     }
 
-    /// [`TransferTable::corners`] with the fast path's polynomial angles
-    /// ([`crate::kernel::approx::acos_01`], [`crate::kernel::approx::azimuth`], errors
-    /// <= 1e-6 rad, about 2e-5 of the default grid's 2.8 degree azimuth step) on the
-    /// instruction set `s`, lane 0.
+    /// `(x, z)` of `rotate_about_up(n, -rotation)`, in f32: the world unit normal `n`
+    /// turned into the probe's frame.
     #[inline(always)]
-    pub fn corners_fast<S: Isa>(&self, s: S, n: Vec3) -> Corners {
-        let (x, z) = self.unrotated_xz(n);
-        // acos(y) = pi - acos(-y) for y < 0.
-        let half = acos_01(s, s.splat(n.y.abs())).lane(0);
-        let polar = if n.y < 0.0 {
-            std::f32::consts::PI - half
-        } else {
-            half
-        };
-        // Probe azimuth atan2(-x, z) in [0, 2 pi).
-        let az = azimuth(s, s.splat(-x), s.splat(z)).lane(0);
-        self.corners_at(polar, az * (0.5 * std::f32::consts::FRAC_1_PI))
-    }
-
-    /// `(x, z)` of `rotate_about_up(n, -rotation)`, in f32.
-    #[inline(always)]
-    fn unrotated_xz(&self, n: Vec3) -> (f32, f32) {
+    pub fn unrotated_xz(&self, n: Vec3) -> (f32, f32) {
         let (s, c) = self.unrotate;
         (n.x * c + n.z * s, -n.x * s + n.z * c)
     }
 
     /// Bilinear corners at probe polar angle `polar` (radians from +y) and azimuth
-    /// fraction `u` in `[0, 1]`.
+    /// fraction `u` in `[0, 1]` (the probe's angles of a normal turned by
+    /// [`TransferTable::unrotated_xz`]; the fast path's lookup, `crate::shade`'s transfer
+    /// term, finds them with the kernel's polynomial angles).
     #[inline(always)]
-    fn corners_at(&self, polar: f32, u: f32) -> Corners {
+    pub fn corners_at(&self, polar: f32, u: f32) -> Corners {
         let a = u * self.nu as f32;
         let b = polar * std::f32::consts::FRAC_1_PI * (self.nv - 1) as f32;
         let af = a.floor();
@@ -179,47 +162,6 @@ impl TransferTable {
     pub fn radiance(&self, n: Vec3, c: &[f32]) -> Vec3 {
         let mut scratch = vec![0.0f32; 3 * self.terms()];
         self.radiance_with(n, c, &mut scratch)
-    }
-
-    /// The fast path's [`TransferTable::radiance_with`], on the instruction set `s`:
-    /// corners by [`TransferTable::corners_fast`], then per colour the four nodes blended
-    /// and dotted with `c` eight terms at a time (`acc = (t0 a0 + t1 a1 + t2 a2 + t3 a3) c
-    /// + acc`, fused multiply-adds in that order, lanes summed by [`F32x8::sum`]), the
-    /// terms past the last multiple of eight in scalar order after them. `c` holds
-    /// `3 x nc` coefficients (`[R.., G.., B..]`) with `nc <= terms`: a data set truncated to
-    /// its effective bands ([`crate::kernel::skip`]) dots with the table's first `nc` terms
-    /// per colour, which are its bands (the basis is ordered by band). Same bits on every
-    /// instruction set ([`crate::kernel::lanes`]) and for any thread count (one pixel, no
-    /// shared state). Differs from [`TransferTable::radiance_with`] by the angle
-    /// approximation and the summation order only ([`super::FAST_PATH_TOLERANCE`]).
-    #[inline(always)]
-    pub fn radiance_lanes<S: Isa>(&self, s: S, n: Vec3, c: &[f32]) -> Vec3 {
-        let nt = self.terms();
-        let nc = c.len() / 3;
-        debug_assert!(c.len() == 3 * nc && nc <= nt);
-        let [(n0, a0), (n1, a1), (n2, a2), (n3, a3)] = self.corners_fast(s, n);
-        let (t0, t1, t2, t3) = (self.node(n0), self.node(n1), self.node(n2), self.node(n3));
-        let (w0, w1, w2, w3) = (s.splat(a0), s.splat(a1), s.splat(a2), s.splat(a3));
-        let full = nc / LANES * LANES;
-        let mut rgb = [0.0f32; 3];
-        for (ch, out) in rgb.iter_mut().enumerate() {
-            let (tb, cb) = (ch * nt, ch * nc);
-            let mut acc = s.zero();
-            for o in (0..full).step_by(LANES) {
-                let t = s.load(&t0[tb + o..]) * w0;
-                let t = s.load(&t1[tb + o..]).mul_add(w1, t);
-                let t = s.load(&t2[tb + o..]).mul_add(w2, t);
-                let t = s.load(&t3[tb + o..]).mul_add(w3, t);
-                acc = t.mul_add(s.load(&c[cb + o..]), acc);
-            }
-            let mut sum = acc.sum();
-            for k in full..nc {
-                let t = a0 * t0[tb + k] + a1 * t1[tb + k] + a2 * t2[tb + k] + a3 * t3[tb + k];
-                sum += t * c[cb + k];
-            }
-            *out = sum;
-        }
-        Vec3::from_array(rgb)
     }
 }
 

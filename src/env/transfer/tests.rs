@@ -180,7 +180,7 @@ fn seeded_faults_fail_the_check() {
     }
 }
 
-/// Lambert: the irradiance table against [`crate::env::reference_irradiance`] (the
+/// Lambert: the irradiance table against [`crate::env::lightset::reference_irradiance`] (the
 /// light-set module's exact texel sum, an independent peer).
 #[test]
 fn irradiance_table_matches_reference_irradiance() {
@@ -195,8 +195,8 @@ fn irradiance_table_matches_reference_irradiance() {
         BuildFault::None,
     )
     .unwrap();
-    let normals = crate::env::fibonacci_sphere(300);
-    let reference = crate::env::reference_irradiance_many(&p, &normals);
+    let normals = crate::env::lightset::fibonacci_sphere(300);
+    let reference = crate::env::lightset::reference_irradiance_many(&p, &normals);
     let got: Vec<DVec3> = normals
         .iter()
         .map(|n| table.radiance(n.as_vec3(), &[1.0, 1.0, 1.0]).as_dvec3())

@@ -3,7 +3,7 @@
 //! names as the CLI spells them, `-` for a parameter a row's method does not have.
 //! Deserializers name their column in errors where the `csv` crate cannot.
 
-use crate::env::prepare::SamplerKind;
+use crate::env::schema::SamplerKind;
 use crate::scene::Precision;
 use crate::sh::dataset::Lookup;
 use crate::sweep::MethodKind;

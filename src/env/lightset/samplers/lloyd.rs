@@ -6,7 +6,8 @@
 //! whatever the number of iterations.
 
 use super::voronoi::lights_from_cells;
-use super::{median_cut, nearest_light_cells, ProbeTables};
+use super::{median_cut, nearest_light_cells};
+use crate::env::probe::ProbeTables;
 use crate::env::{LightSet, Probe};
 use crate::progress::Progress;
 use glam::DVec3;

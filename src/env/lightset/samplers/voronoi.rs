@@ -7,7 +7,7 @@
 //! the largest `d.l` computed in f32 with ties to the lowest light index, the same rule as
 //! [`crate::env::LightSet::nearest`] (which agrees up to f32 ties on cell borders).
 
-use super::ProbeTables;
+use crate::env::probe::ProbeTables;
 use crate::env::LightSet;
 use glam::DVec3;
 use rayon::prelude::*;

@@ -5,7 +5,7 @@
 //! ([`SamplerConfig::hash_into`]) is stable across runs and platforms and feeds every
 //! light-set cache key. The hash says *which* light set was asked for, not *how* it is
 //! computed: when a sampler's output changes for the same configuration, bump
-//! [`crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION`] instead.
+//! [`crate::env::lightset::prepare::LIGHT_SET_ALGORITHM_VERSION`] instead.
 
 use super::{full_probe, importance, importance_stratified, uniform};
 use super::{lloyd_with_progress, median_cut_with_progress};
@@ -14,7 +14,7 @@ use crate::hash::StableHasher;
 use crate::progress::Progress;
 use serde::{Deserialize, Serialize};
 
-/// Which sampler and its parameters: the unit of caching ([`crate::env::prepare::file_cache_key`]) and
+/// Which sampler and its parameters: the unit of caching ([`crate::env::lightset::prepare::file_cache_key`]) and
 /// of light-set file headers.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "sampler", rename_all = "kebab-case")]

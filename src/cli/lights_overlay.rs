@@ -7,7 +7,7 @@
 //! boundaries are drawn on texel edges. If a dot sits off a bright feature, a sampler or a
 //! convention is wrong, not the drawing.
 
-use super::{LightSet, Probe, Region};
+use crate::env::{LightSet, Probe, Region};
 use crate::image_io::{encode_u8, Tonemap};
 use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
@@ -149,7 +149,7 @@ pub fn write_overlay_png(
         path: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    super::lightset_io::write_atomic(path, &png).map_err(|source| OverlayError::Io {
+    crate::image_io::write_atomic(path, &png).map_err(|source| OverlayError::Io {
         path: path.to_path_buf(),
         source,
     })

@@ -1,5 +1,5 @@
-//! [`ProbeTables`]: the per-texel numbers every sampler reads (weight, RGB power, centre
-//! direction), computed once per probe.
+//! [`ProbeTables`]: the per-texel numbers every sampler, the light tree and the reference
+//! irradiance read (weight, RGB power, centre direction), computed once per probe.
 //!
 //! Design rule: the samplers never read the probe's texels themselves; they read these
 //! tables, so every sampler sees the same weight (the "monochrome map" of thesis
@@ -7,7 +7,8 @@
 //! [`crate::conventions::probe_texel_solid_angle`]) and the same texel-centre directions
 //! (rotation applied, no half-texel offset).
 
-use crate::env::{luminance, Probe};
+use super::Probe;
+use crate::env::luminance;
 use glam::DVec3;
 
 /// Per-texel tables shared by the samplers, row-major like the probe.

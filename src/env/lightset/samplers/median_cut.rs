@@ -8,7 +8,7 @@
 //! longest side is measured on the sphere, not in pixels.
 
 use super::summed_area::SummedAreaTable;
-use super::ProbeTables;
+use crate::env::probe::ProbeTables;
 use crate::env::{LightSet, Probe};
 use crate::progress::Progress;
 use glam::DVec3;

@@ -18,8 +18,8 @@
 //! new names are written.
 
 use super::LightSet;
+use crate::image_io::write_atomic;
 use serde::{Deserialize, Serialize};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The CSV header line.
@@ -50,7 +50,11 @@ pub struct LightSetHeader {
 
 impl LightSetHeader {
     /// A header describing `lights`, made by `config` from `probe_file`.
-    pub fn new(config: &super::SamplerConfig, probe_file: Option<&str>, lights: &LightSet) -> Self {
+    pub fn new(
+        config: &super::samplers::SamplerConfig,
+        probe_file: Option<&str>,
+        lights: &LightSet,
+    ) -> Self {
         let t = lights.total_irradiance();
         LightSetHeader {
             sampler: config.name().to_string(),
@@ -108,17 +112,6 @@ struct JsonFile {
     version: u32,
     header: LightSetHeader,
     lights: LightSet,
-}
-
-/// Writes `bytes` to `path` atomically: a unique temporary sibling file, synced, then
-/// renamed over `path` ([`crate::image_io::replace_via_temp`]). Fails with the I/O error;
-/// the temporary file is removed on failure.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), std::io::Error> {
-    crate::image_io::replace_via_temp(
-        path,
-        |tmp| std::fs::File::create(tmp)?.write_all(bytes),
-        |e| e,
-    )
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> LightSetIoError + '_ {

@@ -19,7 +19,7 @@
 //!
 //! **Changing a sampler's output** (a different light, power or order for the same probe
 //! and [`SamplerConfig`]) requires bumping
-//! [`LIGHT_SET_ALGORITHM_VERSION`](crate::env::prepare::LIGHT_SET_ALGORITHM_VERSION), so no
+//! [`LIGHT_SET_ALGORITHM_VERSION`](crate::env::lightset::prepare::LIGHT_SET_ALGORITHM_VERSION), so no
 //! light-set cache entry written by older code is read; a refactor that keeps every bit
 //! does not.
 //!
@@ -41,8 +41,8 @@
 //! Shared pieces, each in its own file:
 //! - `config.rs`: [`SamplerConfig`], which sampler with which parameters, and its stable
 //!   hash.
-//! - `tables.rs`: [`ProbeTables`], the per-texel weight, power and direction every sampler
-//!   reads.
+//! - [`crate::env::probe::ProbeTables`] (beside the probe): the per-texel weight, power and
+//!   direction every sampler reads.
 //! - `distribution2d.rs`: [`Distribution2D`], the discrete 2-D distribution of Algorithm 1
 //!   with its probability and inverse.
 //! - `summed_area.rs`: the summed-area table behind median cut's O(1) rectangle sums
@@ -52,8 +52,7 @@
 //! - `tests.rs`: tests across samplers against independent references; the utilities'
 //!   own tests sit in their files.
 //!
-//! Every item is re-exported here, so `crate::env::sampling::X` (the module's former
-//! name, re-exported by [`crate::env`]) and `crate::env::samplers::X` name the same item.
+//! Every item is re-exported here: `crate::env::lightset::samplers::X`.
 
 mod config;
 mod distribution2d;
@@ -63,7 +62,6 @@ mod lloyd;
 mod median_cut;
 mod stratified;
 mod summed_area;
-mod tables;
 #[cfg(test)]
 mod tests;
 mod uniform;
@@ -76,6 +74,5 @@ pub use importance::{importance, rescale_to_total, ImportanceSampler};
 pub use lloyd::{lloyd, lloyd_with_progress};
 pub use median_cut::{median_cut, median_cut_with_progress, Cut, CutAxis, MedianCut, Region};
 pub use stratified::{importance_stratified, stratified_uniforms};
-pub use tables::ProbeTables;
 pub use uniform::{uniform, uniform_direction, uniform_inverse, uniform_pdf};
 pub use voronoi::nearest_light_cells;

@@ -5,8 +5,9 @@
 //! estimates: each light carries its Voronoi cell ([`super::voronoi`]'s rule), so no
 //! energy is lost when no sample lands on a small bright light.
 
+use super::nearest_light_cells;
 use super::voronoi::lights_from_cells;
-use super::{nearest_light_cells, ProbeTables};
+use crate::env::probe::ProbeTables;
 use crate::env::{LightSet, Probe};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};

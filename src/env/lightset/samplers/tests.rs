@@ -8,6 +8,7 @@
 use super::*;
 use crate::brdf::{eval_cosine_weighted, Lambert};
 use crate::conventions::{probe_direction, probe_uv, texel_center_f64, ShadingFrame};
+use crate::env::lightset::reference::*;
 use crate::env::*;
 use glam::Vec3;
 use rand::{Rng, SeedableRng};

@@ -23,8 +23,8 @@
 //! [`CacheDir::user`]: `$BRDFKIT_CACHE_DIR`, else `$XDG_CACHE_HOME/brdfkit`, else
 //! `$HOME/.cache/brdfkit` (with none of them set, nothing is cached); `--no-cache` uses none.
 
-use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp};
-use crate::env::lightset_io::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
+use crate::env::cache_entry::{check_checksum, key_hasher, read_entry_bytes, EntryKind, Stamp};
+use crate::env::lightset::file::{validate, LightSetHeader, MAX_LIGHTSET_BYTES};
 use crate::env::{LightSet, LoadOptions, LoadReport, SamplerConfig};
 use crate::hash::{self, StableHasher};
 use serde::{Deserialize, Serialize};
@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 
 /// Version of the algorithm that turns probe bytes and settings into a light set: probe
 /// decoding, cleaning and rotation ([`crate::env::Probe::load`]), every sampler
-/// ([`SamplerConfig::run`], [`crate::env::samplers`]) and the full-probe set. Part of every
+/// ([`SamplerConfig::run`], [`crate::env::lightset::samplers`]) and the full-probe set. Part of every
 /// light-set cache key ([`file_cache_key`]) and stored in each entry.
 ///
 /// Bump when the output of `Probe::load` or of any sampler changes (a different light,
@@ -52,6 +52,7 @@ const ENTRY: EntryKind = EntryKind {
     format: CACHE_FORMAT,
     algorithm: "light-set algorithm version",
     algorithm_version: LIGHT_SET_ALGORITHM_VERSION,
+    file: ("lights", "json"),
 };
 
 /// Where [`super::prepare`] (and [`crate::scene::Scene::resolve_with_cache`]) caches light
@@ -158,13 +159,13 @@ fn versioned_key(
     opts: &LoadOptions,
     config: &SamplerConfig,
 ) -> u64 {
-    let mut h = StableHasher::new();
     // v3: XXH3-64 instead of FNV-1a (a v2 key names an FNV-1a hash).
-    h.write(b"brdfkit-env-file-v3");
-    h.write_str(crate_version);
-    h.write_u64(algorithm_version as u64);
-    h.write_u64(bytes.len() as u64);
-    h.write(bytes);
+    let mut h = key_hasher(
+        b"brdfkit-env-file-v3",
+        crate_version,
+        algorithm_version,
+        bytes,
+    );
     h.write_u64(opts.rotation.to_bits());
     h.write_u64(opts.zero_non_finite as u64);
     h.write_u64(opts.max_texels as u64);
@@ -236,7 +237,7 @@ impl CacheEntry {
 
 /// The cache file of `key` in `dir`.
 pub fn cache_file_name(dir: &Path, key: u64) -> PathBuf {
-    dir.join(format!("lights-{}.json", EntryKind::key_text(key)))
+    ENTRY.file_name(dir, key)
 }
 
 /// Reads and validates the cache entry `path` for `key`: a regular file of at most
@@ -325,7 +326,7 @@ mod tests {
         let path = cache_file_name(tmp.path(), key);
         let mut ls = LightSet::default();
         ls.push(glam::DVec3::Y, glam::DVec3::ONE);
-        let header = crate::env::lightset_io::LightSetHeader::new(&cfg, None, &ls);
+        let header = crate::env::lightset::file::LightSetHeader::new(&cfg, None, &ls);
         let report = LoadReport {
             negative_texels: 3,
             non_finite_zeroed: 0,

@@ -8,7 +8,8 @@
 //! probe's exact totals, so Monte Carlo noise moves energy between lights but never
 //! changes the total.
 
-use super::{Distribution2D, ProbeTables};
+use super::Distribution2D;
+use crate::env::probe::ProbeTables;
 use crate::env::{LightSet, Probe};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
