@@ -19,7 +19,7 @@ use rayon::prelude::*;
 ///
 /// # Panics
 /// With more than 2^24 lights (an index must be exact in f32; light sets are capped at
-/// [`crate::env::prepare::MAX_LIGHTS`] = 2^16).
+/// [`crate::env::schema::MAX_LIGHTS`] = 2^16).
 pub fn nearest_light_cells(tables: &ProbeTables, dirs: &[DVec3]) -> Vec<u32> {
     assert!(dirs.len() <= 1 << 24, "{} lights: at most 2^24", dirs.len());
     let lx: Vec<f32> = dirs.iter().map(|d| d.x as f32).collect();
