@@ -46,9 +46,21 @@
 //! [`ShadingFrame::turned_to_view`]): the frame is then a function of `n` and the view
 //! alone, and the lookup is always made at the same azimuth. For an SH data set that azimuth
 //! is the centre of azimuth texel 0 (`pi / nu`), where both filters return the stored
-//! texel exactly; for a D-BRDF it is 0. Anisotropic materials keep the world-up tangent, and
-//! analytic models (Lambert, Phong, Blinn-Phong, isotropic Ashikhmin-Shirley, MERL's
-//! half-difference lookup) are exact functions of the angles, so they keep it too.
+//! texel exactly; for a D-BRDF it is 0. Analytic isotropic models (Lambert, Phong,
+//! Blinn-Phong, isotropic Ashikhmin-Shirley, MERL's half-difference lookup) are exact
+//! functions of the angles and keep the world-up tangent.
+//!
+//! # Frame of anisotropic materials
+//! An anisotropic material's azimuth 0 is a direction on the object (the grain of brushed
+//! metal, a fabric's warp), so it comes from the mesh: [`ShadingFrame::from_normal_tangent`]
+//! projects the mesh's interpolated tangent (`crate::mesh::Mesh::tangents`: the teapot's
+//! patch derivative up the profile, an OBJ file's direction of increasing u) onto the
+//! tangent plane ([`FrameRule::MESH_TANGENT`]). Where the mesh has no tangent, or the
+//! interpolated one vanishes or is parallel to the normal (within
+//! [`MIN_TANGENT_SIN`]: the teapot's poles), the pixel falls back to the world-up tangent.
+//! The thesis uses the world-up tangent for everything; a world-up frame makes an
+//! anisotropic material's grain a property of the camera's up axis, not of the object
+//! (it spins when the object turns on its side).
 //! A transfer table stores its environment in the world-up frame of its grid: a pixel in a
 //! turned frame rotates its coefficients back by the turn before the dot product
 //! ([`crate::sh::rotate_about_z`]).
@@ -129,6 +141,8 @@
 //!     coefficients turned back into the world-up frame ("Frame of isotropic tabulated
 //!     materials" above); the thesis uses one frame for every material, and its tables'
 //!     interpolation then depends on the tangent (streaks where the tangent turns fast).
+//!     Anisotropic materials take azimuth 0 from the mesh's tangent ("Frame of anisotropic
+//!     materials"), not from world up.
 
 mod frame;
 mod octahedral;

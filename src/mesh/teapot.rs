@@ -75,6 +75,28 @@ fn patch_normal(pu: Vec3, pv: Vec3) -> Option<Vec3> {
     (n.length() > 1e-4 * scale && scale > 0.0).then(|| n.normalize())
 }
 
+/// Which patch derivative is the mesh's tangent ([`Mesh::tangents`]) on patch `cp`, and
+/// its sign: the patch data orders u and v differently on different patches, so each
+/// patch takes the parameter direction that at its centre lies closer to the meridian (the
+/// world-up tangent of its normal there), oriented upwards. On the body, lid and bottom
+/// (surfaces of revolution) that is the profile, continuous across patches; on the spout
+/// and handle it is whichever of the tube's two directions is closer to vertical. The
+/// tangent is zero at the poles, where a row of control points coincides (knob, bottom
+/// centre).
+fn tangent_choice(cp: &[Vec3; 16]) -> impl Fn(Vec3, Vec3) -> Vec3 {
+    let (_, pu, pv) = eval_patch(cp, 0.5, 0.5);
+    let up = patch_normal(pu, pv)
+        .map(|n| crate::conventions::ShadingFrame::from_normal(n).t)
+        .unwrap_or(Vec3::Y);
+    let (cu, cv) = (pu.normalize_or_zero().dot(up), pv.normalize_or_zero().dot(up));
+    let (use_u, sign) = if cu.abs() >= cv.abs() {
+        (true, cu.signum())
+    } else {
+        (false, cv.signum())
+    };
+    move |pu: Vec3, pv: Vec3| (if use_u { pu } else { pv }) * sign
+}
+
 /// The teapot with `segments` quads along each patch edge (clamped to 1..=256), y up,
 /// resting on y = 0 with the lid knob at y = 3.15 (the patch data's units).
 pub fn teapot(segments: u32) -> Mesh {
@@ -88,6 +110,7 @@ pub fn teapot(segments: u32) -> Mesh {
     let mut mesh = Mesh::default();
     for patch in &data.patches {
         let cp: [Vec3; 16] = std::array::from_fn(|k| verts[patch[k]]);
+        let tangent_of = tangent_choice(&cp);
         let base = mesh.positions.len() as u32;
         for i in 0..=n {
             for j in 0..=n {
@@ -107,6 +130,7 @@ pub fn teapot(segments: u32) -> Mesh {
                     .unwrap_or(Vec3::Y);
                 mesh.positions.push(p);
                 mesh.normals.push(normal);
+                mesh.tangents.push(tangent_of(pu, pv).normalize_or_zero());
             }
         }
         let idx = |i: usize, j: usize| base + (i * (n + 1) + j) as u32;
@@ -137,20 +161,31 @@ fn weld(mesh: &mut Mesh, tol: f32) {
     for p in &mut mesh.positions {
         *p = *canon.entry(key(*p)).or_insert(*p);
     }
-    // Share vertex records with equal position and (nearly) equal normal.
+    // Share vertex records with equal position and (nearly) equal normal, the first normal
+    // seen standing for all; records whose tangents differ stay apart (at a seam between
+    // patches that run the other way) but take that same normal, so the split changes no
+    // interpolated normal.
     type PositionNormalKey = ((i64, i64, i64), (i32, i32, i32));
-    let mut first: HashMap<PositionNormalKey, u32> = HashMap::new();
+    let mut canonical_normal: HashMap<PositionNormalKey, Vec3> = HashMap::new();
+    let mut first: HashMap<(PositionNormalKey, (i32, i32, i32)), u32> = HashMap::new();
     let mut remap = vec![0u32; mesh.positions.len()];
     let mut positions = Vec::new();
     let mut normals = Vec::new();
+    let mut tangents = Vec::new();
     for (i, (p, nrm)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
         let nk = (*nrm * 1e3).round();
-        let k = (key(*p), (nk.x as i32, nk.y as i32, nk.z as i32));
-        remap[i] = *first.entry(k).or_insert_with(|| {
-            positions.push(*p);
-            normals.push(*nrm);
-            positions.len() as u32 - 1
-        });
+        let pn = (key(*p), (nk.x as i32, nk.y as i32, nk.z as i32));
+        let normal = *canonical_normal.entry(pn).or_insert(*nrm);
+        let tan = mesh.tangents[i];
+        let tk = (tan * 8.0).round();
+        remap[i] = *first
+            .entry((pn, (tk.x as i32, tk.y as i32, tk.z as i32)))
+            .or_insert_with(|| {
+                positions.push(*p);
+                normals.push(normal);
+                tangents.push(tan);
+                positions.len() as u32 - 1
+            });
     }
     let triangles = mesh
         .triangles
@@ -165,13 +200,45 @@ fn weld(mesh: &mut Mesh, tol: f32) {
         positions,
         normals,
         triangles,
-        exact_sphere: None,
+        tangents,
+        ..Mesh::default()
     };
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tangents_run_up_the_profile() {
+        // On the body (a surface of revolution about +y, away from the poles) the profile
+        // tangent lies in the meridian plane, upwards: the world-up tangent of the same
+        // normal. The other patch derivative (around the body) fails this.
+        let m = teapot(8);
+        assert_eq!(m.tangents.len(), m.positions.len());
+        let mut body = 0;
+        let mut bad = 0;
+        for ((p, n), t) in m.positions.iter().zip(&m.normals).zip(&m.tangents) {
+            let r = (p.x * p.x + p.z * p.z).sqrt();
+            // The body: between the bottom and the rim, outside the spout and handle.
+            if !(0.3..2.3).contains(&p.y) || r < 1.2 || (p.x.abs() > 1.3 && p.z.abs() < 0.75) {
+                continue;
+            }
+            body += 1;
+            let up = crate::conventions::ShadingFrame::from_normal(*n).t;
+            let along = (*t - *n * n.dot(*t)).normalize();
+            if along.dot(up) <= 0.98 {
+                eprintln!("at {p:?}: tangent {t:?}, world-up {up:?}");
+                bad += 1;
+            }
+        }
+        assert!(body > 50, "{body} body vertices");
+        assert_eq!(bad, 0, "{bad} of {body}");
+        // Tangents are unit or zero (poles).
+        for t in &m.tangents {
+            assert!(t.length() < 1e-6 || (t.length() - 1.0).abs() < 1e-5, "{t:?}");
+        }
+    }
 
     #[test]
     fn no_nan_and_unit_normals() {
