@@ -27,7 +27,7 @@ fn turn(p: [f32; 3]) -> [f32; 3] {
 }
 
 /// A unit lat-long sphere about the x axis with `u` the longitude and `v` the latitude, as
-/// OBJ text, each vertex passed through `map`.
+/// OBJ text, each vertex passed through `map`; triangles counter-clockwise seen from outside.
 fn sphere_obj(map: fn([f32; 3]) -> [f32; 3]) -> String {
     let (stacks, slices) = (16usize, 32usize);
     let mut s = String::new();
@@ -45,8 +45,11 @@ fn sphere_obj(map: fn([f32; 3]) -> [f32; 3]) -> String {
     for i in 0..stacks {
         for j in 0..slices {
             let (a, b, c, d) = (idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1));
-            let _ = writeln!(s, "f {a}/{a}/{a} {c}/{c}/{c} {b}/{b}/{b}");
-            let _ = writeln!(s, "f {a}/{a}/{a} {d}/{d}/{d} {c}/{c}/{c}");
+            // (b - a) x (c - a) points outwards: counter-clockwise seen from outside, the
+            // winding `Mesh` front faces have. The other winding makes every triangle a back
+            // face, whose normal the renderer turns inwards: only a thin crescent is lit.
+            let _ = writeln!(s, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}");
+            let _ = writeln!(s, "f {a}/{a}/{a} {c}/{c}/{c} {d}/{d}/{d}");
         }
     }
     s
