@@ -9,7 +9,9 @@ use std::f32::consts::TAU;
 /// A right-handed orthonormal shading frame at a surface point (see the module doc).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadingFrame {
-    /// Tangent: world up projected onto the tangent plane (azimuth 0).
+    /// Tangent (azimuth 0): world up projected onto the tangent plane
+    /// ([`ShadingFrame::from_normal`]), or the mesh's tangent projected
+    /// ([`ShadingFrame::from_normal_tangent`]), turned about `n` by a [`FrameRule`].
     pub t: Vec3,
     /// Bitangent `n x t` (azimuth pi/2).
     pub b: Vec3,
@@ -54,7 +56,11 @@ impl ShadingFrame {
             return up;
         }
         let t = along / l2.sqrt();
-        ShadingFrame { t, b: n.cross(t), n }
+        ShadingFrame {
+            t,
+            b: n.cross(t),
+            n,
+        }
     }
 
     /// World direction to local coordinates (local +z is the normal): `local_from_world`.

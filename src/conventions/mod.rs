@@ -17,7 +17,9 @@
 //!
 //! # Shading frame (thesis 3.1.2, corrected)
 //! A local frame `(t, b, n)` at a surface point: `n` the unit normal, `t` the world up
-//! vector (0, 1, 0) projected onto the tangent plane and normalised, `b = n x t`. The frame
+//! vector (0, 1, 0) projected onto the tangent plane and normalised, `b = n x t` (the
+//! world-up frame; isotropic tabulated and anisotropic materials turn or replace `t`, see
+//! the two sections on their frames below). The frame
 //! is right-handed: `t x b = n`. Local coordinates of a world direction `d` are
 //! `(d.t, d.b, d.n)`, so local +z is the normal. The polar angle is `acos(d.n)` and the
 //! azimuth is `atan2(d.b, d.t)` wrapped into [0, 2 pi).
@@ -52,15 +54,28 @@
 //!
 //! # Frame of anisotropic materials
 //! An anisotropic material's azimuth 0 is a direction on the object (the grain of brushed
-//! metal, a fabric's warp), so it comes from the mesh: [`ShadingFrame::from_normal_tangent`]
-//! projects the mesh's interpolated tangent (`crate::mesh::Mesh::tangents`: the teapot's
-//! patch derivative up the profile, an OBJ file's direction of increasing u) onto the
-//! tangent plane ([`FrameRule::MESH_TANGENT`]). Where the mesh has no tangent, or the
-//! interpolated one vanishes or is parallel to the normal (within
-//! [`MIN_TANGENT_SIN`]: the teapot's poles), the pixel falls back to the world-up tangent.
-//! The thesis uses the world-up tangent for everything; a world-up frame makes an
-//! anisotropic material's grain a property of the camera's up axis, not of the object
-//! (it spins when the object turns on its side).
+//! metal, a fabric's warp), so it comes from the mesh ([`FrameRule::MESH_TANGENT`]):
+//! [`ShadingFrame::from_normal_tangent`] projects the mesh's tangent interpolated at the
+//! pixel (`crate::mesh::Mesh::tangents`, barycentric like the normal) onto the tangent
+//! plane, `t = normalize(T - n (n.T))`, `b = n x t`. The tangent `T` is, by mesh:
+//! - the teapot: per Bezier patch, the derivative that lies in the planes through the y
+//!   axis (the profile on the body, rim, lid, knob and bottom; along the tube on the spout
+//!   and handle), signed to run upwards (`crate::mesh::teapot`); zero at the knob apex and
+//!   the bottom centre, where the patches are degenerate;
+//! - an OBJ file with texture coordinates (`vt` for every vertex): the direction of
+//!   increasing u, per triangle from its edges and texture-coordinate differences
+//!   (Lengyel 2001), averaged per vertex (`crate::mesh::Mesh::compute_tangents_from_texcoords`);
+//! - an OBJ file without texture coordinates, and the UV sphere: none. Those pixels use
+//!   the world-up frame above (on the UV sphere about +y that is its parametric tangent
+//!   up the meridian).
+//!
+//! Where the interpolated tangent vanishes or is parallel to the normal (its part in the
+//! tangent plane below [`MIN_TANGENT_SIN`] of its length: the teapot's poles, a
+//! degenerate texture map) the pixel falls back to the world-up frame too. The thesis uses
+//! the world-up tangent for everything; a world-up frame makes an anisotropic material's
+//! grain a property of the world's up axis, not of the object (it turns when the object
+//! turns on its side), and near `n = +-y` it turns quickly from pixel to pixel.
+//!
 //! A transfer table stores its environment in the world-up frame of its grid: a pixel in a
 //! turned frame rotates its coefficients back by the turn before the dot product
 //! ([`crate::sh::rotate_about_z`]).

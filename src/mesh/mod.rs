@@ -6,12 +6,13 @@
 //! seams, sphere poles) are bit-identical, so the rasterizer sees watertight edges.
 //!
 //! Tangents: a mesh may carry a per-vertex tangent, the direction of azimuth 0 of an
-//! anisotropic material's shading frame (`conventions`, "Shading frame"). The teapot's is
-//! the derivative of its Bezier patches along the patch parameter that runs up the
-//! profile; an OBJ file's comes from its texture coordinates (the direction of increasing
-//! u, Lengyel's per-triangle solve summed per vertex); a mesh without tangents (an OBJ
-//! without texture coordinates, the UV sphere, whose parametric tangent up the meridian is
-//! exactly the world-up tangent) is shaded in the world-up frame.
+//! anisotropic material's shading frame (`conventions`, "Frame of anisotropic materials").
+//! The teapot's is the derivative of each Bezier patch that lies in the planes through the
+//! y axis (up the profile; along the spout and handle), signed to run upwards
+//! ([`mod@teapot`]); an OBJ file's comes from its texture coordinates (the direction of
+//! increasing u, Lengyel's per-triangle solve summed per vertex); a mesh without tangents
+//! (an OBJ without texture coordinates, the UV sphere, whose parametric tangent up the
+//! meridian is exactly the world-up tangent) is shaded in the world-up frame.
 
 pub mod obj;
 pub mod sphere;

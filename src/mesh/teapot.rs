@@ -105,7 +105,10 @@ fn tangent_choice(cp: &[Vec3; 16]) -> impl Fn(Vec3, Vec3) -> Vec3 {
     let (mut around_u, mut around_v, mut up_u, mut up_v) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
     for i in 0..GRID {
         for j in 0..GRID {
-            let (u, v) = ((i as f32 + 0.5) / GRID as f32, (j as f32 + 0.5) / GRID as f32);
+            let (u, v) = (
+                (i as f32 + 0.5) / GRID as f32,
+                (j as f32 + 0.5) / GRID as f32,
+            );
             let (p, pu, pv) = eval_patch(cp, u, v);
             let (du, dv) = (pu.normalize_or_zero(), pv.normalize_or_zero());
             let around = Vec3::new(-p.z, 0.0, p.x).normalize_or_zero();
@@ -267,7 +270,10 @@ mod tests {
         assert_eq!(bad, 0, "{bad} of {body}");
         // Tangents are unit or zero (poles).
         for t in &m.tangents {
-            assert!(t.length() < 1e-6 || (t.length() - 1.0).abs() < 1e-5, "{t:?}");
+            assert!(
+                t.length() < 1e-6 || (t.length() - 1.0).abs() < 1e-5,
+                "{t:?}"
+            );
         }
     }
 
@@ -286,7 +292,10 @@ mod tests {
             }
             checked += 1;
             let around = Vec3::new(-p.z, 0.0, p.x) / r;
-            assert!(t.dot(around).abs() < 0.01, "at {p:?}: tangent {t:?} turns around the axis");
+            assert!(
+                t.dot(around).abs() < 0.01,
+                "at {p:?}: tangent {t:?} turns around the axis"
+            );
         }
         assert!(checked > 500, "{checked} vertices");
         // The rim (y above 2.3, outside the lid) is among them.

@@ -38,7 +38,12 @@ fn sphere_obj(map: fn([f32; 3]) -> [f32; 3]) -> String {
             let p = [polar.cos(), polar.sin() * az.cos(), polar.sin() * az.sin()];
             let [x, y, z] = map(p);
             let _ = writeln!(s, "v {x} {y} {z}\nvn {x} {y} {z}");
-            let _ = writeln!(s, "vt {} {}", j as f32 / slices as f32, i as f32 / stacks as f32);
+            let _ = writeln!(
+                s,
+                "vt {} {}",
+                j as f32 / slices as f32,
+                i as f32 / stacks as f32
+            );
         }
     }
     let idx = |i: usize, j: usize| i * (slices + 1) + j + 1;
@@ -99,8 +104,15 @@ fn anisotropic_materials_turn_with_the_mesh() {
     for entry in LIBRARY {
         let m = brdfkit::library::build(entry.name).unwrap();
         if !m.is_isotropic() {
-            assert!(m.frame_rule().mesh_tangent, "{}: anisotropic, world-up frame", entry.name);
-            cases.push((format!("kind = \"library\"\nname = \"{}\"", entry.name), entry.name.into()));
+            assert!(
+                m.frame_rule().mesh_tangent,
+                "{}: anisotropic, world-up frame",
+                entry.name
+            );
+            cases.push((
+                format!("kind = \"library\"\nname = \"{}\"", entry.name),
+                entry.name.into(),
+            ));
         }
     }
     assert!(cases.len() >= 2, "anisotropic materials: {}", cases.len());
@@ -108,15 +120,23 @@ fn anisotropic_materials_turn_with_the_mesh() {
     for (spec, name) in &cases {
         let plain = scene(dir.path(), "plain.obj", spec, |p| p);
         let turned = scene(dir.path(), "turned.obj", spec, turn);
-        assert!(!plain.mesh.tangents.is_empty(), "the OBJ's texture coordinates give tangents");
-        let ok = rel_rmse(&shade(&turned, FrameCheck::None), &shade(&plain, FrameCheck::None));
+        assert!(
+            !plain.mesh.tangents.is_empty(),
+            "the OBJ's texture coordinates give tangents"
+        );
+        let ok = rel_rmse(
+            &shade(&turned, FrameCheck::None),
+            &shade(&plain, FrameCheck::None),
+        );
         let fault = rel_rmse(
             &shade(&turned, FrameCheck::Unaligned),
             &shade(&plain, FrameCheck::Unaligned),
         );
         eprintln!("{name:<28} turned with the mesh {ok:.2e}, world-up frame (fault) {fault:.2e}");
         if ok > TURN_TOLERANCE {
-            failures.push(format!("{name}: turning the object changes its image by {ok:.2e} > {TURN_TOLERANCE:.0e}"));
+            failures.push(format!(
+                "{name}: turning the object changes its image by {ok:.2e} > {TURN_TOLERANCE:.0e}"
+            ));
         }
         if fault <= TURN_TOLERANCE {
             failures.push(format!("{name}: the world-up frame changes the image by only {fault:.2e}: the check does not see the frame"));
