@@ -7,7 +7,9 @@
 use crate::scene::Scene;
 use std::fmt::Write as _;
 
-/// The mesh as OBJ text: one `vn` per `v` (same index), faces `f a//a b//b c//c`.
+/// The mesh as OBJ text: one `vn` per `v` (same index), faces `f a//a b//b c//c`; with
+/// texture coordinates one `vt` per `v` too and faces `f a/a/a ...`; with tangents one
+/// `# vtan x y z` comment per `v` (module doc).
 pub fn mesh_obj(scene: &Scene) -> String {
     let m = &scene.mesh;
     let mut s = String::with_capacity(64 * (m.positions.len() * 2 + m.triangles.len()));
