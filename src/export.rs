@@ -14,7 +14,10 @@
 //!   turn clip space into pixels ([`CONVENTIONS`]).
 //! - `mesh.obj`: the triangles with per-vertex normals (`v`, `vn`, `f a//a b//b c//c`,
 //!   1-based, one normal per position); winding counter-clockwise seen from the side the
-//!   normals point to, in the right-handed world ([`crate::mesh::Mesh`]).
+//!   normals point to, in the right-handed world ([`crate::mesh::Mesh`]). An OBJ mesh's
+//!   texture coordinates follow as `vt` (faces `f a/a/a ...`), and a mesh with tangents
+//!   (the frame of anisotropic materials) lists them as `# vtan x y z` comments, one per
+//!   `v`.
 //! - `scene_lights.json`: the scene's own lights (its `[[light]]` tables, or the default
 //!   light), in shading order: directional lights with their unit `to_light` and RGB
 //!   irradiance (W/m^2), point lights with their position and RGB intensity (W/sr); and
@@ -30,7 +33,8 @@
 //!   [`crate::brdf::dbrdf::file`]).
 //! - `scene.toml`: the scene resolved: the same `[render]` and `[output]` (no output path),
 //!   `mesh.source = "mesh.obj"` (a UV sphere keeps its `[mesh]`: its shading intersects the
-//!   exact sphere, which an OBJ cannot carry), the camera stated in full, the `[[light]]`
+//!   exact sphere, which an OBJ cannot carry; so does the teapot, whose tangents come from
+//!   its patches), the camera stated in full, the `[[light]]`
 //!   tables as written, `[env] lights = "lights.json"`, `[transfer] table =
 //!   "transfer.json"`, and the material (a file material pointing to `material.exr`).
 //! - `export.json`: the list of files, the AOV the frame is (`--aov`, if any) and the
@@ -160,9 +164,13 @@ pub fn export(scene_path: &Path, dir: &Path, aov: Option<Aov>) -> Result<Exporte
 
     put(&mut files, "camera.json", &pretty(&camera_json(&scene)))?;
     put(&mut files, "mesh.obj", &mesh::mesh_obj(&scene))?;
-    // A UV sphere keeps its `[mesh]` (the exact sphere is rebuilt from it); every other
-    // mesh reads the OBJ, which holds its positions and normals bit for bit.
-    if scene.mesh.exact_sphere.is_none() {
+    // A UV sphere keeps its `[mesh]` (the exact sphere is rebuilt from it), and so does a
+    // mesh whose tangents do not come from texture coordinates (the teapot's, from its
+    // patches: an OBJ reader would not rebuild them); every other mesh reads the OBJ, which
+    // holds its positions, normals and texture coordinates bit for bit.
+    let rebuilt_from_table = scene.mesh.exact_sphere.is_some()
+        || (!scene.mesh.tangents.is_empty() && scene.mesh.texcoords.is_empty());
+    if !rebuilt_from_table {
         let mut mesh = toml::Table::new();
         mesh.insert("source".into(), "mesh.obj".into());
         raw.insert("mesh".into(), mesh.into());

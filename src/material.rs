@@ -123,6 +123,11 @@ impl Material {
         dispatch!(self, m => m.name())
     }
 
+    /// [`Brdf::is_isotropic`] of the model.
+    pub fn is_isotropic(&self) -> bool {
+        dispatch!(self, m => m.is_isotropic())
+    }
+
     /// [`Brdf::max_cosine_weighted`] of the model: a bound on `|f_r cos(polar_i)|`, RGB,
     /// 1/sr, or `None` when the model has none.
     pub fn max_cosine_weighted(&self) -> Option<Vec3> {
@@ -130,19 +135,30 @@ impl Material {
     }
 
     /// The shading frame the material is evaluated in ([`crate::conventions`], "Frame of
-    /// isotropic tabulated materials"): the view-aligned frame for the isotropic tabulated
-    /// models (an isotropic SH data set with the view at azimuth texel 0's centre, an
-    /// isotropic D-BRDF or Lambert + D-BRDF with the view at azimuth 0), the world-up frame
-    /// for every other material (anisotropic tables, and the analytic models, MERL and RGL,
-    /// which are exact functions of the angles).
+    /// isotropic tabulated materials" and "Frame of anisotropic materials"): the
+    /// view-aligned frame for the isotropic tabulated models (an isotropic SH data set with
+    /// the view at azimuth texel 0's centre, an isotropic D-BRDF or Lambert + D-BRDF with the
+    /// view at azimuth 0), the mesh's tangent for anisotropic models
+    /// ([`FrameRule::MESH_TANGENT`]), and the world-up frame for the analytic isotropic
+    /// models, MERL and RGL, which are exact functions of the angles.
     pub fn frame_rule(&self) -> FrameRule {
-        match self {
-            Material::Sh(ds) if ds.isotropic => {
-                FrameRule::view_at(texel_center(0, ds.grid().0) * std::f32::consts::TAU)
-            }
-            Material::DBrdf(d) if d.is_isotropic_table() => FrameRule::view_at(0.0),
-            Material::LambertDbrdf(d) if d.lobe.is_isotropic_table() => FrameRule::view_at(0.0),
-            _ => FrameRule::UP,
+        let view_azimuth = match self {
+            Material::Sh(ds) => ds
+                .isotropic
+                .then(|| texel_center(0, ds.grid().0) * std::f32::consts::TAU),
+            Material::DBrdf(d) => d.is_isotropic_table().then_some(0.0),
+            Material::LambertDbrdf(d) => d.lobe.is_isotropic_table().then_some(0.0),
+            Material::Lambert(_)
+            | Material::Phong(_)
+            | Material::BlinnPhong(_)
+            | Material::AshikhminShirley(_)
+            | Material::Merl(_)
+            | Material::Rgl(_) => None,
+        };
+        match view_azimuth {
+            Some(a) => FrameRule::view_at(a),
+            None if self.is_isotropic() => FrameRule::UP,
+            None => FrameRule::MESH_TANGENT,
         }
     }
 

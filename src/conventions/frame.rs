@@ -9,7 +9,9 @@ use std::f32::consts::TAU;
 /// A right-handed orthonormal shading frame at a surface point (see the module doc).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadingFrame {
-    /// Tangent: world up projected onto the tangent plane (azimuth 0).
+    /// Tangent (azimuth 0): world up projected onto the tangent plane
+    /// ([`ShadingFrame::from_normal`]), or the mesh's tangent projected
+    /// ([`ShadingFrame::from_normal_tangent`]), turned about `n` by a [`FrameRule`].
     pub t: Vec3,
     /// Bitangent `n x t` (azimuth pi/2).
     pub b: Vec3,
@@ -35,6 +37,30 @@ impl ShadingFrame {
         };
         let b = n.cross(t);
         ShadingFrame { t, b, n }
+    }
+
+    /// The frame of unit normal `n` whose tangent is `tangent` projected onto the tangent
+    /// plane ("Frame of anisotropic materials" in the module doc): `t = normalize(tangent -
+    /// n (n . tangent))`, `b = n x t`.
+    ///
+    /// Fails by documented fallback: where `tangent` is zero or non-finite, or its part in
+    /// the tangent plane is below [`MIN_TANGENT_SIN`] of its length, the world-up frame
+    /// [`ShadingFrame::from_normal`] of `n`.
+    #[inline]
+    pub fn from_normal_tangent(n: Vec3, tangent: Vec3) -> Self {
+        let up = Self::from_normal(n);
+        let n = up.n;
+        let along = tangent - n * n.dot(tangent);
+        let (l2, t2) = (along.length_squared(), tangent.length_squared());
+        if !(l2 > MIN_TANGENT_SIN * MIN_TANGENT_SIN * t2 && l2.is_finite()) {
+            return up;
+        }
+        let t = along / l2.sqrt();
+        ShadingFrame {
+            t,
+            b: n.cross(t),
+            n,
+        }
     }
 
     /// World direction to local coordinates (local +z is the normal): `local_from_world`.
@@ -87,6 +113,10 @@ impl ShadingFrame {
     }
 }
 
+/// Below this sine of the angle between a mesh tangent and the normal (or for a zero
+/// tangent), [`ShadingFrame::from_normal_tangent`] falls back to the world-up frame.
+pub const MIN_TANGENT_SIN: f32 = 1e-3;
+
 /// Below this sine of the angle between the view and the normal's axis,
 /// [`ShadingFrame::turned_to_view`] keeps the frame (the view's azimuth is undefined).
 pub const VIEW_TURN_MIN_SIN: f32 = 1e-6;
@@ -96,8 +126,12 @@ pub const VIEW_TURN_MIN_SIN: f32 = 1e-6;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameRule {
     /// `Some((cos a, sin a))`: turn the frame about the normal until the view lies at
-    /// azimuth `a` (isotropic tabulated materials); `None`: the world-up tangent.
+    /// azimuth `a` (isotropic tabulated materials); `None`: the base frame's tangent.
     pub view_azimuth: Option<(f32, f32)>,
+    /// The base frame's tangent is the mesh's ([`ShadingFrame::from_normal_tangent`]:
+    /// anisotropic materials on a mesh with tangents) rather than world up
+    /// ([`ShadingFrame::from_normal`]).
+    pub mesh_tangent: bool,
     /// **Test only**: turn the world-up frame by a pseudo-random angle per normal first
     /// ([`scramble_angle`]), for the test that an isotropic material's image does not
     /// depend on the tangent frame. No scene setting or command-line option reaches it.
@@ -108,6 +142,15 @@ impl FrameRule {
     /// The world-up tangent frame (anisotropic materials, analytic models).
     pub const UP: FrameRule = FrameRule {
         view_azimuth: None,
+        mesh_tangent: false,
+        scramble: false,
+    };
+
+    /// The mesh's tangent (anisotropic materials; module doc, "Frame of anisotropic
+    /// materials").
+    pub const MESH_TANGENT: FrameRule = FrameRule {
+        view_azimuth: None,
+        mesh_tangent: true,
         scramble: false,
     };
 
@@ -116,11 +159,23 @@ impl FrameRule {
         let (s, c) = azimuth.sin_cos();
         FrameRule {
             view_azimuth: Some((c, s)),
+            mesh_tangent: false,
             scramble: false,
         }
     }
 
-    /// `base` (the world-up frame of [`ShadingFrame::from_normal`]) under this rule, for the
+    /// The frame this rule starts from at normal `n` with the surface's `tangent`
+    /// ([`FrameRule::mesh_tangent`]), before [`FrameRule::apply`] turns it.
+    #[inline]
+    pub fn base(&self, n: Vec3, tangent: Vec3) -> ShadingFrame {
+        if self.mesh_tangent {
+            ShadingFrame::from_normal_tangent(n, tangent)
+        } else {
+            ShadingFrame::from_normal(n)
+        }
+    }
+
+    /// `base` (the frame of [`FrameRule::base`]) under this rule, for the
     /// unit world view `v`: scrambled first when [`FrameRule::scramble`], then turned to the
     /// view's azimuth when the rule fixes one.
     #[inline]

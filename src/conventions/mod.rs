@@ -17,7 +17,9 @@
 //!
 //! # Shading frame (thesis 3.1.2, corrected)
 //! A local frame `(t, b, n)` at a surface point: `n` the unit normal, `t` the world up
-//! vector (0, 1, 0) projected onto the tangent plane and normalised, `b = n x t`. The frame
+//! vector (0, 1, 0) projected onto the tangent plane and normalised, `b = n x t` (the
+//! world-up frame; isotropic tabulated and anisotropic materials turn or replace `t`, see
+//! the two sections on their frames below). The frame
 //! is right-handed: `t x b = n`. Local coordinates of a world direction `d` are
 //! `(d.t, d.b, d.n)`, so local +z is the normal. The polar angle is `acos(d.n)` and the
 //! azimuth is `atan2(d.b, d.t)` wrapped into [0, 2 pi).
@@ -46,9 +48,34 @@
 //! [`ShadingFrame::turned_to_view`]): the frame is then a function of `n` and the view
 //! alone, and the lookup is always made at the same azimuth. For an SH data set that azimuth
 //! is the centre of azimuth texel 0 (`pi / nu`), where both filters return the stored
-//! texel exactly; for a D-BRDF it is 0. Anisotropic materials keep the world-up tangent, and
-//! analytic models (Lambert, Phong, Blinn-Phong, isotropic Ashikhmin-Shirley, MERL's
-//! half-difference lookup) are exact functions of the angles, so they keep it too.
+//! texel exactly; for a D-BRDF it is 0. Analytic isotropic models (Lambert, Phong,
+//! Blinn-Phong, isotropic Ashikhmin-Shirley, MERL's half-difference lookup) are exact
+//! functions of the angles and keep the world-up tangent.
+//!
+//! # Frame of anisotropic materials
+//! An anisotropic material's azimuth 0 is a direction on the object (the grain of brushed
+//! metal, a fabric's warp), so it comes from the mesh ([`FrameRule::MESH_TANGENT`]):
+//! [`ShadingFrame::from_normal_tangent`] projects the mesh's tangent interpolated at the
+//! pixel (`crate::mesh::Mesh::tangents`, barycentric like the normal) onto the tangent
+//! plane, `t = normalize(T - n (n.T))`, `b = n x t`. The tangent `T` is, by mesh:
+//! - the teapot: per Bezier patch, the derivative that lies in the planes through the y
+//!   axis (the profile on the body, rim, lid, knob and bottom; along the tube on the spout
+//!   and handle), signed to run upwards (`crate::mesh::teapot`); zero at the knob apex and
+//!   the bottom centre, where the patches are degenerate;
+//! - an OBJ file with texture coordinates (`vt` for every vertex): the direction of
+//!   increasing u, per triangle from its edges and texture-coordinate differences
+//!   (Lengyel 2001), averaged per vertex (`crate::mesh::Mesh::compute_tangents_from_texcoords`);
+//! - an OBJ file without texture coordinates, and the UV sphere: none. Those pixels use
+//!   the world-up frame above (on the UV sphere about +y that is its parametric tangent
+//!   up the meridian).
+//!
+//! Where the interpolated tangent vanishes or is parallel to the normal (its part in the
+//! tangent plane below [`MIN_TANGENT_SIN`] of its length: the teapot's poles, a
+//! degenerate texture map) the pixel falls back to the world-up frame too. The thesis uses
+//! the world-up tangent for everything; a world-up frame makes an anisotropic material's
+//! grain a property of the world's up axis, not of the object (it turns when the object
+//! turns on its side), and near `n = +-y` it turns quickly from pixel to pixel.
+//!
 //! A transfer table stores its environment in the world-up frame of its grid: a pixel in a
 //! turned frame rotates its coefficients back by the turn before the dot product
 //! ([`crate::sh::rotate_about_z`]).
@@ -129,6 +156,8 @@
 //!     coefficients turned back into the world-up frame ("Frame of isotropic tabulated
 //!     materials" above); the thesis uses one frame for every material, and its tables'
 //!     interpolation then depends on the tangent (streaks where the tangent turns fast).
+//!     Anisotropic materials take azimuth 0 from the mesh's tangent ("Frame of anisotropic
+//!     materials"), not from world up.
 
 mod frame;
 mod octahedral;

@@ -82,9 +82,10 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
             entry_point: Some("vs_main"),
             compilation_options: Default::default(),
             buffers: &[Some(wgpu::VertexBufferLayout {
-                array_stride: 24,
+                // Position, normal, tangent (zero where the mesh has none).
+                array_stride: 36,
                 step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3],
             })],
         },
         primitive: wgpu::PrimitiveState {

@@ -259,10 +259,14 @@ impl Uploads {
             None => ([0; 4], [0.0; 4], Vec::new()),
         };
         // The material's frame rule (crate::conventions, "Frame of isotropic tabulated
-        // materials"): the view's azimuth in a view-aligned frame, as a unit pair, and 1.
+        // materials", "Frame of anisotropic materials"): the view's azimuth in a
+        // view-aligned frame, as a unit pair, and 1; or 2 for the mesh's tangent.
         let mut xfer_rot = xfer_rot;
-        if let Some((c, s)) = scene.material.frame_rule().view_azimuth {
+        let rule = crate::shade::effective_frame_rule(&scene.material, &scene.mesh);
+        if let Some((c, s)) = rule.view_azimuth {
             xfer_rot[1..].copy_from_slice(&[c, s, 1.0]);
+        } else if rule.mesh_tangent {
+            xfer_rot[3] = 2.0;
         }
         if transfer.is_empty() {
             transfer.push(0.0);
@@ -295,11 +299,15 @@ impl Uploads {
         };
 
         let mesh = &scene.mesh;
-        let vertices: Vec<[f32; 6]> = mesh
+        let vertices: Vec<[f32; 9]> = mesh
             .positions
             .iter()
             .zip(&mesh.normals)
-            .map(|(p, n)| [p.x, p.y, p.z, n.x, n.y, n.z])
+            .enumerate()
+            .map(|(i, (p, n))| {
+                let t = mesh.tangents.get(i).copied().unwrap_or(glam::Vec3::ZERO);
+                [p.x, p.y, p.z, n.x, n.y, n.z, t.x, t.y, t.z]
+            })
             .collect();
         let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
 

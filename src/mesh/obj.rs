@@ -1,13 +1,15 @@
 //! Wavefront OBJ files through `tobj`: all objects of the file merged into one mesh.
 //!
 //! Faces are triangulated by tobj; vertices are single-indexed. Files without normals (or
-//! with a normal count that does not match) get smooth area-weighted normals. Invalid
+//! with a normal count that does not match) get smooth area-weighted normals. Files with
+//! texture coordinates get tangents from them ([`Mesh::compute_tangents_from_texcoords`]),
+//! the frame of anisotropic materials. Invalid
 //! content (non-finite coordinates, indices out of range, no triangles) is an error that
 //! names the file.
 
 use super::Mesh;
 use crate::error::{Error, Result};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::path::Path;
 
 /// Largest OBJ file read (bytes): far beyond any test asset, small enough that a hostile
@@ -37,6 +39,7 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
             .map_err(|e| Error::format(path, format!("malformed OBJ: {e}")))?;
     let mut mesh = Mesh::default();
     let mut any_missing_normals = false;
+    let mut any_texcoords = false;
     for model in &models {
         let m = &model.mesh;
         let nverts = m.positions.len() / 3;
@@ -60,7 +63,16 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
                 .chunks_exact(3)
                 .map(|c| [c[0], c[1], c[2]])
                 .collect(),
-            exact_sphere: None,
+            texcoords: if m.texcoords.len() == 2 * nverts && nverts > 0 {
+                any_texcoords = true;
+                m.texcoords
+                    .chunks_exact(2)
+                    .map(|c| Vec2::new(c[0], c[1]))
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            ..Mesh::default()
         };
         if let Some(bad) = part
             .triangles
@@ -86,6 +98,12 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
             "no faces: the OBJ file holds no triangles",
         ));
     }
+    if let Some(i) = mesh.texcoords.iter().position(|t| !t.is_finite()) {
+        return Err(Error::format(
+            path,
+            format!("texture coordinate of vertex {} is not finite", i + 1),
+        ));
+    }
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(Error::format(
             path,
@@ -103,6 +121,9 @@ pub fn load_obj(path: &Path) -> Result<Mesh> {
                 *n = n.try_normalize().unwrap_or(Vec3::Y);
             }
         }
+    }
+    if any_texcoords {
+        mesh.compute_tangents_from_texcoords();
     }
     Ok(mesh)
 }

@@ -53,7 +53,7 @@ pub struct Shaded {
 /// If the kernel path chosen (by `opts.kernel` or the scene's `render.kernel`) is not
 /// available on this CPU; [`Scene::resolve`] refuses such a scene file.
 pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
-    let rule = opts.frame_rule(&scene.material);
+    let rule = opts.frame_rule(scene);
     let mut shaded = shade_lights(scene, vis, opts, &rule);
     if let Some(table) = scene.environment.transfer_table() {
         assert!(

@@ -28,6 +28,10 @@ pub struct Surface {
     pub front_facing: bool,
     /// Distance along the view axis (the clip w).
     pub view_depth: f32,
+    /// The mesh's tangent interpolated at the pixel ([`Mesh::tangents`]; not normalised,
+    /// not orthogonal to the normal), or zero where the mesh has none: the azimuth-0
+    /// direction of an anisotropic material's frame ([`crate::conventions::FrameRule`]).
+    pub tangent: Vec3,
 }
 
 /// The surface seen through pixel `(x, y)`, if any.
@@ -57,6 +61,9 @@ pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) 
                 front_facing: t.front_facing,
                 // dir has view-space z = -1: s is the depth along the view axis.
                 view_depth: s as f32,
+                // The UV sphere has no tangents: its parametric tangent up the meridian is
+                // the world-up tangent (`mesh` module doc).
+                tangent: Vec3::ZERO,
             });
         }
     }
@@ -69,10 +76,17 @@ pub fn surface_at_index(mesh: &Mesh, vis: &VisBuffer, i: usize, x: u32, y: u32) 
         .try_normalize()
         .or_else(|| (p1 - p0).cross(p2 - p0).try_normalize())
         .unwrap_or(Vec3::Y);
+    let tangent = if mesh.tangents.is_empty() {
+        Vec3::ZERO
+    } else {
+        let [t0, t1, t2] = tri.map(|k| mesh.tangents[k as usize]);
+        t0 * b[0] + t1 * b[1] + t2 * b[2]
+    };
     Some(Surface {
         position,
         normal: if t.front_facing { normal } else { -normal },
         front_facing: t.front_facing,
         view_depth: 1.0 / vis.depth[i],
+        tangent,
     })
 }

@@ -96,7 +96,7 @@ pub use {
     entry::{shade, Shaded},
     gbuffer::{surface_at, surface_at_index, Surface},
     lightcuts::CutStats,
-    options::{FrameCheck, ShadeOptions, ShadingPath},
+    options::{effective_frame_rule, FrameCheck, ShadeOptions, ShadingPath},
     packed_analytic::PACKED_MAX_LIGHTS,
     prep::FramePrep,
     scalar_oracle::shade_point,

@@ -113,6 +113,21 @@ impl Default for ShadeOptions {
     }
 }
 
+/// [`Material::frame_rule`] for `material` on `mesh`: the mesh-tangent rule becomes
+/// [`FrameRule::UP`] where the mesh has no tangents (every pixel would fall back to the
+/// world-up frame; the kernels' lane path then builds those frames in lanes).
+pub fn effective_frame_rule(material: &Material, mesh: &crate::mesh::Mesh) -> FrameRule {
+    let rule = material.frame_rule();
+    if rule.mesh_tangent && mesh.tangents.is_empty() {
+        FrameRule {
+            mesh_tangent: false,
+            ..rule
+        }
+    } else {
+        rule
+    }
+}
+
 impl ShadeOptions {
     /// These options on shading path `path` (overriding the scene's `render.precision`).
     pub fn with_path(mut self, path: ShadingPath) -> ShadeOptions {
@@ -120,10 +135,12 @@ impl ShadeOptions {
         self
     }
 
-    /// The frame rule pixels of `material` are shaded with: the material's
-    /// ([`Material::frame_rule`]), changed only by the test-only [`ShadeOptions::frame_check`].
-    pub fn frame_rule(&self, material: &Material) -> FrameRule {
-        let rule = material.frame_rule();
+    /// The frame rule the pixels of `scene` are shaded with: its material's
+    /// ([`Material::frame_rule`]; the mesh-tangent rule is the world-up one on a mesh
+    /// without tangents, which gives the same frames), changed only by the test-only
+    /// [`ShadeOptions::frame_check`].
+    pub fn frame_rule(&self, scene: &crate::scene::Scene) -> FrameRule {
+        let rule = effective_frame_rule(&scene.material, &scene.mesh);
         match self.frame_check {
             FrameCheck::None => rule,
             FrameCheck::Scramble => FrameRule {
@@ -133,6 +150,7 @@ impl ShadeOptions {
             FrameCheck::ScrambleUnaligned => FrameRule {
                 scramble: true,
                 view_azimuth: None,
+                ..rule
             },
             FrameCheck::Unaligned => FrameRule::UP,
         }

@@ -245,6 +245,7 @@ mod tests {
             normal,
             front_facing: true,
             view_depth: 1.0,
+            tangent: Vec3::ZERO,
         }
     }
 

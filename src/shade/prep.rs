@@ -139,7 +139,7 @@ impl<'a> FramePrep<'a> {
             },
             fault: opts.fault,
             transfer: TransferTerm::of(scene),
-            rule: opts.frame_rule(&scene.material),
+            rule: opts.frame_rule(scene),
             sh,
             eye: scene.camera.position,
             cull_lights: opts.cull_lights,

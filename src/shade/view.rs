@@ -60,18 +60,19 @@ pub fn local_view(frame: &ShadingFrame, surface: &Surface, eye: Vec3) -> Vec3 {
 }
 
 /// The shading frame of a surface under `rule` ([`FrameRule::apply`] of
-/// [`ShadingFrame::from_normal`], turned by the unit world view) and the local view in it,
+/// [`FrameRule::base`]: [`ShadingFrame::from_normal`], or the mesh tangent's frame, turned
+/// by the unit world view) and the local view in it,
 /// lifted above the horizon ([`local_view`]). Under [`FrameRule::UP`] these are exactly
 /// `from_normal` and [`local_view`]'s bits.
 #[inline]
 pub fn frame_and_view(surface: &Surface, eye: Vec3, rule: &FrameRule) -> (ShadingFrame, Vec3) {
-    let base = ShadingFrame::from_normal(surface.normal);
+    let base = rule.base(surface.normal, surface.tangent);
     let v = (eye - surface.position).normalize_or(base.n);
     let frame = rule.apply(base, v);
     (frame, lift_above_horizon(frame.to_local(v)))
 }
 
-/// The f64 path's frame under `rule` ([`frame_and_view`] in f64): the f32 world-up frame
+/// The f64 path's frame under `rule` ([`frame_and_view`] in f64): the f32 base frame
 /// (scrambled when the rule says so) widened exactly, turned in f64 to the view's azimuth,
 /// and the lifted f64 local view. Returns the frame's axes `(t, b, n)` and the view.
 #[inline]
@@ -80,7 +81,7 @@ pub fn frame_and_view_f64(surface: &Surface, eye: DVec3, rule: &FrameRule) -> ([
         view_azimuth: None,
         ..*rule
     };
-    let f = unturned.apply(ShadingFrame::from_normal(surface.normal), Vec3::Z);
+    let f = unturned.apply(rule.base(surface.normal, surface.tangent), Vec3::Z);
     let (mut t, mut b, n) = (f.t.as_dvec3(), f.b.as_dvec3(), f.n.as_dvec3());
     let v = (eye - surface.position.as_dvec3()).normalize_or(n);
     if let Some((c, s)) = rule.view_azimuth {

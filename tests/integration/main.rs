@@ -14,6 +14,7 @@ mod closed_form_common;
 mod shading_paths;
 
 mod acquire;
+mod anisotropic_frame;
 mod architecture;
 mod cache_command;
 mod cli_errors;

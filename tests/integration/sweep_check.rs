@@ -99,16 +99,21 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
     let r = sweep(dir, &["--check", "timed.csv"]);
     assert_eq!(r.code, Some(0), "{}{}", r.stdout, r.stderr);
 
-    // Seeded faults: one deterministic value edited (rel_rmse of row 5 in its last
-    // digit; flip_mean (column 15) of row 8, a transfer row), each found and named; a shard checks
+    // Seeded faults: one deterministic value edited (rel_rmse of row 5 by one ulp; flip_mean (column 15) of row 8, a transfer row), each found and named; a shard checks
     // only its rows.
-    let rel = stored.lines().nth(6).unwrap().split(',').nth(12).unwrap();
-    let last = rel.chars().last().unwrap();
-    let bumped = format!(
-        "{}{}",
-        &rel[..rel.len() - 1],
-        if last == '9' { '8' } else { '9' }
-    );
+    // One ulp up, written shortest (as the checker prints what it read): editing the last
+    // decimal digit instead can give a string that reads back as a value printed otherwise
+    // (0.14243876935926675 -> ...679, printed 0.1424387693592668).
+    let rel: f64 = stored
+        .lines()
+        .nth(6)
+        .unwrap()
+        .split(',')
+        .nth(12)
+        .unwrap()
+        .parse()
+        .unwrap();
+    let bumped = f64::from_bits(rel.to_bits() + 1).to_string();
     let edited = edit(&edit(&stored, 5, 12, &bumped), 8, 15, "0.5");
     std::fs::write(dir.join("edited.csv"), edited).unwrap();
     let r = sweep(dir, &["--check", "edited.csv"]);

@@ -47,6 +47,26 @@ fn shading_frame(n: vec3<f32>) -> ShadingFrame {
     return ShadingFrame(t, b, n);
 }
 
+// The frame of n whose tangent is the mesh's tangent projected onto the tangent plane
+// (src/conventions/mod.rs, "Frame of anisotropic materials"); `up` (n's world-up frame)
+// where that projection is below MIN_TANGENT_SIN = 1e-3 of the tangent's length or the
+// tangent is zero.
+fn frame_from_tangent(up: ShadingFrame, tangent: vec3<f32>) -> ShadingFrame {
+    let n = up.n;
+    let along = tangent - n * dot(n, tangent);
+    let l2 = dot(along, along);
+    let t2 = dot(tangent, tangent);
+    if !(l2 > 1e-6 * t2) {
+        return up;
+    }
+    let t = along / sqrt(l2);
+    var b = cross(n, t);
+    if has_fault(FAULT_MIRROR_AZIMUTH) {
+        b = -b;
+    }
+    return ShadingFrame(t, b, n);
+}
+
 // The frame turned about n so that the unit world view v has the azimuth whose cosine and
 // sine are (c, s): t' = cos(phi - a) t + sin(phi - a) b with phi the view's azimuth in f;
 // f itself when v is within 1e-6 of the normal's axis (VIEW_TURN_MIN_SIN).

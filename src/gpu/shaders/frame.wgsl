@@ -30,7 +30,8 @@ struct Frame {
     // x: the probe rotation about +y, radians. y, z, w: the material's frame rule
     // (src/conventions/mod.rs, "Frame of isotropic tabulated materials"): w = 1 when the
     // frame is turned about the normal until the view lies at the azimuth whose cosine and
-    // sine are y and z; w = 0 for the world-up frame.
+    // sine are y and z; w = 2 for the mesh's tangent (anisotropic materials, "Frame of
+    // anisotropic materials"); w = 0 for the world-up frame.
     xfer_rot: vec4<f32>,
 }
 
@@ -78,14 +79,16 @@ struct VsOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) tangent: vec3<f32>,
 }
 
 @vertex
-fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -> VsOut {
+fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @location(2) tangent: vec3<f32>) -> VsOut {
     var out: VsOut;
     out.clip = frame.clip_from_world * vec4<f32>(position, 1.0);
     out.world = position;
     out.normal = normal;
+    out.tangent = tangent;
     return out;
 }
 
@@ -167,7 +170,9 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     let sf_up = shading_frame(n);
     let v = normalize(eye - p);
     var sf = sf_up;
-    if frame.xfer_rot.w > 0.5 {
+    if frame.xfer_rot.w > 1.5 {
+        sf = frame_from_tangent(sf_up, in.tangent);
+    } else if frame.xfer_rot.w > 0.5 {
         sf = turned_to_view(sf_up, v, frame.xfer_rot.y, frame.xfer_rot.z);
     }
     let wo = lift_above_horizon(to_local(sf, v));

@@ -148,7 +148,14 @@ impl TileFrame {
             .iter()
             .fold(Vec3::ZERO, |s, p| s + p.frame.n)
             .normalize_or(pixels[0].frame.n);
-        let mut frame = ShadingFrame::from_normal(n);
+        let mut frame = if rule.mesh_tangent {
+            // The pixels' frames follow the mesh's tangent: so does the central one, from
+            // their mean tangent, or the spread `a` would be their turn from world up.
+            let t = pixels.iter().fold(Vec3::ZERO, |s, p| s + p.frame.t);
+            ShadingFrame::from_normal_tangent(n, t)
+        } else {
+            ShadingFrame::from_normal(n)
+        };
         if let Some((c, s)) = rule.view_azimuth {
             // The pixels' frames are turned to their views: so is the central frame, to
             // the tile's mean world view, or the spread `a` below would be the views'
