@@ -21,8 +21,9 @@
 //! spherical k-means seeded from median cut), and the full probe (the converged
 //! reference).
 //!
-//! Beside the light sets (`[env] method = "lights"`), two methods shade the full probe
-//! without collapsing it: [`transfer`] (a table over normals) and [`lightcuts`] (a light
+//! Beside the light sets (`[env] method = "lights"`), three methods shade the full probe
+//! without collapsing it: [`transfer`] (a table over normals), [`reflection`] (a table
+//! over reflected directions, for glossy isotropic materials) and [`lightcuts`] (a light
 //! tree cut per pixel); `auto`, the default, chooses per material
 //! ([`prepare::EnvMethod`], [`crate::scene::env_method`]).
 //!
@@ -35,6 +36,7 @@ pub mod lightset_io;
 pub mod overlay;
 pub mod prepare;
 pub mod probe;
+pub mod reflection;
 pub mod samplers;
 pub mod transfer;
 
