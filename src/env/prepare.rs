@@ -327,8 +327,6 @@ impl EnvSpec {
                 format!("{} is out of range (0 to {MAX_LIGHTS})", self.exact_lights),
             ));
         }
-        // The table's own ranges (the probe-size check comes when the probe is read).
-        crate::env::reflection::params_of(self).check(0, 0)?;
         if !(self.cut_error > 0.0 && self.cut_error <= 1.0) {
             return Err(Error::field(
                 "env.cut_error",

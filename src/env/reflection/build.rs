@@ -153,9 +153,8 @@ fn downsample(power: &[[f64; 3]], w: usize, h: usize, f: usize) -> (Vec<[f64; 3]
     for row in 0..h {
         for col in 0..w {
             let o = &mut out[(row / f) * cw + col / f];
-            let p = power[row * w + col];
-            for c in 0..3 {
-                o[c] += p[c];
+            for (oc, pc) in o.iter_mut().zip(power[row * w + col]) {
+                *oc += pc;
             }
         }
     }
@@ -283,8 +282,8 @@ pub fn bake_table(
                 if polar == 0.0 {
                     let (n, v) = sample_normal_view(r, 0.0, 0.0, tb);
                     let l = radiance_sum(material, cosine, n, v, &texels);
-                    for c in 0..3 {
-                        coeffs[c][0] = l[c];
+                    for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
+                        q[0] = lc;
                     }
                 } else {
                     for m in 0..PSI_SAMPLES {
@@ -294,20 +293,22 @@ pub fn bake_table(
                         let (s1, c1) = psi.sin_cos();
                         let (s2, c2) = (2.0 * psi).sin_cos();
                         let basis = [0.5, c1, s1, c2, s2];
-                        for c in 0..3 {
-                            for (q, bk) in coeffs[c].iter_mut().zip(basis) {
-                                *q += 2.0 / PSI_SAMPLES as f64 * bk * l[c];
+                        for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
+                            for (qk, bk) in q.iter_mut().zip(basis) {
+                                *qk += 2.0 / PSI_SAMPLES as f64 * bk * lc;
                             }
                         }
                     }
                 }
-                for c in 0..3 {
-                    for q in 0..COEFFS {
-                        let mut val = coeffs[c][q];
-                        if fault == BakeFault::SineTermsNegated && (q == 2 || q == 4) {
-                            val = -val;
-                        }
-                        out[(s * 3 + c) * COEFFS + q] = val as f32;
+                for (c, qc) in coeffs.iter().enumerate() {
+                    for (k, &val) in qc.iter().enumerate() {
+                        let sine = k == 2 || k == 4;
+                        let val = if fault == BakeFault::SineTermsNegated && sine {
+                            -val
+                        } else {
+                            val
+                        };
+                        out[(s * 3 + c) * COEFFS + k] = val as f32;
                     }
                 }
             }
