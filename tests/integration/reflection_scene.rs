@@ -43,8 +43,10 @@ fn glossy_reflection_table_matches_the_converged_reference() {
     let e0 = brdfkit::metrics::relative_rmse(&reference, &bare, None);
     assert!(e0 > 0.05, "the table adds too little ({e0})");
     // Any thread count and tile size: the same bits.
-    let mut opts = RenderOptions::default();
-    opts.threads = Some(1);
+    let opts = RenderOptions {
+        threads: Some(1),
+        ..RenderOptions::default()
+    };
     let mut s2 = s.clone();
     s2.render.tile_size = 8;
     let again = render(&s2, &opts).image;

@@ -52,7 +52,7 @@ pub const FAR_BLOCK: usize = 4;
 pub fn far_block(rw: usize, rh: usize) -> usize {
     [FAR_BLOCK, 2, 1]
         .into_iter()
-        .find(|&b| rw % b == 0 && rh % b == 0 && rw / b >= 64)
+        .find(|&b| rw.is_multiple_of(b) && rh.is_multiple_of(b) && rw / b >= 64)
         .unwrap_or(1)
 }
 
@@ -109,14 +109,14 @@ impl BakeParams {
                 ),
             ));
         }
-        if self.residual < 4 || self.residual % 2 != 0 {
+        if self.residual < 4 || !self.residual.is_multiple_of(2) {
             return Err(Error::field(
                 "env.reflection_residual",
                 format!("{} must be an even number of texels >= 4", self.residual),
             ));
         }
         if width > self.residual
-            && (width % self.residual != 0 || height % (self.residual / 2) != 0)
+            && (!width.is_multiple_of(self.residual) || !height.is_multiple_of(self.residual / 2))
         {
             return Err(Error::field(
                 "env.reflection_residual",
@@ -370,7 +370,7 @@ pub(super) fn measure_error(
     full: &Texels,
 ) -> BakeError {
     let m = error_samples(full.dir.len());
-    let mut rng = SplitMix(0x5eed_0f_7ab1e);
+    let mut rng = SplitMix(0x5ee_d0f7_ab1e);
     let mut pts = Vec::with_capacity(2 * m);
     for set in 0..2 {
         for _ in 0..m {

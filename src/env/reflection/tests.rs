@@ -41,7 +41,7 @@ fn probe() -> Probe {
             let v = (row as f32 + 0.5) / h as f32;
             let u = (col as f32 + 0.5) / w as f32;
             let mut t = if v < 0.5 {
-                let a = 0.3 * (6.28 * u + 1.0).sin();
+                let a = 0.3 * (std::f32::consts::TAU * u + 1.0).sin();
                 [0.4 + 0.6 * v + a, 0.6 + 0.4 * v, 1.0 - 0.5 * a]
             } else {
                 [0.5, 0.35 + 0.1 * (6.0 * u).sin(), 0.2]
