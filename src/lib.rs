@@ -20,7 +20,10 @@
 //!    onto an SH data set's basis or into irradiance per normal, tabulated once and
 //!    interpolated per pixel by [`shade`]; `lightcuts`, [`env::lightcuts`]: every texel a
 //!    light in a light tree, cut per pixel by [`shade`] within the bounds of
-//!    [`material::cone_bound`], Walter et al. 2005),
+//!    [`material::cone_bound`], Walter et al. 2005; and `reflection`,
+//!    [`env::reflection`]: an isotropic material's outgoing radiance under the probe,
+//!    tabulated over reflected direction, view angle and a Fourier series about it, looked
+//!    up per pixel by [`shade`], Ramamoorthi & Hanrahan 2002),
 //!    [`brdf`] (the [`brdf::Brdf`] trait; Lambert, Phong, Blinn-Phong, Ashikhmin-Shirley,
 //!    D-BRDF with its file format [`brdf::dbrdf::file`], Lambert + D-BRDF lobe, MERL tables,
 //!    and the library's stand-in source models [`brdf::stand_ins`]), [`sh`] (real spherical

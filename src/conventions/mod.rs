@@ -105,6 +105,16 @@
 //! The map is continuous and needs one reciprocal and no trigonometry, which is why the
 //! D-BRDF's lane kernel looks up its `p(h)` this way ([`crate::brdf::dbrdf`]).
 //!
+//! # Octahedral sphere grids (functions in `sphere_octahedral.rs`)
+//! A table over the whole sphere of world directions (the reflection-space radiance tables,
+//! [`crate::env::reflection`]) uses the octahedral map with **+y at the centre**:
+//! `(u, v) = (d.x, d.z) / (|d.x| + |d.y| + |d.z|)` for `d.y >= 0`, folded to
+//! `((1 - |v|) sign u, (1 - |u|) sign v)` for `d.y < 0` (sign of 0 is +1), so -y is the four
+//! corners ([`sphere_oct_encode_f64`], inverse [`sphere_oct_decode_f64`]). Values sit on
+//! the vertices of a `G x G` grid (`u = -1 + 2 i / G`, both borders included,
+//! [`sphere_oct_vertex`]); the border is mirror-symmetric about each edge's midpoint, so
+//! bilinear interpolation over the vertices is continuous everywhere.
+//!
 //! # Light probes (equirectangular, latitude-longitude)
 //! Image `u = (col + 1/2) / width`, `v = (row + 1/2) / height` at texel centres. Row 0 is
 //! the top of the image, the +y pole: `polar = pi v` measured from +y. The probe azimuth is
@@ -162,10 +172,12 @@
 mod frame;
 mod octahedral;
 mod scalar;
+mod sphere_octahedral;
 
 pub use frame::*;
 pub use octahedral::*;
 pub use scalar::Scalar;
+pub use sphere_octahedral::*;
 
 use glam::{DVec3, Vec3};
 use std::f32::consts::{PI, TAU};

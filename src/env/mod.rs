@@ -17,6 +17,9 @@
 //!   [`lightset::prepare`];
 //! - [`transfer`]: `method = "transfer"`, the full probe tabulated over normals (looked up
 //!   per pixel by [`crate::shade`]);
+//! - [`reflection`]: `method = "reflection"`, the full probe tabulated over reflected
+//!   directions, view angles and a Fourier series about the reflected direction, baked
+//!   from an isotropic material's own BRDF (looked up per pixel by [`crate::shade`]);
 //! - [`lightcuts`]: `method = "lightcuts"`, every texel a light in a light tree (cut per
 //!   pixel by [`crate::shade`]);
 //! - [`cache_entry`]: the one entry header and check the disk caches of light sets and
@@ -39,6 +42,7 @@ pub mod cache_entry;
 pub mod lightcuts;
 pub mod lightset;
 pub mod probe;
+pub mod reflection;
 pub mod schema;
 pub mod transfer;
 

@@ -41,6 +41,12 @@ pub const LIGHTCUTS_NOT_ON_GPU: &str =
     "[env] method = \"lightcuts\" refines an adaptive cut of a light tree per pixel, which \
      the GPU path does not do; on a GPU use \"transfer\" or a light set (\"lights\")";
 
+/// Why the GPU renderer does not draw `[env] method = "reflection"` (no WGSL lookup of the
+/// table yet).
+pub const REFLECTION_NOT_ON_GPU: &str =
+    "[env] method = \"reflection\" looks up a reflection-space table the GPU path does not \
+     have yet; on a GPU use \"transfer\" or a light set (\"lights\")";
+
 /// Why the GPU renderer does not draw `method`, or `None` when it does: light sets and
 /// transfer tables, and `auto` (which [`choose`] makes a light set where the CPU would cut a
 /// light tree). [`super::Environment::gpu_unsupported`] says the same of a built one.
@@ -48,6 +54,7 @@ pub fn gpu_unsupported(method: EnvMethod) -> Option<&'static str> {
     match method {
         EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer => None,
         EnvMethod::Lightcuts => Some(LIGHTCUTS_NOT_ON_GPU),
+        EnvMethod::Reflection => Some(REFLECTION_NOT_ON_GPU),
     }
 }
 
@@ -57,7 +64,7 @@ pub fn gpu_unsupported(method: EnvMethod) -> Option<&'static str> {
 pub fn export_unsupported(method: EnvMethod) -> bool {
     match method {
         EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer => false,
-        EnvMethod::Lightcuts => true,
+        EnvMethod::Lightcuts | EnvMethod::Reflection => true,
     }
 }
 

@@ -42,6 +42,12 @@ struct EnvTable {
     #[serde(skip_serializing_if = "Option::is_none")]
     exact_lights: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    reflection_grid: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reflection_slices: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reflection_residual: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     cut_error: Option<f32>,
     #[serde(skip_serializing_if = "Option::is_none")]
     cut_max: Option<usize>,
@@ -57,6 +63,12 @@ pub fn method_fields(method: EnvMethod) -> &'static [&'static str] {
         EnvMethod::Lights => &["sampler", "count", "seed", "lights"],
         EnvMethod::Transfer => &["transfer_azimuth", "transfer_polar", "exact_lights"],
         EnvMethod::Lightcuts => &["cut_error", "cut_max"],
+        EnvMethod::Reflection => &[
+            "reflection_grid",
+            "reflection_slices",
+            "reflection_residual",
+            "exact_lights",
+        ],
     }
 }
 
@@ -72,6 +84,9 @@ impl EnvTable {
             ("transfer_azimuth", t.transfer_azimuth.is_some()),
             ("transfer_polar", t.transfer_polar.is_some()),
             ("exact_lights", t.exact_lights.is_some()),
+            ("reflection_grid", t.reflection_grid.is_some()),
+            ("reflection_slices", t.reflection_slices.is_some()),
+            ("reflection_residual", t.reflection_residual.is_some()),
             ("cut_error", t.cut_error.is_some()),
             ("cut_max", t.cut_max.is_some()),
         ]
@@ -121,6 +136,9 @@ impl EnvTable {
             transfer_azimuth: self.transfer_azimuth.unwrap_or(d.transfer_azimuth),
             transfer_polar: self.transfer_polar.unwrap_or(d.transfer_polar),
             exact_lights: self.exact_lights.unwrap_or(d.exact_lights),
+            reflection_grid: self.reflection_grid.unwrap_or(d.reflection_grid),
+            reflection_slices: self.reflection_slices.unwrap_or(d.reflection_slices),
+            reflection_residual: self.reflection_residual.unwrap_or(d.reflection_residual),
             cut_error: self.cut_error.unwrap_or(d.cut_error),
             cut_max: self.cut_max.unwrap_or(d.cut_max),
             lights: self.lights,
@@ -131,12 +149,13 @@ impl EnvTable {
     /// The table that states `spec`: its method, the probe's fields and that method's
     /// fields (every method's under `auto`; module doc).
     fn of_spec(spec: &EnvSpec) -> EnvTable {
-        let (lights, transfer, cuts) = match spec.method {
+        let (lights, transfer, cuts, reflection) = match spec.method {
             // Stated `auto` stays `auto` whatever else is stated.
-            EnvMethod::Auto => (true, true, true),
-            EnvMethod::Lights => (true, false, false),
-            EnvMethod::Transfer => (false, true, false),
-            EnvMethod::Lightcuts => (false, false, true),
+            EnvMethod::Auto => (true, true, true, true),
+            EnvMethod::Lights => (true, false, false, false),
+            EnvMethod::Transfer => (false, true, false, false),
+            EnvMethod::Lightcuts => (false, false, true, false),
+            EnvMethod::Reflection => (false, false, false, true),
         };
         EnvTable {
             file: (!spec.file.as_os_str().is_empty()).then(|| spec.file.clone()),
@@ -149,7 +168,10 @@ impl EnvTable {
             zero_non_finite: Some(spec.zero_non_finite),
             transfer_azimuth: transfer.then_some(spec.transfer_azimuth),
             transfer_polar: transfer.then_some(spec.transfer_polar),
-            exact_lights: transfer.then_some(spec.exact_lights),
+            exact_lights: (transfer || reflection).then_some(spec.exact_lights),
+            reflection_grid: reflection.then_some(spec.reflection_grid),
+            reflection_slices: reflection.then_some(spec.reflection_slices),
+            reflection_residual: reflection.then_some(spec.reflection_residual),
             cut_error: cuts.then_some(spec.cut_error),
             cut_max: cuts.then_some(spec.cut_max),
             lights: spec.lights.clone().filter(|_| lights),

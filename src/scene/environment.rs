@@ -17,6 +17,7 @@ use crate::conventions::rotate_about_up;
 use crate::env::lightcuts::{prepare_lightcuts, LightCuts, LightTree, TileFault};
 use crate::env::lightset::prepare::{self, CacheDir};
 use crate::env::lightset::to_scene_lights;
+use crate::env::reflection::{self, prepare_reflection, ReflectionTable};
 use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::env::transfer::{self, prepare_transfer, TransferBasis, TransferTable};
 use crate::env::Probe;
@@ -74,6 +75,13 @@ pub enum Environment {
     /// `[env] method = "lightcuts"` ([`crate::env::lightcuts`]): every texel a light in a
     /// light tree, with the cut's parameters; shading cuts it per pixel.
     LightCuts(Arc<LightCuts>),
+    /// `[env] method = "reflection"` ([`crate::env::reflection`]): the reflection-space
+    /// radiance table of the material under every texel but the brightest, and those
+    /// brightest texels as directional lights (`exact`).
+    Reflection {
+        table: Arc<ReflectionTable>,
+        exact: Vec<Light>,
+    },
 }
 
 impl Environment {
@@ -82,7 +90,9 @@ impl Environment {
     pub fn delta_lights(&self) -> &[Light] {
         match self {
             Environment::None | Environment::LightCuts(_) => &[],
-            Environment::Lights(l) | Environment::Transfer { exact: l, .. } => l,
+            Environment::Lights(l)
+            | Environment::Transfer { exact: l, .. }
+            | Environment::Reflection { exact: l, .. } => l,
         }
     }
 
@@ -90,7 +100,22 @@ impl Environment {
     pub fn transfer_table(&self) -> Option<&Arc<TransferTable>> {
         match self {
             Environment::Transfer { table, .. } => Some(table),
-            Environment::None | Environment::Lights(_) | Environment::LightCuts(_) => None,
+            Environment::None
+            | Environment::Lights(_)
+            | Environment::LightCuts(_)
+            | Environment::Reflection { .. } => None,
+        }
+    }
+
+    /// The reflection-space table whose term shading adds to every pixel, if the method
+    /// has one.
+    pub fn reflection_table(&self) -> Option<&Arc<ReflectionTable>> {
+        match self {
+            Environment::Reflection { table, .. } => Some(table),
+            Environment::None
+            | Environment::Lights(_)
+            | Environment::LightCuts(_)
+            | Environment::Transfer { .. } => None,
         }
     }
 
@@ -98,7 +123,10 @@ impl Environment {
     pub fn light_cuts(&self) -> Option<&Arc<LightCuts>> {
         match self {
             Environment::LightCuts(c) => Some(c),
-            Environment::None | Environment::Lights(_) | Environment::Transfer { .. } => None,
+            Environment::None
+            | Environment::Lights(_)
+            | Environment::Transfer { .. }
+            | Environment::Reflection { .. } => None,
         }
     }
 
@@ -109,6 +137,7 @@ impl Environment {
             Environment::Lights(_) => Some(EnvMethod::Lights),
             Environment::Transfer { .. } => Some(EnvMethod::Transfer),
             Environment::LightCuts(_) => Some(EnvMethod::Lightcuts),
+            Environment::Reflection { .. } => Some(EnvMethod::Reflection),
         }
     }
 
@@ -138,6 +167,11 @@ impl Environment {
                  lights; give --env-method lights (delta lights), [env] exact_lights > 0 or a \
                  [[light]] table"
             }
+            Environment::Reflection { .. } => {
+                "the environment method \"reflection\" shades a reflection table and here no \
+                 exact lights; give --env-method lights (delta lights), [env] exact_lights > 0 \
+                 or a [[light]] table"
+            }
             Environment::None | Environment::Lights(_) => "the scene has no lights",
         }
     }
@@ -153,6 +187,16 @@ impl Environment {
                     "a {} x {} transfer table and {lights} exact lights",
                     table.grid().0,
                     table.grid().1,
+                ),
+            ),
+            Environment::Reflection { table, .. } => (
+                "reflection-table",
+                format!(
+                    "a reflection table ({g} x {g} cells, {s} + 1 slices, {mb:.1} MB) and \
+                     {lights} exact lights",
+                    g = table.grid(),
+                    s = table.slices(),
+                    mb = table.bytes() as f64 / 1e6,
                 ),
             ),
             Environment::LightCuts(_) => (
@@ -183,6 +227,11 @@ impl Environment {
             Environment::LightCuts(c) => {
                 format!("lightcuts cut_error {} ({lights} texels)", c.cut_error)
             }
+            Environment::Reflection { table, .. } => format!(
+                "reflection {g}x{g}x{s} + {lights} exact",
+                g = table.grid(),
+                s = table.slices()
+            ),
             Environment::None => "none".into(),
         }
     }
@@ -195,7 +244,9 @@ impl Environment {
     pub fn previews_rigidly(&self) -> bool {
         match self {
             Environment::None | Environment::Lights(_) => true,
-            Environment::Transfer { .. } | Environment::LightCuts(_) => false,
+            Environment::Transfer { .. }
+            | Environment::LightCuts(_)
+            | Environment::Reflection { .. } => false,
         }
     }
 
@@ -224,6 +275,10 @@ impl Environment {
             Environment::None => Some(Environment::None),
             Environment::Lights(l) => Some(Environment::Lights(turn(l))),
             Environment::Transfer { table, exact } => Some(Environment::Transfer {
+                table: Arc::new(table.turned(angle)),
+                exact: turn(exact),
+            }),
+            Environment::Reflection { table, exact } => Some(Environment::Reflection {
                 table: Arc::new(table.turned(angle)),
                 exact: turn(exact),
             }),
@@ -347,6 +402,58 @@ pub fn build_environment(
                     )?;
                     let lights = transfer::build::texel_lights(probe, &exact, spec.intensity);
                     let env = Environment::Transfer {
+                        table: Arc::new(table),
+                        exact: to_scene_lights(&lights),
+                    };
+                    Ok((env, None))
+                }
+            }
+        }
+        EnvMethod::Reflection => {
+            if let Some(why) = reflection::unsupported(material) {
+                return Err(Error::field("env.method", why));
+            }
+            match source {
+                ProbeSource::Files {
+                    base,
+                    cache,
+                    progress,
+                } => {
+                    let p = prepare_reflection(spec, base, material, cache.path(), progress)?;
+                    cache.record_use(p.cache_file.as_deref(), p.cache_hit);
+                    let summary = EnvSummary {
+                        file: base.join(&spec.file),
+                        lights: p.lights.len(),
+                        cache_hit: p.cache_hit,
+                        cache_rejected: p.cache_rejected.clone(),
+                        negative_texels: p.report.negative_texels,
+                        probe_report: Some(p.report),
+                        probe_size: Some(p.report.size),
+                        total_irradiance: p.lights.total_irradiance().to_array(),
+                        spec: spec.clone(),
+                        base: base.to_path_buf(),
+                    };
+                    let env = Environment::Reflection {
+                        table: Arc::new(p.table),
+                        exact: to_scene_lights(&p.lights),
+                    };
+                    Ok((env, Some(summary)))
+                }
+                ProbeSource::Decoded(probe) => {
+                    spec.check()?;
+                    // As `prepare_reflection` does, without its cache.
+                    let exact = transfer::brightest_texels(probe, spec.exact_lights);
+                    let table = reflection::bake_table(
+                        probe,
+                        material,
+                        reflection::params_of(spec),
+                        &exact,
+                        spec.intensity,
+                        &Progress::hidden(),
+                        reflection::BakeFault::None,
+                    )?;
+                    let lights = transfer::build::texel_lights(probe, &exact, spec.intensity);
+                    let env = Environment::Reflection {
                         table: Arc::new(table),
                         exact: to_scene_lights(&lights),
                     };

@@ -225,6 +225,13 @@ impl Scene {
                          shades with one table",
                     ))
                 }
+                Environment::Reflection { .. } => {
+                    return Err(Error::field(
+                        "transfer.table",
+                        "the [env] shades with a reflection table (method = \"reflection\"): \
+                         a transfer table shades beside a light set only",
+                    ))
+                }
                 Environment::LightCuts(_) => {
                     return Err(Error::field(
                         "transfer.table",

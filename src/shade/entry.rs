@@ -7,6 +7,7 @@
 
 use super::f64_path::shade_f64_no_skips;
 use super::lightcuts::{add_lightcuts, CutStats};
+use super::reflection::add_reflection;
 use super::scalar_oracle::shade_scalar_oracle;
 use super::tile::shade_kernels;
 use super::transfer::{add_transfer, fits};
@@ -46,7 +47,8 @@ pub struct Shaded {
 /// skips. Every tile of the frame is counted once into `opts.progress`. When the scene has
 /// a transfer table (`[env] method = "transfer"`), its term is added to every visible
 /// pixel, on every path: in the tile loop beside the lights on the kernels, in a second
-/// plain pass on the others (`transfer.rs`); the light-cut term of a scene with light
+/// plain pass on the others (`transfer.rs`); a reflection table's term (`[env] method =
+/// "reflection"`) in a plain pass on every path (`reflection.rs`); the light-cut term of a scene with light
 /// cuts (`[env] method = "lightcuts"`, `lightcuts.rs`) is added after the lights on every path.
 ///
 /// # Panics
@@ -65,6 +67,10 @@ pub fn shade(scene: &Scene, vis: &VisBuffer, opts: &ShadeOptions) -> Shaded {
         if shaded.path != ShadingPath::Kernels {
             add_transfer(scene, vis, table, &mut shaded.image, &rule);
         }
+    }
+    if let Some(table) = scene.environment.reflection_table() {
+        // Every path adds it in a pass of its own, after the lights (`reflection.rs`).
+        add_reflection(scene, vis, table, &mut shaded.image);
     }
     if let Some(cuts) = scene.environment.light_cuts() {
         // The kernels' path shares one cut per tile; the scalar oracle keeps the per-pixel

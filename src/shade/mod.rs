@@ -83,6 +83,7 @@ mod packed_analytic;
 mod pixel;
 mod pixel_lanes;
 mod prep;
+mod reflection;
 mod scalar_oracle;
 mod tile;
 mod transfer;

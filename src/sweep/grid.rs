@@ -157,6 +157,8 @@ impl MethodAxis {
             }),
             // Not a method of its own: the sweep makes it concrete first.
             EnvMethod::Auto => None,
+            // Not an axis of the sweep yet.
+            EnvMethod::Reflection => None,
         }
     }
 

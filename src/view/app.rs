@@ -164,7 +164,10 @@ impl App {
                             .unwrap_or_default();
                         format!("{probe} {m} {sampler} {}", e.count)
                     }
-                    EnvMethod::Auto | EnvMethod::Transfer | EnvMethod::Lightcuts => {
+                    EnvMethod::Auto
+                    | EnvMethod::Transfer
+                    | EnvMethod::Lightcuts
+                    | EnvMethod::Reflection => {
                         format!("{probe} {m}")
                     }
                 }

@@ -63,6 +63,8 @@ pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
                     .min(MAX_LIGHTS)
             }
             EnvMethod::Lightcuts => env.cut_error /= factor as f32,
+            // The table at every step (a finer table is a bake of seconds, not a frame).
+            EnvMethod::Reflection => {}
             // Made concrete above (`resolve_env_method`).
             EnvMethod::Auto => {}
         }

@@ -51,6 +51,7 @@ mod output_checks;
 mod peer;
 mod peer_rgl;
 mod perturbation;
+mod reflection_scene;
 mod render_options;
 mod rgl_files;
 mod robustness;

@@ -1,0 +1,67 @@
+//! Frame time at 640x480 of the teapot (the default camera) under `[env] method =
+//! "reflection"` (the default table: 64 x 64 cells, 13 + 1 slices, 64 exact lights), beside
+//! the same frame under 128 Lloyd lights, for the library D-BRDF `lindt-paper` and
+//! Blinn-Phong 200; the method's target is >= 30 frames/s. The table's bake time (a
+//! 512 x 256 probe) and size are measured once per row and printed beside it (a bake runs
+//! once per scene and probe, far too long for criterion's samples). The probes benched are
+//! `BRDFKIT_BENCH_PROBES` (comma-separated, default `city`; the frame's cost does not depend
+//! on the probe: one lookup and 64 lights per pixel whatever it holds).
+
+use brdfkit::render::{self, RenderOptions};
+use brdfkit::scene::{Scene, SceneFile};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::path::Path;
+use std::time::Instant;
+
+/// The allocator the `brdfkit` binary uses (src/main.rs), so frames are timed as they run.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+const MATERIALS: [(&str, &str); 2] = [
+    ("lindt-paper", "kind = \"library\"\nname = \"lindt-paper\""),
+    ("blinn-phong-200", "kind = \"blinn-phong\"\nexponent = 200"),
+];
+
+fn scene(material: &str, probe: &str, env: &str) -> Scene {
+    let text = format!(
+        "[material]\n{material}\n[env]\nfile = \"assets/probes/{probe}.exr\"\n{env}\n\
+         [render]\nwidth = 640\nheight = 480\n"
+    );
+    let file = SceneFile::parse(&text).unwrap();
+    Scene::resolve(&file, Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap()
+}
+
+fn reflection(c: &mut Criterion) {
+    let probes = std::env::var("BRDFKIT_BENCH_PROBES").unwrap_or_else(|_| "city".into());
+    for probe in probes.split(',') {
+        for (name, material) in MATERIALS {
+            let t0 = Instant::now();
+            let table = scene(material, probe, "method = \"reflection\"");
+            let t = table
+                .environment
+                .reflection_table()
+                .expect("a reflection table");
+            eprintln!(
+                "{name} under {probe}: bake {:.2} s (probe load included), table {:.1} MB, \
+                 measured error {:?}",
+                t0.elapsed().as_secs_f64(),
+                t.bytes() as f64 / 1e6,
+                t.error()
+            );
+            let lloyd = scene(material, probe, "method = \"lights\"\ncount = 128");
+            let mut g = c.benchmark_group(format!("teapot-640x480-{name}-{probe}"));
+            g.sample_size(20);
+            let frame = RenderOptions::default();
+            g.bench_function("frame-reflection", |b| {
+                b.iter(|| render::render(&table, &frame))
+            });
+            g.bench_function("frame-lloyd-128", |b| {
+                b.iter(|| render::render(&lloyd, &frame))
+            });
+            g.finish();
+        }
+    }
+}
+
+criterion_group!(benches, reflection);
+criterion_main!(benches);

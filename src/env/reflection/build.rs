@@ -1,0 +1,448 @@
+//! Baking a [`ReflectionTable`] from a probe and a material: the residual probe, the culled
+//! exact sums at every (node, slice, psi sample), the Fourier projection, and the table's
+//! own error measured against exact sums over the full-resolution residual
+//! ([`measure_error`]).
+//!
+//! # The sum at one sample
+//! A sample `(r, polar_o, psi)` is the normal `n = cos(polar_o) r + sin(polar_o) (cos psi t +
+//! sin psi b)` (`(t, b)` the node's chart frame, [`chart_frame`]) and the view
+//! `v = 2 (n.r) n - r`; its radiance is `sum_texels P_texel f(l, v) cos(polar_i)` over the
+//! residual's texels above `n`'s horizon (texel centre `l`, power `P = L Omega intensity`),
+//! the BRDF evaluated in f64 ([`crate::material::Material::eval_f64`]) in the frame with
+//! the view at azimuth 0 (any frame gives the same value for an isotropic material).
+//!
+//! # Residual and culling
+//! The residual is the probe without its `exact_lights` brightest texels (summed exactly per
+//! pixel instead), downsampled by an integer factor to at most `residual` texels wide, power
+//! summed exactly (each coarse texel at its centre). Per node, the residual's texels within
+//! [`NEAR_CONE_DEG`] of `r` (where a glossy lobe and, at grazing views, the horizon's cut
+//! through it lie) are summed one by one; beyond it, blocks of [`FAR_BLOCK`]^2 of them are
+//! summed as one texel at the block's centre (power summed exactly), where the lobe's tail
+//! varies slowly. Which blocks are near is decided by the block's centre, so the two sets
+//! partition the sphere. [`measure_error`] holds the result to the exact sum over every
+//! texel of the full probe.
+//!
+//! # Determinism
+//! One rayon task per node of the grid; each node's sums run over its texel list in index
+//! order inside that task, so the table is the same bits for any thread count. The error's
+//! samples come from a fixed SplitMix64 sequence.
+
+use super::table::{
+    chart_frame, chart_is_z, node_direction, slice_angle, BakeError, ReflectionTable, COEFFS,
+    PSI_SAMPLES,
+};
+use crate::conventions::{probe_direction, probe_texel_solid_angle, texel_center_f64};
+use crate::env::{Probe, LUMINANCE_WEIGHTS};
+use crate::error::{Error, Result};
+use crate::material::Material;
+use crate::progress::Progress;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Half-angle of the cone about the reflected direction inside which the residual's texels
+/// are summed one by one (module doc, "Residual and culling"), degrees.
+pub const NEAR_CONE_DEG: f64 = 30.0;
+
+/// Largest number of residual texels per side of a far block (module doc).
+pub const FAR_BLOCK: usize = 4;
+
+/// Residual texels per side of a far block for a `rw x rh` residual: the largest of
+/// [`FAR_BLOCK`], 2 and 1 that divides both and leaves the far grid at least 64 texels wide
+/// (blocks of at most 5.6 degrees); 1 means no blocks.
+pub fn far_block(rw: usize, rh: usize) -> usize {
+    [FAR_BLOCK, 2, 1]
+        .into_iter()
+        .find(|&b| rw.is_multiple_of(b) && rh.is_multiple_of(b) && rw / b >= 64)
+        .unwrap_or(1)
+}
+
+/// Largest table: 2^24 values (64 MiB of f32).
+pub const MAX_VALUES: usize = 1 << 24;
+
+/// **Test only**: faults seeded into the bake, for the tests that show the measured error
+/// and the comparisons fail on them.
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BakeFault {
+    /// No fault: the shipped bake.
+    #[default]
+    None,
+    /// The sine coefficients stored negated: psi measured the other way round (a
+    /// handedness slip between bake and lookup).
+    SineTermsNegated,
+}
+
+/// The table's parameters (the `[env]` fields `reflection_grid`, `reflection_slices`,
+/// `reflection_residual`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BakeParams {
+    /// Cells per side of the octahedral grid of reflected directions.
+    pub grid: usize,
+    /// Uniform view slices over 0-85 degrees (the horizon slice is one more).
+    pub slices: usize,
+    /// Largest width of the residual probe the table is baked from, texels.
+    pub residual: usize,
+}
+
+impl BakeParams {
+    /// Checks the parameters against themselves and the probe's size; errors name the field.
+    pub fn check(&self, width: usize, height: usize) -> Result<()> {
+        if !(2..=1024).contains(&self.grid) {
+            return Err(Error::field(
+                "env.reflection_grid",
+                format!("{} is out of range (2 to 1024 cells per side)", self.grid),
+            ));
+        }
+        if !(2..=256).contains(&self.slices) {
+            return Err(Error::field(
+                "env.reflection_slices",
+                format!("{} is out of range (2 to 256)", self.slices),
+            ));
+        }
+        let values = (self.grid + 1).pow(2) * (self.slices + 1) * 3 * COEFFS;
+        if values > MAX_VALUES {
+            return Err(Error::field(
+                "env.reflection_grid",
+                format!(
+                    "{} cells per side and {} slices are {values} values, over 2^24 (64 MiB)",
+                    self.grid, self.slices
+                ),
+            ));
+        }
+        if self.residual < 4 || !self.residual.is_multiple_of(2) {
+            return Err(Error::field(
+                "env.reflection_residual",
+                format!("{} must be an even number of texels >= 4", self.residual),
+            ));
+        }
+        if width > self.residual
+            && (!width.is_multiple_of(self.residual) || !height.is_multiple_of(self.residual / 2))
+        {
+            return Err(Error::field(
+                "env.reflection_residual",
+                format!(
+                    "{} must divide the probe's width {width} (and half of it its height {height})",
+                    self.residual
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Texels as directions in the probe's own frame (rotation not applied) and powers
+/// (`L Omega intensity`, RGB).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Texels {
+    dir: Vec<DVec3>,
+    power: Vec<[f64; 3]>,
+}
+
+impl Texels {
+    fn push(&mut self, d: DVec3, p: [f64; 3]) {
+        self.dir.push(d);
+        self.power.push(p);
+    }
+}
+
+/// Power per texel of a `w x h` equirectangular image (row-major), summed `f x f` to a
+/// `w/f x h/f` one, with each coarse texel's centre direction.
+fn downsample(power: &[[f64; 3]], w: usize, h: usize, f: usize) -> (Vec<[f64; 3]>, Texels) {
+    let (cw, ch) = (w / f, h / f);
+    let mut out = vec![[0.0f64; 3]; cw * ch];
+    for row in 0..h {
+        for col in 0..w {
+            let o = &mut out[(row / f) * cw + col / f];
+            for (oc, pc) in o.iter_mut().zip(power[row * w + col]) {
+                *oc += pc;
+            }
+        }
+    }
+    let mut t = Texels::default();
+    for row in 0..ch {
+        for col in 0..cw {
+            let d = probe_direction(texel_center_f64(col, cw), texel_center_f64(row, ch));
+            t.push(d, out[row * cw + col]);
+        }
+    }
+    (out, t)
+}
+
+/// The full probe's texel powers times `intensity`, the texels `exclude` zero.
+fn residual_power(probe: &Probe, exclude: &[usize], intensity: f32) -> Vec<[f64; 3]> {
+    let w = probe.width();
+    let mut power: Vec<[f64; 3]> = probe
+        .texels()
+        .iter()
+        .enumerate()
+        .map(|(idx, t)| {
+            let o = probe_texel_solid_angle(idx / w, w, probe.height()) * intensity as f64;
+            [t[0] as f64 * o, t[1] as f64 * o, t[2] as f64 * o]
+        })
+        .collect();
+    for &idx in exclude {
+        power[idx] = [0.0; 3];
+    }
+    power
+}
+
+/// The exact sum of the module doc at normal `n` and view `v` (unit, probe frame) over
+/// `texels`, in f64.
+fn radiance_sum(material: &Material, cosine: bool, n: DVec3, v: DVec3, texels: &Texels) -> DVec3 {
+    let cos_o = n.dot(v).clamp(0.0, 1.0);
+    let tangent = v - cos_o * n;
+    let x = if tangent.length_squared() > 1e-24 {
+        tangent.normalize()
+    } else {
+        n.any_orthonormal_vector()
+    };
+    let y = n.cross(x);
+    let wo = DVec3::new(v.dot(x), 0.0, cos_o);
+    let mut sum = DVec3::ZERO;
+    for (l, p) in texels.dir.iter().zip(&texels.power) {
+        let z = l.dot(n);
+        if z <= 0.0 {
+            continue;
+        }
+        let wi = DVec3::new(l.dot(x), l.dot(y), z);
+        let f = material.eval_f64(wi, wo);
+        let f = if cosine { f } else { f * z };
+        sum += f * DVec3::from_array(*p);
+    }
+    sum
+}
+
+/// The sample `(r, polar_o, psi)` as a normal and a view (module doc), chart frame `tb`.
+fn sample_normal_view(r: DVec3, polar: f64, psi: f64, (t, b): (DVec3, DVec3)) -> (DVec3, DVec3) {
+    let (so, co) = polar.sin_cos();
+    let (sp, cp) = psi.sin_cos();
+    let n = (co * r + so * (cp * t + sp * b)).normalize();
+    let v = (2.0 * n.dot(r) * n - r).normalize();
+    (n, v)
+}
+
+/// Bakes the table of `material` under `probe` (times `intensity`), the texels `exclude`
+/// left out (summed exactly elsewhere), on `params` (module doc), and measures its error
+/// ([`measure_error`]). One progress step per grid node. Errors name the field
+/// ([`BakeParams::check`]).
+pub fn bake_table(
+    probe: &Probe,
+    material: &Material,
+    params: BakeParams,
+    exclude: &[usize],
+    intensity: f32,
+    progress: &Progress,
+    fault: BakeFault,
+) -> Result<ReflectionTable> {
+    let (w, h) = (probe.width(), probe.height());
+    params.check(w, h)?;
+    let power = residual_power(probe, exclude, intensity);
+    let factor = if w > params.residual {
+        w / params.residual
+    } else {
+        1
+    };
+    let (rpow, fine) = downsample(&power, w, h, factor);
+    let (rw, rh) = (w / factor, h / factor);
+    let block = far_block(rw, rh);
+    let (_, far) = downsample(&rpow, rw, rh, block);
+    let (fw, fh) = (rw / block, rh / block);
+    let cos_near = NEAR_CONE_DEG.to_radians().cos();
+    let cosine = material.includes_cosine();
+    let g = params.grid;
+    let ns = params.slices + 1;
+    let nodes = (g + 1) * (g + 1);
+    progress.set_length(nodes as u64);
+    let per_node: Vec<Vec<f32>> = (0..nodes)
+        .into_par_iter()
+        .map(|k| {
+            let r = node_direction(k % (g + 1), k / (g + 1), g);
+            // The node's texels: near blocks texel by texel, far blocks whole.
+            let mut texels = Texels::default();
+            for fr in 0..fh {
+                for fc in 0..fw {
+                    let fi = fr * fw + fc;
+                    if block > 1 && far.dir[fi].dot(r) < cos_near {
+                        texels.push(far.dir[fi], far.power[fi]);
+                        continue;
+                    }
+                    for row in fr * block..(fr + 1) * block {
+                        for col in fc * block..(fc + 1) * block {
+                            let i = row * rw + col;
+                            texels.push(fine.dir[i], fine.power[i]);
+                        }
+                    }
+                }
+            }
+            let tb = chart_frame(r, chart_is_z(r));
+            let mut out = vec![0.0f32; ns * 3 * COEFFS];
+            for s in 0..ns {
+                let polar = slice_angle(s, params.slices);
+                let mut coeffs = [[0.0f64; COEFFS]; 3];
+                if polar == 0.0 {
+                    let (n, v) = sample_normal_view(r, 0.0, 0.0, tb);
+                    let l = radiance_sum(material, cosine, n, v, &texels);
+                    for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
+                        q[0] = lc;
+                    }
+                } else {
+                    for m in 0..PSI_SAMPLES {
+                        let psi = std::f64::consts::TAU * m as f64 / PSI_SAMPLES as f64;
+                        let (n, v) = sample_normal_view(r, polar, psi, tb);
+                        let l = radiance_sum(material, cosine, n, v, &texels);
+                        let (s1, c1) = psi.sin_cos();
+                        let (s2, c2) = (2.0 * psi).sin_cos();
+                        let basis = [0.5, c1, s1, c2, s2];
+                        for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
+                            for (qk, bk) in q.iter_mut().zip(basis) {
+                                *qk += 2.0 / PSI_SAMPLES as f64 * bk * lc;
+                            }
+                        }
+                    }
+                }
+                for (c, qc) in coeffs.iter().enumerate() {
+                    for (k, &val) in qc.iter().enumerate() {
+                        let sine = k == 2 || k == 4;
+                        let val = if fault == BakeFault::SineTermsNegated && sine {
+                            -val
+                        } else {
+                            val
+                        };
+                        out[(s * 3 + c) * COEFFS + k] = val as f32;
+                    }
+                }
+            }
+            progress.inc(1);
+            out
+        })
+        .collect();
+    let values: Vec<f32> = per_node.into_iter().flatten().collect();
+    let unrotated =
+        ReflectionTable::from_parts(g, params.slices, 0.0, values, BakeError::default());
+    // The exact reference: every texel of the full probe but the excluded ones.
+    let mut full = Texels::default();
+    for (idx, p) in power.iter().enumerate() {
+        full.push(
+            probe_direction(texel_center_f64(idx % w, w), texel_center_f64(idx / w, h)),
+            *p,
+        );
+    }
+    let error = measure_error(&unrotated, material, cosine, &full);
+    let ReflectionTable { values, .. } = unrotated;
+    Ok(ReflectionTable::from_parts(
+        g,
+        params.slices,
+        probe.rotation(),
+        values,
+        error,
+    ))
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): the error samples' fixed sequence.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Samples per set of [`measure_error`] for a probe of `texels` texels: about 2^24 exact
+/// BRDF evaluations per set, 16 to 256 samples.
+pub fn error_samples(texels: usize) -> usize {
+    ((1usize << 24) / texels.max(1)).clamp(16, 256)
+}
+
+/// The table's error ([`BakeError`]) against the exact f64 sum over `full` (the full
+/// probe's texels less the exact ones) at [`error_samples`] samples of each set: reflected
+/// directions uniform on the sphere, psi uniform, the view's polar angle with `cos^2`
+/// uniform (a sphere as a camera sees it) or uniform in 70-89.9 degrees (the grazing band).
+/// The table is looked up as shading does ([`ReflectionTable::radiance`], unrotated).
+pub(super) fn measure_error(
+    table: &ReflectionTable,
+    material: &Material,
+    cosine: bool,
+    full: &Texels,
+) -> BakeError {
+    let m = error_samples(full.dir.len());
+    let mut rng = SplitMix(0x5ee_d0f7_ab1e);
+    let mut pts = Vec::with_capacity(2 * m);
+    for set in 0..2 {
+        for _ in 0..m {
+            let (u1, u2, u3, u4) = (
+                rng.next_f64(),
+                rng.next_f64(),
+                rng.next_f64(),
+                rng.next_f64(),
+            );
+            let z = 1.0 - 2.0 * u1;
+            let sr = (1.0 - z * z).max(0.0).sqrt();
+            let phi = std::f64::consts::TAU * u2;
+            let r = DVec3::new(sr * phi.cos(), z, sr * phi.sin());
+            let polar = if set == 0 {
+                u3.sqrt().acos()
+            } else {
+                (70.0 + 19.9 * u3).to_radians()
+            };
+            let psi = std::f64::consts::TAU * u4;
+            pts.push(sample_normal_view(
+                r,
+                polar,
+                psi,
+                chart_frame(r, chart_is_z(r)),
+            ));
+        }
+    }
+    let pairs: Vec<(f64, f64)> = pts
+        .par_iter()
+        .map(|&(n, v)| {
+            let exact = luminance_of(radiance_sum(material, cosine, n, v, full));
+            let got = luminance_of(table.radiance(n.as_vec3(), v.as_vec3()).as_dvec3());
+            (exact, got)
+        })
+        .collect();
+    let stats = |set: &[(f64, f64)]| -> (f64, f64, f64) {
+        let mean = set.iter().map(|p| p.0.abs()).sum::<f64>() / set.len() as f64;
+        let floor = (1e-6 * mean).max(1e-30);
+        let (mut se, mut sy) = (0.0, 0.0);
+        let mut rel: Vec<f64> = set
+            .iter()
+            .map(|&(y, t)| {
+                se += (t - y) * (t - y);
+                sy += y * y;
+                (t - y).abs() / y.abs().max(floor)
+            })
+            .collect();
+        rel.sort_by(f64::total_cmp);
+        let p99 = rel[((0.99 * rel.len() as f64).ceil() as usize).clamp(1, rel.len()) - 1];
+        let rmse = if sy > 0.0 {
+            (se / sy).sqrt()
+        } else {
+            se.sqrt()
+        };
+        (rmse, p99, *rel.last().unwrap_or(&0.0))
+    };
+    let (a, b) = pairs.split_at(m);
+    let (rel_rmse, p99, max) = stats(a);
+    let (grazing_rel_rmse, grazing_p99, grazing_max) = stats(b);
+    BakeError {
+        samples: m,
+        rel_rmse,
+        p99,
+        max,
+        grazing_rel_rmse,
+        grazing_p99,
+        grazing_max,
+    }
+}
+
+/// Rec. 709 luminance of an f64 RGB value ([`LUMINANCE_WEIGHTS`], not clamped).
+fn luminance_of(c: DVec3) -> f64 {
+    let w = LUMINANCE_WEIGHTS;
+    w[0] * c.x + w[1] * c.y + w[2] * c.z
+}

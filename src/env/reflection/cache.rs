@@ -1,0 +1,212 @@
+//! The disk cache of reflection-space radiance tables, beside the light-set and transfer
+//! caches (same directory, same rules: [`crate::env::prepare::CacheDir`], only
+//! `brdfkit render` and `brdfkit view` pass one).
+//!
+//! # Key
+//! [`StableHasher`] (XXH3-64) of a key tag, the crate version,
+//! [`REFLECTION_ALGORITHM_VERSION`], the probe file's bytes, the loader options that change
+//! texels (`zero_non_finite`, `max_texels`), the material (its complete `Debug` form, every
+//! parameter and table value, streamed into the hasher: [`material_fingerprint`]), every
+//! table parameter (grid, slices, residual width), the number of brightest texels left out
+//! and the intensity's bits ([`table_cache_key`]). The probe rotation is not in the key: the
+//! table lives in the probe's own frame and the rotation is applied at lookup. Entries are
+//! `<dir>/reflection-<key>.bin`.
+//!
+//! # Format
+//! One line of JSON ([`TableHeader`]: format tag, versions, key, grid, slices, value count,
+//! the bake's measured error, checksum), a newline, then the values as little-endian f32.
+//! Every read checks what the transfer cache checks ([`crate::env::cache_entry`]); an entry
+//! that fails any of it is ignored (and rewritten), never trusted.
+
+use super::build::{BakeParams, MAX_VALUES};
+use super::table::{BakeError, ReflectionTable, COEFFS};
+use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp, CRATE_VERSION};
+use crate::env::LoadOptions;
+use crate::hash::{self, StableHasher};
+use crate::material::Material;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Version of the algorithm that turns a probe, a material and the parameters into a table
+/// ([`super::build::bake_table`]). Part of every key: bump it when a table's values change
+/// for the same inputs.
+pub const REFLECTION_ALGORITHM_VERSION: u32 = 1;
+
+/// Format tag of an entry.
+pub const REFLECTION_CACHE_FORMAT: &str = "brdfkit-reflection-cache-v1";
+
+const ENTRY: EntryKind = EntryKind {
+    format: REFLECTION_CACHE_FORMAT,
+    algorithm: "reflection algorithm version",
+    algorithm_version: REFLECTION_ALGORITHM_VERSION,
+    file: ("reflection", "bin"),
+};
+
+const MAX_ENTRY_BYTES: u64 = 4 * MAX_VALUES as u64 + (1 << 16);
+
+/// A `fmt::Write` that feeds what is written into a hasher.
+struct HashWriter<'a>(&'a mut StableHasher);
+
+impl std::fmt::Write for HashWriter<'_> {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        self.0.write(s.as_bytes());
+        Ok(())
+    }
+}
+
+/// The material's complete `Debug` form (every parameter, every table value; f32 and f64
+/// printed so they round-trip) fed into `h`: two materials hash alike only when they are
+/// the same model with the same numbers.
+pub fn material_fingerprint(material: &Material, h: &mut StableHasher) {
+    use std::fmt::Write;
+    let _ = write!(HashWriter(h), "{material:?}");
+}
+
+/// The cache key (module doc, "Key").
+pub fn table_cache_key(
+    bytes: &[u8],
+    opts: &LoadOptions,
+    material: &Material,
+    params: &BakeParams,
+    exact_lights: usize,
+    intensity: f32,
+) -> u64 {
+    versioned_key(
+        REFLECTION_ALGORITHM_VERSION,
+        bytes,
+        opts,
+        material,
+        params,
+        exact_lights,
+        intensity,
+    )
+}
+
+fn versioned_key(
+    algorithm: u32,
+    bytes: &[u8],
+    opts: &LoadOptions,
+    material: &Material,
+    p: &BakeParams,
+    exact_lights: usize,
+    intensity: f32,
+) -> u64 {
+    let mut h = StableHasher::new();
+    h.write(b"brdfkit-reflection-table-v1");
+    h.write_str(CRATE_VERSION);
+    h.write_u64(algorithm as u64);
+    h.write_u64(bytes.len() as u64);
+    h.write(bytes);
+    h.write_u64(opts.zero_non_finite as u64);
+    h.write_u64(opts.max_texels as u64);
+    material_fingerprint(material, &mut h);
+    h.write_u64(p.grid as u64);
+    h.write_u64(p.slices as u64);
+    h.write_u64(p.residual as u64);
+    h.write_u64(exact_lights as u64);
+    h.write_u64(intensity.to_bits() as u64);
+    h.finish()
+}
+
+/// The cache file of `key` in `dir`.
+pub fn table_file_name(dir: &Path, key: u64) -> PathBuf {
+    dir.join(format!("reflection-{}.bin", EntryKind::key_text(key)))
+}
+
+fn values_checksum(values: &[f32]) -> u64 {
+    let mut h = StableHasher::new();
+    h.write_u64(values.len() as u64);
+    h.write_f32s(values.iter().copied());
+    h.finish()
+}
+
+/// The first line of an entry (module doc, "Format").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableHeader {
+    pub format: String,
+    pub crate_version: String,
+    pub algorithm_version: u32,
+    pub key: String,
+    pub grid: usize,
+    pub slices: usize,
+    pub values: usize,
+    pub error: BakeError,
+    pub checksum: String,
+}
+
+/// The bytes of the entry of `table` under `key`.
+pub fn encode_entry(table: &ReflectionTable, key: u64) -> Vec<u8> {
+    let values = table.values();
+    let header = TableHeader {
+        format: REFLECTION_CACHE_FORMAT.into(),
+        crate_version: CRATE_VERSION.into(),
+        algorithm_version: REFLECTION_ALGORITHM_VERSION,
+        key: EntryKind::key_text(key),
+        grid: table.grid(),
+        slices: table.slices(),
+        values: values.len(),
+        error: table.error(),
+        checksum: hash::tagged(values_checksum(values)),
+    };
+    let mut out = serde_json::to_vec(&header).expect("a header serialises");
+    out.push(b'\n');
+    out.reserve(4 * values.len());
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+/// Reads and checks the entry `path` for `key` and `params`, the probe rotation `rotation`
+/// (radians) set for lookup. `Ok(None)`: no entry; `Err`: an entry not used, and why.
+pub fn read_entry(
+    path: &Path,
+    key: u64,
+    params: &BakeParams,
+    rotation: f64,
+) -> std::result::Result<Option<ReflectionTable>, String> {
+    let Some(bytes) = read_entry_bytes(path, MAX_ENTRY_BYTES, "reflection cache")? else {
+        return Ok(None);
+    };
+    let nl = bytes
+        .iter()
+        .position(|&b| b == b'\n')
+        .ok_or("no header line")?;
+    let h: TableHeader = serde_json::from_slice(&bytes[..nl])
+        .map_err(|e| format!("not a reflection cache entry: {e}"))?;
+    let stamp = Stamp {
+        format: &h.format,
+        crate_version: &h.crate_version,
+        algorithm_version: h.algorithm_version,
+        key: &h.key,
+    };
+    ENTRY.check_stamp(stamp, key)?;
+    let n = (params.grid + 1).pow(2) * (params.slices + 1) * 3 * COEFFS;
+    if (h.grid, h.slices, h.values) != (params.grid, params.slices, n) {
+        return Err(format!(
+            "grid {}, {} slices, {} values; expected grid {}, {} slices, {n} values",
+            h.grid, h.slices, h.values, params.grid, params.slices
+        ));
+    }
+    let body = &bytes[nl + 1..];
+    if body.len() != 4 * n {
+        return Err(format!(
+            "{} bytes of values, expected {}: truncated or padded",
+            body.len(),
+            4 * n
+        ));
+    }
+    let values: Vec<f32> = body
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    check_checksum(&h.checksum, values_checksum(&values), "values")?;
+    Ok(Some(ReflectionTable::from_parts(
+        params.grid,
+        params.slices,
+        rotation,
+        values,
+        h.error,
+    )))
+}

@@ -1,0 +1,253 @@
+//! [`ReflectionTable`]: the outgoing radiance of one isotropic material under one probe,
+//! over (reflected direction, view polar angle, Fourier series in the normal's angle about
+//! the reflected direction), and its lookup (parent module doc, "Parameterisation").
+
+use crate::conventions::{sphere_oct_decode_f64, sphere_oct_encode, sphere_oct_vertex};
+use glam::{DVec3, Vec3};
+
+/// Fourier coefficients per (node, slice, colour): `a0, a1, b1, a2, b2` of
+/// `a0 + a1 cos psi + b1 sin psi + a2 cos 2psi + b2 sin 2psi` (order 2: the knee of the
+/// accuracy study, parent module doc).
+pub const COEFFS: usize = 5;
+
+/// Samples of psi per (node, slice) the bake projects onto the [`COEFFS`] coefficients
+/// (`2 pi m / PSI_SAMPLES`, `m = 0..8`; orders up to 5 alias no lower order than 3).
+pub const PSI_SAMPLES: usize = 8;
+
+/// Polar angle of the view of the last uniform slice, degrees (slices `0..slices` span
+/// `[0, LAST_UNIFORM_SLICE_DEG]`).
+pub const LAST_UNIFORM_SLICE_DEG: f64 = 85.0;
+
+/// Polar angle of the view of the horizon slice after them, degrees: clamping at the last
+/// uniform slice left 50-160% p99 errors above it in the accuracy study.
+pub const HORIZON_SLICE_DEG: f64 = 89.9;
+
+/// `|r.y|` above which a node's psi is measured from +z instead of +y (the two charts of
+/// the reference tangent, parent module doc).
+pub const CHART_SWITCH: f64 = 0.8;
+
+/// The error the bake measured of its own table against exact f64 sums over the full
+/// resolution residual probe at sample points ([`super::build::measure_error`]), on Rec. 709
+/// luminance of the table's term: relative RMSE `sqrt(sum e^2 / sum Y^2)` and the 99th
+/// percentile and largest `|e| / Y`, over samples weighted as a camera sees a sphere
+/// (`cos^2 polar_o` uniform) and, separately, over views with polar angle in 70-89.9 degrees.
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BakeError {
+    /// Samples of each of the two sets.
+    pub samples: usize,
+    pub rel_rmse: f64,
+    pub p99: f64,
+    pub max: f64,
+    pub grazing_rel_rmse: f64,
+    pub grazing_p99: f64,
+    pub grazing_max: f64,
+}
+
+/// A reflection-space radiance table (parent module doc). Values are f32,
+/// `values[((node * slices_total + s) * 3 + c) * COEFFS + k]` with `node = j (G + 1) + i`
+/// the vertex at octahedral `(u, v) = (-1 + 2i/G, -1 + 2j/G)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReflectionTable {
+    pub(super) grid: usize,
+    /// Uniform slices (the horizon slice is one more).
+    pub(super) slices: usize,
+    /// Probe rotation about +y, radians: a world direction `d` reads the table at
+    /// `rotate_about_up(d, -rotation)`.
+    pub(super) rotation: f32,
+    /// `sin` and `cos` of `-rotation`.
+    pub(super) unrotate: (f32, f32),
+    /// Per node, true when its psi is measured from +z ([`CHART_SWITCH`]).
+    pub(super) chart_z: Vec<bool>,
+    pub(super) values: Vec<f32>,
+    pub(super) error: BakeError,
+}
+
+/// The polar angle of the view of slice `s` of `slices` uniform ones and the horizon slice
+/// (`s == slices`), radians.
+pub fn slice_angle(s: usize, slices: usize) -> f64 {
+    if s >= slices {
+        HORIZON_SLICE_DEG.to_radians()
+    } else {
+        (LAST_UNIFORM_SLICE_DEG * s as f64 / (slices - 1) as f64).to_radians()
+    }
+}
+
+/// The direction of vertex `(i, j)` of a grid of `g` cells per side (probe frame).
+pub fn node_direction(i: usize, j: usize, g: usize) -> DVec3 {
+    sphere_oct_decode_f64(sphere_oct_vertex(i, g), sphere_oct_vertex(j, g))
+}
+
+/// Whether a node at reflected direction `r` measures psi from +z (else +y).
+pub fn chart_is_z(r: DVec3) -> bool {
+    r.y.abs() > CHART_SWITCH
+}
+
+/// The reference tangent `t` and `b = r x t` about the unit direction `r` in the chart
+/// given (`t` the chart's axis projected normal to `r`): psi is the angle of the normal's
+/// component normal to `r` from `t` towards `b`.
+pub fn chart_frame(r: DVec3, chart_z: bool) -> (DVec3, DVec3) {
+    let axis = if chart_z { DVec3::Z } else { DVec3::Y };
+    let t = (axis - axis.dot(r) * r).normalize();
+    (t, r.cross(t))
+}
+
+/// f32 [`chart_frame`] for lookups.
+#[inline]
+fn chart_frame_f32(r: Vec3, chart_z: bool) -> (Vec3, Vec3) {
+    let axis = if chart_z { Vec3::Z } else { Vec3::Y };
+    let t = (axis - axis.dot(r) * r).normalize_or(Vec3::X);
+    (t, r.cross(t))
+}
+
+/// The Fourier basis `[1, cos psi, sin psi, cos 2psi, sin 2psi]` of the normal `n` about
+/// `r` in a chart's frame `(t, b)`; `[1, 1, 0, 1, 0]` when `n` is `r` (then only the first
+/// coefficient is non-zero: the bake stores zeros for the others at polar angle 0).
+#[inline]
+fn psi_basis(n: Vec3, r: Vec3, cos_o: f32, (t, b): (Vec3, Vec3)) -> [f32; COEFFS] {
+    let d = n - cos_o * r;
+    let (x, y) = (d.dot(t), d.dot(b));
+    let len = (x * x + y * y).sqrt();
+    let (c, s) = if len > 1e-12 {
+        (x / len, y / len)
+    } else {
+        (1.0, 0.0)
+    };
+    [1.0, c, s, c * c - s * s, 2.0 * c * s]
+}
+
+impl ReflectionTable {
+    /// A table from its parts; the caller checks `values.len()`.
+    pub(super) fn from_parts(
+        grid: usize,
+        slices: usize,
+        rotation: f64,
+        values: Vec<f32>,
+        error: BakeError,
+    ) -> ReflectionTable {
+        let n = grid + 1;
+        debug_assert_eq!(values.len(), n * n * (slices + 1) * 3 * COEFFS);
+        let chart_z = (0..n * n)
+            .map(|k| chart_is_z(node_direction(k % n, k / n, grid)))
+            .collect();
+        ReflectionTable {
+            grid,
+            slices,
+            rotation: rotation as f32,
+            unrotate: (-(rotation as f32)).sin_cos(),
+            chart_z,
+            values,
+            error,
+        }
+    }
+
+    /// The same table read with the probe turned by `angle` radians more about +y.
+    pub fn turned(&self, angle: f64) -> ReflectionTable {
+        let rotation = self.rotation as f64 + angle;
+        ReflectionTable {
+            rotation: rotation as f32,
+            unrotate: (-(rotation as f32)).sin_cos(),
+            ..self.clone()
+        }
+    }
+
+    /// Cells per side of the octahedral grid of reflected directions (`(G + 1)^2` nodes).
+    pub fn grid(&self) -> usize {
+        self.grid
+    }
+
+    /// Uniform view slices (the horizon slice is one more).
+    pub fn slices(&self) -> usize {
+        self.slices
+    }
+
+    /// Every value (layout in the type's doc).
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
+    /// The probe rotation about +y the lookup undoes, radians.
+    pub fn rotation(&self) -> f32 {
+        self.rotation
+    }
+
+    /// The error the bake measured ([`BakeError`]).
+    pub fn error(&self) -> BakeError {
+        self.error
+    }
+
+    /// Bytes of the values.
+    pub fn bytes(&self) -> usize {
+        4 * self.values.len()
+    }
+
+    /// `d` in the probe's frame (rotation undone).
+    #[inline]
+    fn unrotated(&self, d: Vec3) -> Vec3 {
+        let (s, c) = self.unrotate;
+        Vec3::new(d.x * c + d.z * s, d.y, -d.x * s + d.z * c)
+    }
+
+    /// The table's radiance (RGB, W/(m^2 sr) for a probe in W/(m^2 sr)) at the unit world
+    /// normal `n` and unit world view `v` (towards the viewer, at most 90 degrees from `n`):
+    /// bilinear over the four grid nodes around `r = reflect(v, n)`, linear between the two
+    /// slices around the view's polar angle (clamped to the horizon slice), each node's
+    /// Fourier series evaluated at psi measured in its own chart. Plain f32 in a fixed order:
+    /// the same bits on every path and thread count.
+    #[inline]
+    pub fn radiance(&self, n: Vec3, v: Vec3) -> Vec3 {
+        let (n, v) = (self.unrotated(n), self.unrotated(v));
+        let cos_o = n.dot(v).clamp(0.0, 1.0);
+        let r = (2.0 * cos_o * n - v).normalize_or(n);
+        // Slice pair and weight.
+        let polar = cos_o.acos();
+        let last = LAST_UNIFORM_SLICE_DEG.to_radians() as f32;
+        let (s0, ws) = if polar < last {
+            let f = polar / last * (self.slices - 1) as f32;
+            let s0 = (f.floor() as usize).min(self.slices - 2);
+            (s0, f - s0 as f32)
+        } else {
+            let span = (HORIZON_SLICE_DEG - LAST_UNIFORM_SLICE_DEG).to_radians() as f32;
+            (self.slices - 1, ((polar - last) / span).min(1.0))
+        };
+        // Grid cell and weights.
+        let g = self.grid;
+        let (u, w) = sphere_oct_encode(r);
+        let cell = |x: f32| {
+            let f = ((x + 1.0) * 0.5 * g as f32).clamp(0.0, g as f32);
+            let i0 = (f.floor() as usize).min(g - 1);
+            (i0, f - i0 as f32)
+        };
+        let ((i0, a), (j0, b)) = (cell(u), cell(w));
+        let n1 = g + 1;
+        let corners = [
+            (j0 * n1 + i0, (1.0 - a) * (1.0 - b)),
+            (j0 * n1 + i0 + 1, a * (1.0 - b)),
+            ((j0 + 1) * n1 + i0, (1.0 - a) * b),
+            ((j0 + 1) * n1 + i0 + 1, a * b),
+        ];
+        let bases = [
+            psi_basis(n, r, cos_o, chart_frame_f32(r, false)),
+            psi_basis(n, r, cos_o, chart_frame_f32(r, true)),
+        ];
+        let ns = self.slices + 1;
+        let mut out = [0.0f32; 3];
+        for (node, wc) in corners {
+            let basis = &bases[self.chart_z[node] as usize];
+            for (s, wt) in [(s0, 1.0 - ws), (s0 + 1, ws)] {
+                let wgt = wc * wt;
+                let at = (node * ns + s) * 3 * COEFFS;
+                for (c, o) in out.iter_mut().enumerate() {
+                    let q = &self.values[at + c * COEFFS..at + (c + 1) * COEFFS];
+                    let f = q[0] * basis[0]
+                        + q[1] * basis[1]
+                        + q[2] * basis[2]
+                        + q[3] * basis[3]
+                        + q[4] * basis[4];
+                    *o += wgt * f;
+                }
+            }
+        }
+        Vec3::from_array(out)
+    }
+}
