@@ -1,7 +1,7 @@
 //! Baking a [`ReflectionTable`] from a probe and a material: the residual probe, the culled
 //! exact sums at every (node, slice, psi sample), the Fourier projection, and the table's
 //! own error measured against exact sums over the full-resolution residual
-//! ([`measure_error`]).
+//! (`measure_error`).
 //!
 //! # The sum at one sample
 //! A sample `(r, polar_o, psi)` is the normal `n = cos(polar_o) r + sin(polar_o) (cos psi t +
@@ -19,7 +19,7 @@
 //! through it lie) are summed one by one; beyond it, blocks of [`FAR_BLOCK`]^2 of them are
 //! summed as one texel at the block's centre (power summed exactly), where the lobe's tail
 //! varies slowly. Which blocks are near is decided by the block's centre, so the two sets
-//! partition the sphere. [`measure_error`] holds the result to the exact sum over every
+//! partition the sphere. `measure_error` holds the result to the exact sum over every
 //! texel of the full probe.
 //!
 //! # Determinism
@@ -223,7 +223,7 @@ fn sample_normal_view(r: DVec3, polar: f64, psi: f64, (t, b): (DVec3, DVec3)) ->
 
 /// Bakes the table of `material` under `probe` (times `intensity`), the texels `exclude`
 /// left out (summed exactly elsewhere), on `params` (module doc), and measures its error
-/// ([`measure_error`]). One progress step per grid node. Errors name the field
+/// (`measure_error`). One progress step per grid node. Errors name the field
 /// ([`BakeParams::check`]).
 pub fn bake_table(
     probe: &Probe,
@@ -352,7 +352,7 @@ impl SplitMix {
     }
 }
 
-/// Samples per set of [`measure_error`] for a probe of `texels` texels: about 2^24 exact
+/// Samples per set of `measure_error` for a probe of `texels` texels: about 2^24 exact
 /// BRDF evaluations per set, 16 to 256 samples.
 pub fn error_samples(texels: usize) -> usize {
     ((1usize << 24) / texels.max(1)).clamp(16, 256)

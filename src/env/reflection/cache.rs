@@ -1,5 +1,5 @@
 //! The disk cache of reflection-space radiance tables, beside the light-set and transfer
-//! caches (same directory, same rules: [`crate::env::prepare::CacheDir`], only
+//! caches (same directory, same rules: [`crate::env::lightset::prepare::CacheDir`], only
 //! `brdfkit render` and `brdfkit view` pass one).
 //!
 //! # Key

@@ -27,7 +27,7 @@ pub const HORIZON_SLICE_DEG: f64 = 89.9;
 pub const CHART_SWITCH: f64 = 0.8;
 
 /// The error the bake measured of its own table against exact f64 sums over the full
-/// resolution residual probe at sample points ([`super::build::measure_error`]), on Rec. 709
+/// resolution residual probe at sample points (`build::measure_error`), on Rec. 709
 /// luminance of the table's term: relative RMSE `sqrt(sum e^2 / sum Y^2)` and the 99th
 /// percentile and largest `|e| / Y`, over samples weighted as a camera sees a sphere
 /// (`cos^2 polar_o` uniform) and, separately, over views with polar angle in 70-89.9 degrees.

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 /// Index of the nearest light (largest dot product) for every texel with non-zero weight,
 /// `u32::MAX` for the others. Brute force over lights, parallel over texels: O(texels x
-/// lights), the lights taken [`LANES`] at a time ([`nearest_light`]). Ties go to the
+/// lights), the lights taken eight at a time. Ties go to the
 /// lowest light index.
 ///
 /// # Panics
