@@ -119,7 +119,8 @@ fn every_kernel_path_gives_the_same_bits() {
 /// The contract holds under every environment method, not only delta lights: the same
 /// bits for tile sizes 32, 8 and 13 and 1, 2 and 3 threads with `lights` (median cut),
 /// `transfer` (an SH data set), `lightcuts` (Blinn-Phong, cuts shared per 8 x 8 square of
-/// the image) and `auto` (a library D-BRDF, which `auto` shades with light cuts).
+/// the image), `reflection` (Blinn-Phong, a small table: the bake's reduction order is
+/// fixed too) and `auto` (a library D-BRDF, which `auto` shades with light cuts).
 #[test]
 fn every_environment_method_is_deterministic() {
     let cases = [
@@ -137,6 +138,11 @@ fn every_environment_method_is_deterministic() {
             "lightcuts",
             "kind = \"blinn-phong\"\nexponent = 200",
             "method = \"lightcuts\"",
+        ),
+        (
+            "reflection",
+            "kind = \"blinn-phong\"\nexponent = 200",
+            "method = \"reflection\"\nreflection_grid = 16\nreflection_slices = 4\nreflection_residual = 64",
         ),
         ("auto", "kind = \"library\"\nname = \"lindt-paper\"", ""),
     ];
