@@ -11,6 +11,10 @@
 //! the files). The environment's delta lights are held apart from the scene's own
 //! `[[light]]`s ([`super::Scene::lights`]); shading takes both, the scene's own first
 //! ([`super::Scene::delta_lights`]).
+//!
+//! The file stays whole past 400 lines on purpose: it is the variant and every answer
+//! that depends on what a method prepared, so the compiler's list for a new method stays
+//! in this file (and env_method.rs, for the answers before anything is built).
 
 use super::env_method::gpu_unsupported;
 use crate::conventions::rotate_about_up;

@@ -19,7 +19,9 @@
 //! its parameter lists in [`Grid`], and then the arms the compiler asks for (every `match`
 //! here and in `csv.rs`, `run.rs` and `plot.rs` is exhaustive): the enumeration in
 //! [`Grid::method_points`], [`MethodAxis::of_spec`], the CSV's parameter columns (a new
-//! column changes the CSV format) and the runner's preparation of the method's scene.
+//! column changes the CSV format) and the runner's preparation of the method's scene. An
+//! `[env]` method without a [`MethodKind`] is not swept ([`MethodKind::of`] is `None`) and
+//! needs nothing here.
 
 use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::error::{Error, Result};

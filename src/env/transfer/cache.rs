@@ -4,7 +4,7 @@
 //! `sweep` never do).
 //!
 //! # Key
-//! [`StableHasher`] (XXH3-64) of a key tag, the crate version,
+//! [`StableHasher`](crate::hash::StableHasher) (XXH3-64) of a key tag, the crate version,
 //! [`TRANSFER_ALGORITHM_VERSION`], the probe file's bytes, the loader options that change
 //! texels (`zero_non_finite`, `max_texels`) and every table parameter: the basis (kind,
 //! bands, cosine), the grid `(nu, nv)`, the number of brightest texels left out, and the
@@ -18,8 +18,7 @@
 //! checksum), a newline, then the table's values as little-endian f32. Every read checks the
 //! tag, both versions, the key (the check every environment cache shares,
 //! [`crate::env::cache_entry`]), the grid and basis against what the caller wants, the byte
-//! count and the XXH3-64 checksum of the values
-//! ([`values_checksum`](crate::env::cache_entry::values_checksum)); an entry that fails
+//! count and the XXH3-64 checksum of the values ([`values_checksum`]); an entry that fails
 //! any of it is ignored (and rewritten), never trusted. Writes are atomic
 //! ([`crate::image_io::write_atomic`]: a unique temporary sibling, then a rename).
 
@@ -112,8 +111,7 @@ pub struct TableHeader {
     pub terms: usize,
     /// Number of f32 values after the header line: `nu nv 3 terms`.
     pub values: usize,
-    /// [`values_checksum`](crate::env::cache_entry::values_checksum) in [`hash::tagged`]
-    /// form.
+    /// [`values_checksum`] in [`hash::tagged`] form.
     pub checksum: String,
 }
 
