@@ -144,6 +144,28 @@ pub trait ValuesHeader: Serialize + DeserializeOwned {
     fn checksum(&self) -> &str;
 }
 
+/// Implements [`ValuesHeader`] for a header struct with the stamp's fields (`format`,
+/// `crate_version`, `algorithm_version`, `key`) and `checksum`, as every table cache's has.
+macro_rules! impl_values_header {
+    ($header:ty) => {
+        impl $crate::env::cache_entry::ValuesHeader for $header {
+            fn stamp(&self) -> $crate::env::cache_entry::Stamp<'_> {
+                $crate::env::cache_entry::Stamp {
+                    format: &self.format,
+                    crate_version: &self.crate_version,
+                    algorithm_version: self.algorithm_version,
+                    key: &self.key,
+                }
+            }
+
+            fn checksum(&self) -> &str {
+                &self.checksum
+            }
+        }
+    };
+}
+pub(crate) use impl_values_header;
+
 /// The bytes of a table's entry: `header` as one line of JSON, a newline, then `values` as
 /// little-endian f32.
 pub fn encode_values_entry<H: ValuesHeader>(header: &H, values: &[f32]) -> Vec<u8> {

@@ -22,9 +22,10 @@
 use super::build::{BakeParams, MAX_VALUES};
 use super::table::{BakeError, ReflectionTable, COEFFS};
 use crate::env::cache_entry::{
-    encode_values_entry, key_hasher, read_values_entry, values_checksum, EntryKind, Stamp,
-    ValuesHeader, CRATE_VERSION,
+    encode_values_entry, impl_values_header, key_hasher, read_values_entry, values_checksum,
+    EntryKind, CRATE_VERSION,
 };
+use crate::env::transfer::TableCache;
 use crate::env::LoadOptions;
 use crate::hash::{self, StableHasher};
 use crate::material::Material;
@@ -92,6 +93,12 @@ pub fn table_cache_key(
     h.finish()
 }
 
+/// This cache's entries as [`crate::env::transfer::prepare_table`] names and writes them.
+pub const TABLE_CACHE: TableCache<ReflectionTable> = TableCache {
+    file_name: table_file_name,
+    encode: encode_entry,
+};
+
 /// The cache file of `key` in `dir`.
 pub fn table_file_name(dir: &Path, key: u64) -> PathBuf {
     ENTRY.file_name(dir, key)
@@ -112,20 +119,7 @@ pub struct TableHeader {
     pub checksum: String,
 }
 
-impl ValuesHeader for TableHeader {
-    fn stamp(&self) -> Stamp<'_> {
-        Stamp {
-            format: &self.format,
-            crate_version: &self.crate_version,
-            algorithm_version: self.algorithm_version,
-            key: &self.key,
-        }
-    }
-
-    fn checksum(&self) -> &str {
-        &self.checksum
-    }
-}
+impl_values_header!(TableHeader);
 
 /// The bytes of the entry of `table` under `key`.
 pub fn encode_entry(table: &ReflectionTable, key: u64) -> Vec<u8> {

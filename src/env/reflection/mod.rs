@@ -55,7 +55,7 @@ pub use build::{bake_table, BakeFault, BakeParams};
 pub use table::{BakeError, ReflectionTable};
 
 use crate::env::schema::EnvSpec;
-use crate::env::transfer::{prepare_table, PreparedTable, TableCache};
+use crate::env::transfer::{prepare_table, PreparedTable};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::progress::Progress;
@@ -106,10 +106,7 @@ pub fn prepare_reflection(
         spec,
         base,
         cache_dir,
-        TableCache {
-            file_name: cache::table_file_name,
-            encode: cache::encode_entry,
-        },
+        cache::TABLE_CACHE,
         |bytes, opts, probe| {
             params.check(probe.width(), probe.height())?;
             Ok(cache::table_cache_key(

@@ -23,10 +23,10 @@
 //! ([`crate::image_io::write_atomic`]: a unique temporary sibling, then a rename).
 
 use super::table::TransferTable;
-use super::TransferBasis;
+use super::{TableCache, TransferBasis};
 use crate::env::cache_entry::{
-    encode_values_entry, key_hasher, read_values_entry, values_checksum, EntryKind, Stamp,
-    ValuesHeader, CRATE_VERSION,
+    encode_values_entry, impl_values_header, key_hasher, read_values_entry, values_checksum,
+    EntryKind, CRATE_VERSION,
 };
 use crate::env::LoadOptions;
 use crate::hash;
@@ -91,6 +91,12 @@ fn versioned_key(algorithm: u32, bytes: &[u8], opts: &LoadOptions, p: &TablePara
     h.finish()
 }
 
+/// This cache's entries as [`crate::env::transfer::prepare_table`] names and writes them.
+pub const TABLE_CACHE: TableCache<TransferTable> = TableCache {
+    file_name: table_file_name,
+    encode: encode_entry,
+};
+
 /// The cache file of `key` in `dir`.
 pub fn table_file_name(dir: &Path, key: u64) -> PathBuf {
     ENTRY.file_name(dir, key)
@@ -115,20 +121,7 @@ pub struct TableHeader {
     pub checksum: String,
 }
 
-impl ValuesHeader for TableHeader {
-    fn stamp(&self) -> Stamp<'_> {
-        Stamp {
-            format: &self.format,
-            crate_version: &self.crate_version,
-            algorithm_version: self.algorithm_version,
-            key: &self.key,
-        }
-    }
-
-    fn checksum(&self) -> &str {
-        &self.checksum
-    }
-}
+impl_values_header!(TableHeader);
 
 /// The bytes of the entry of `table` under `key`.
 pub fn encode_entry(table: &TransferTable, key: u64) -> Vec<u8> {

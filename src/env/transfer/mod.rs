@@ -215,10 +215,7 @@ pub fn prepare_transfer(
         spec,
         base,
         cache_dir,
-        TableCache {
-            file_name: cache::table_file_name,
-            encode: cache::encode_entry,
-        },
+        cache::TABLE_CACHE,
         |bytes, opts, _| Ok(cache::table_cache_key(bytes, opts, &params)),
         |f, key, rotation| cache::read_entry(f, key, basis, params.grid, rotation),
         |probe, exact| {
