@@ -103,28 +103,35 @@
 //! ## Adding an environment method
 //! An `[env] method` is a variant of two closed enums: [`env::schema::EnvMethod`], the
 //! method as the scene file and the command line name it (with `auto`), and
-//! [`scene::Environment`], what the method prepared, which [`scene::Scene`] holds and every
-//! consumer matches without a wildcard arm. Adding the two variants, the compiler names
-//! every site that must say what the method does (20 matches in 10 files, measured with a
-//! dummy variant):
+//! [`scene::Environment`], what the method prepared, which [`scene::Scene`] holds. Every
+//! per-method answer is a method of one of the two, an exhaustive `match` without a
+//! wildcard arm, and no consumer matches the method itself: adding the two variants, the
+//! compiler names every site that must say what the method does, 22 matches in 4 files
+//! (measured with a dummy variant in both enums and `cargo check --all-targets --features
+//! gpu`):
 //! 1. `src/env/schema.rs`: the `EnvMethod` variant, its name and its `[env]` fields
 //!    ([`env::schema::EnvSpec`]);
 //! 2. `src/scene/env_table.rs`: the fields it reads ([`scene::method_fields`]; a field of
 //!    another method is an error) and how it is written back;
-//! 3. `src/scene/env_method.rs`: whether the GPU build draws it and `export` writes it;
+//! 3. `src/scene/env_method.rs`, what the tools ask before anything is built: whether
+//!    `auto` may stand for it, whether the GPU build draws it and `export` writes it, the
+//!    viewer's refinement ladder and status line, the command line's progress bar for its
+//!    preparation;
 //! 4. `src/scene/environment.rs`: the `Environment` variant, its arm of
 //!    [`scene::build_environment`] (the one function [`scene::Scene::resolve`] and the
-//!    sweep build an environment with) and of every method there: its delta lights, the
-//!    table or cuts shading adds, turning it, the command line's report, the golden
-//!    summary, the viewer's preview, why it has no light list;
-//! 5. `src/scene/resolve.rs`: whether a `[transfer] table` file may shade beside it;
-//! 6. `src/sweep/grid.rs`: its axis of the sweep's grid (or none);
-//! 7. `src/view/refine.rs` and `src/view/app.rs`: the viewer's refinement ladder and status line;
-//! 8. `src/cli/render.rs`: its preparation's progress bar.
+//!    sweep build an environment with; a method with a table and exact lights shares the
+//!    table methods' steps) and of every method there: its delta lights, the table or cuts
+//!    shading adds, turning it, the command line's report, the golden summary, the
+//!    viewer's preview, why it has no light list, whether a `[transfer] table` file may
+//!    shade beside it.
 //!
-//! A method that adds a term of its own to the image also writes it under [`shade`] (called
-//! from `shade/entry.rs` through an accessor of [`scene::Environment`], as the transfer
-//! table and the light cuts are). Its docs: docs/scene-format.md, docs/environment-methods.md.
+//! Beside those: the method's own module under [`env`](mod@env) (its preparation; a
+//! tabulated one through [`env::transfer::prepare_table`] and a cache entry through
+//! [`env::cache_entry`]); a method that adds a term of its own to the image also writes it
+//! under [`shade`] and calls it from `shade/entry.rs` through an accessor of
+//! [`scene::Environment`], as the transfer table and the light cuts are. The sweep runs a
+//! method once [`sweep::MethodKind`] has a variant for it (the sweep's own closed set). Its
+//! docs: docs/scene-format.md, docs/environment-methods.md.
 //!
 //! ## Conventions
 //! Every coordinate convention (world axes, spherical angle names, the shading frame and

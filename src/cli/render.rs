@@ -58,7 +58,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let auto_method = file
         .env
         .as_ref()
-        .is_some_and(|e| e.method == crate::env::schema::EnvMethod::Auto);
+        .is_some_and(|e| e.method == EnvMethod::Auto);
     if let Some(env) = &file.env {
         let renderer = match a.device {
             super::device::Device::Gpu => Renderer::Gpu,
@@ -119,41 +119,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let resolve_base = base.as_path();
     // Counts the light set's preparation when it is computed (nothing on a cache hit).
-    let light_set = match &file.env {
+    let light_set = match file
+        .env
+        .as_ref()
+        .and_then(|env| env.method.preparation_progress(env))
+    {
+        // Length 0: drawn only once the preparation sets it (nothing on a cache hit).
+        Some((what, unit)) => Progress::bar(0, &what, unit),
         None => Progress::hidden(),
-        Some(env) => match env.method {
-            // Length 0: drawn only once the build sets it (nothing on a cache hit).
-            EnvMethod::Transfer => Progress::bar(
-                0,
-                &format!(
-                    "transfer table: {} x {} normals",
-                    env.transfer_azimuth, env.transfer_polar
-                ),
-                "rows",
-            ),
-            EnvMethod::Reflection => Progress::bar(
-                0,
-                &format!(
-                    "reflection table: {g} x {g} cells, {s} + 1 slices",
-                    g = env.reflection_grid,
-                    s = env.reflection_slices
-                ),
-                "nodes",
-            ),
-            // The light tree's build (~0.3 s) is not counted.
-            EnvMethod::Lightcuts => Progress::hidden(),
-            // A light set file is read, not sampled.
-            EnvMethod::Lights if env.lights.is_some() => Progress::hidden(),
-            // `auto` was made concrete above.
-            EnvMethod::Lights | EnvMethod::Auto => {
-                let config = env.sampler_config();
-                let what = match config.n() {
-                    Some(n) => format!("light set: {n} lights by {}", config.name()),
-                    None => "light set: the full probe".to_string(),
-                };
-                Progress::bar(0, &what, config.progress_unit())
-            }
-        },
     };
     let scene = Scene::resolve_with_progress(&file, resolve_base, &cache, &light_set);
     light_set.finish();
@@ -425,8 +398,8 @@ pub(super) fn scene_file(a: &SceneArgs, reference: bool) -> Result<(SceneFile, P
             env.count = n;
         }
         // Asking for a sampler or a light count asks for a delta light set.
-        if env.method == crate::env::schema::EnvMethod::Auto {
-            env.method = crate::env::schema::EnvMethod::Lights;
+        if env.method == EnvMethod::Auto {
+            env.method = EnvMethod::Lights;
         }
         if a.lights.is_some() && (reference || env.sampler == crate::env::schema::SamplerKind::Full)
         {

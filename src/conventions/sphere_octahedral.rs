@@ -8,15 +8,35 @@
 //! table on the *vertices* of a `G x G` grid whose border nodes hold their direction's value
 //! interpolates bilinearly without a seam.
 
+use super::Scalar;
 use glam::{DVec3, Vec3};
 
 /// `+1` for `x >= 0` (also `+0` and `-0`), else `-1`: the fold's sign.
 #[inline(always)]
-fn sign_nonneg(x: f64) -> f64 {
-    if x >= 0.0 {
-        1.0
+fn sign_nonneg<S: Scalar>(x: S) -> S {
+    if x >= S::ZERO {
+        S::ONE
     } else {
-        -1.0
+        -S::ONE
+    }
+}
+
+/// [`sphere_oct_encode_f64`] of `(x, y, z)` in either precision: the one body of it and of
+/// [`sphere_oct_encode`].
+#[inline(always)]
+fn sphere_oct_encode_of<S: Scalar>(x: S, y: S, z: S) -> (S, S) {
+    let s = x.abs() + y.abs() + z.abs();
+    if !(s.is_finite() && s > S::ZERO) {
+        return (S::ZERO, S::ZERO);
+    }
+    let (p, q) = (x / s, z / s);
+    if y >= S::ZERO {
+        (p, q)
+    } else {
+        (
+            (S::ONE - q.abs()) * sign_nonneg(p),
+            (S::ONE - p.abs()) * sign_nonneg(q),
+        )
     }
 }
 
@@ -25,35 +45,13 @@ fn sign_nonneg(x: f64) -> f64 {
 /// zero or non-finite `d` maps to the centre `(0, 0)` (+y; documented fallback).
 #[inline]
 pub fn sphere_oct_encode_f64(d: DVec3) -> (f64, f64) {
-    let s = d.x.abs() + d.y.abs() + d.z.abs();
-    if !(s.is_finite() && s > 0.0) {
-        return (0.0, 0.0);
-    }
-    let (p, q) = (d.x / s, d.z / s);
-    if d.y >= 0.0 {
-        (p, q)
-    } else {
-        (
-            (1.0 - q.abs()) * sign_nonneg(p),
-            (1.0 - p.abs()) * sign_nonneg(q),
-        )
-    }
+    sphere_oct_encode_of(d.x, d.y, d.z)
 }
 
 /// f32 form of [`sphere_oct_encode_f64`] (the same expression in f32), for per-pixel lookups.
 #[inline]
 pub fn sphere_oct_encode(d: Vec3) -> (f32, f32) {
-    let s = d.x.abs() + d.y.abs() + d.z.abs();
-    if !(s.is_finite() && s > 0.0) {
-        return (0.0, 0.0);
-    }
-    let (p, q) = (d.x / s, d.z / s);
-    if d.y >= 0.0 {
-        (p, q)
-    } else {
-        let sg = |x: f32| if x >= 0.0 { 1.0 } else { -1.0 };
-        ((1.0 - q.abs()) * sg(p), (1.0 - p.abs()) * sg(q))
-    }
+    sphere_oct_encode_of(d.x, d.y, d.z)
 }
 
 /// The unit world direction of octahedral coordinates `(u, v)` (clamped to `[-1, 1]`), the

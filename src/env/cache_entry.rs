@@ -6,8 +6,13 @@
 //! used only when its format, both versions and key are this build's and the caller's, and
 //! its payload hashes to its checksum; otherwise it is ignored (and rewritten), and the
 //! reason is one line ([`EntryKind::check_stamp`], [`check_checksum`]).
+//!
+//! The tables' binary entries (transfer and reflection) share one body: a line of JSON (the
+//! cache's own header, [`ValuesHeader`]), a newline, then the values as little-endian f32
+//! ([`encode_values_entry`], [`read_values_entry`]).
 
 use crate::hash::StableHasher;
+use serde::{de::DeserializeOwned, Serialize};
 
 /// The crate version, in every cache key and entry (a cache never outlives a release).
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -121,6 +126,96 @@ pub fn read_entry_bytes(
     crate::image_io::read_regular_file(path, max_bytes, what)
         .map(Some)
         .map_err(|e| e.to_string())
+}
+
+/// XXH3-64 of the value count and the values' bits: the checksum a table's entry stores
+/// ([`ValuesHeader::checksum`], in [`crate::hash::tagged`] form) and every read recomputes.
+pub fn values_checksum(values: &[f32]) -> u64 {
+    let mut h = StableHasher::new();
+    h.write_u64(values.len() as u64);
+    h.write_f32s(values.iter().copied());
+    h.finish()
+}
+
+/// The JSON header line of a table's entry (module doc): its stamp, checked by
+/// [`EntryKind::check_stamp`], and the checksum of its values ([`values_checksum`]).
+pub trait ValuesHeader: Serialize + DeserializeOwned {
+    fn stamp(&self) -> Stamp<'_>;
+    fn checksum(&self) -> &str;
+}
+
+/// Implements [`ValuesHeader`] for a header struct with the stamp's fields (`format`,
+/// `crate_version`, `algorithm_version`, `key`) and `checksum`, as every table cache's has.
+macro_rules! impl_values_header {
+    ($header:ty) => {
+        impl $crate::env::cache_entry::ValuesHeader for $header {
+            fn stamp(&self) -> $crate::env::cache_entry::Stamp<'_> {
+                $crate::env::cache_entry::Stamp {
+                    format: &self.format,
+                    crate_version: &self.crate_version,
+                    algorithm_version: self.algorithm_version,
+                    key: &self.key,
+                }
+            }
+
+            fn checksum(&self) -> &str {
+                &self.checksum
+            }
+        }
+    };
+}
+pub(crate) use impl_values_header;
+
+/// The bytes of a table's entry: `header` as one line of JSON, a newline, then `values` as
+/// little-endian f32.
+pub fn encode_values_entry<H: ValuesHeader>(header: &H, values: &[f32]) -> Vec<u8> {
+    let mut out = serde_json::to_vec(header).expect("a header serialises");
+    out.push(b'\n');
+    out.reserve(4 * values.len());
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+/// Reads and checks the table entry `path` of `kind` under `key` (at most `max_bytes`;
+/// `what` names the cache in messages, "transfer cache"): its header's stamp, then
+/// `expected`, which checks the header against what the caller wants and returns the
+/// number of values it must hold, then the byte count and the checksum of the values.
+/// `Ok(None)`: no entry; `Err`: an entry that is not used, and why, in one line.
+pub fn read_values_entry<H: ValuesHeader>(
+    path: &std::path::Path,
+    max_bytes: u64,
+    what: &'static str,
+    kind: &EntryKind,
+    key: u64,
+    expected: impl FnOnce(&H) -> std::result::Result<usize, String>,
+) -> std::result::Result<Option<(H, Vec<f32>)>, String> {
+    let Some(bytes) = read_entry_bytes(path, max_bytes, what)? else {
+        return Ok(None);
+    };
+    let nl = bytes
+        .iter()
+        .position(|&b| b == b'\n')
+        .ok_or("no header line")?;
+    let h: H =
+        serde_json::from_slice(&bytes[..nl]).map_err(|e| format!("not a {what} entry: {e}"))?;
+    kind.check_stamp(h.stamp(), key)?;
+    let n = expected(&h)?;
+    let body = &bytes[nl + 1..];
+    if body.len() != 4 * n {
+        return Err(format!(
+            "{} bytes of values, expected {}: truncated or padded",
+            body.len(),
+            4 * n
+        ));
+    }
+    let values: Vec<f32> = body
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    check_checksum(h.checksum(), values_checksum(&values), "values")?;
+    Ok(Some((h, values)))
 }
 
 #[cfg(test)]

@@ -30,6 +30,13 @@
 //! of the table under the RMSE bound for every glossy row; its 99th percentile is over
 //! the bound (highlights show the lights as spots), which the line [`choose`] returns
 //! says. The CPU's choice ([`Renderer::Cpu`]) is [`concrete_method`], unchanged.
+//!
+//! Beside the choice, every other question the tools ask of an `[env] method` before
+//! anything is built is answered here, one exhaustive `match` each ([`gpu_unsupported`],
+//! [`export_unsupported`], and the methods of `impl EnvMethod` below: the viewer's
+//! refinement ladder and status line, the command line's progress bar), so the tools never
+//! match the method. The file stays whole past 400 lines for that reason (half of it is
+//! tests).
 
 use super::MaterialSpec;
 use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
@@ -68,6 +75,109 @@ pub fn export_unsupported(method: EnvMethod) -> bool {
     }
 }
 
+/// What each method asks of the tools before anything is prepared: the viewer's
+/// refinement ladder and status line, the command line's progress bar. One exhaustive
+/// `match` per question, so a new method says here what every tool does with it and the
+/// tools never match the method themselves.
+impl EnvMethod {
+    /// Whether a frame of this method can take up to seconds (light cuts: a cut of a light
+    /// tree per pixel), so that the viewer shows `auto`'s choice only when the view is
+    /// still and moves with the document's delta light set (`crate::view::refine`).
+    pub fn frame_takes_seconds(self) -> bool {
+        match self {
+            EnvMethod::Lightcuts => true,
+            EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer | EnvMethod::Reflection => {
+                false
+            }
+        }
+    }
+
+    /// Makes `env` (of this method) `factor` times finer, for a step of the viewer's
+    /// refinement ladder (`crate::view::refine`): `factor` times the lights of a light set
+    /// (at most `max_lights`, or its own count if larger; Lloyd refined by median cut,
+    /// whose preparation does not grow with texels x lights), `factor` times a transfer
+    /// table's exact lights (at least 1 first; at most `max_lights` and
+    /// [`MAX_LIGHTS`](crate::env::schema::MAX_LIGHTS)), light cuts' cut error divided by
+    /// `factor`. A reflection table is kept (a finer one is a bake of seconds, not a
+    /// frame); `auto` is made concrete before ([`concrete_method`]).
+    pub fn refine(self, env: &mut EnvSpec, factor: usize, max_lights: usize) {
+        match self {
+            EnvMethod::Lights => {
+                env.count = env
+                    .count
+                    .saturating_mul(factor)
+                    .min(max_lights.max(env.count));
+                if env.sampler == SamplerKind::Lloyd {
+                    env.sampler = SamplerKind::MedianCut;
+                }
+            }
+            EnvMethod::Transfer => {
+                env.exact_lights = (env.exact_lights.max(1))
+                    .saturating_mul(factor)
+                    .min(max_lights.max(env.exact_lights))
+                    .min(crate::env::schema::MAX_LIGHTS)
+            }
+            EnvMethod::Lightcuts => env.cut_error /= factor as f32,
+            EnvMethod::Reflection | EnvMethod::Auto => {}
+        }
+    }
+
+    /// The method and its parameters in the viewer's status line (`crate::view::app`), in
+    /// the names a scene file and the command line spell (`median-cut`, never Rust's
+    /// `MedianCut`): `lights lloyd 128` for a light set of `env`, the method's name for the
+    /// others.
+    pub fn status_words(self, env: &EnvSpec) -> String {
+        let m = self.name();
+        match self {
+            EnvMethod::Lights => {
+                let sampler = clap::ValueEnum::to_possible_value(&env.sampler)
+                    .map(|v| v.get_name().to_string())
+                    .unwrap_or_default();
+                format!("{m} {sampler} {}", env.count)
+            }
+            EnvMethod::Auto
+            | EnvMethod::Transfer
+            | EnvMethod::Lightcuts
+            | EnvMethod::Reflection => m.to_string(),
+        }
+    }
+
+    /// What the command line's progress bar counts while this method prepares `env`
+    /// (`crate::cli::render`): its label and unit, drawn once the preparation sets its
+    /// length (nothing on a cache hit); `None` when nothing is counted: a light tree's
+    /// build (~0.3 s), a light set file (read, not sampled), `auto` (made concrete before
+    /// anything is prepared).
+    pub fn preparation_progress(self, env: &EnvSpec) -> Option<(String, &'static str)> {
+        match self {
+            EnvMethod::Transfer => Some((
+                format!(
+                    "transfer table: {} x {} normals",
+                    env.transfer_azimuth, env.transfer_polar
+                ),
+                "rows",
+            )),
+            EnvMethod::Reflection => Some((
+                format!(
+                    "reflection table: {g} x {g} cells, {s} + 1 slices",
+                    g = env.reflection_grid,
+                    s = env.reflection_slices
+                ),
+                "nodes",
+            )),
+            EnvMethod::Lights if env.lights.is_some() => None,
+            EnvMethod::Lights => {
+                let config = env.sampler_config();
+                let what = match config.n() {
+                    Some(n) => format!("light set: {n} lights by {}", config.name()),
+                    None => "light set: the full probe".to_string(),
+                };
+                Some((what, config.progress_unit()))
+            }
+            EnvMethod::Lightcuts | EnvMethod::Auto => None,
+        }
+    }
+}
+
 /// The renderer a frame is drawn by, as far as `auto` depends on it (module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Renderer {
@@ -103,7 +213,10 @@ pub fn concrete_method(env: &EnvSpec, material: &MaterialSpec) -> EnvMethod {
     match env.method {
         EnvMethod::Auto if env.lights.is_some() => EnvMethod::Lights,
         EnvMethod::Auto => auto_method(material),
-        m => m,
+        m @ (EnvMethod::Lights
+        | EnvMethod::Transfer
+        | EnvMethod::Lightcuts
+        | EnvMethod::Reflection) => m,
     }
 }
 

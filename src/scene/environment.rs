@@ -11,6 +11,10 @@
 //! the files). The environment's delta lights are held apart from the scene's own
 //! `[[light]]`s ([`super::Scene::lights`]); shading takes both, the scene's own first
 //! ([`super::Scene::delta_lights`]).
+//!
+//! The file stays whole past 400 lines on purpose: it is the variant and every answer
+//! that depends on what a method prepared, so the compiler's list for a new method stays
+//! in this file (and env_method.rs, for the answers before anything is built).
 
 use super::env_method::gpu_unsupported;
 use crate::conventions::rotate_about_up;
@@ -19,7 +23,7 @@ use crate::env::lightset::prepare::{self, CacheDir};
 use crate::env::lightset::to_scene_lights;
 use crate::env::reflection::{self, prepare_reflection, ReflectionTable};
 use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
-use crate::env::transfer::{self, prepare_transfer, TransferBasis, TransferTable};
+use crate::env::transfer::{self, prepare_transfer, PreparedTable, TransferBasis, TransferTable};
 use crate::env::Probe;
 use crate::error::{Error, Result};
 use crate::light::Light;
@@ -236,6 +240,28 @@ impl Environment {
         }
     }
 
+    /// The delta lights a scene's `[transfer] table` file shades beside (none, or the
+    /// `[env]`'s light set), or why the file may not shade with this environment (for the
+    /// `transfer.table` field): a method that shades a table or cuts of its own.
+    pub fn lights_beside_transfer_table(self) -> std::result::Result<Vec<Light>, &'static str> {
+        match self {
+            Environment::None => Ok(Vec::new()),
+            Environment::Lights(lights) => Ok(lights),
+            Environment::Transfer { .. } => Err(
+                "the [env] builds its own table (method = \"transfer\"): a scene shades with \
+                 one table",
+            ),
+            Environment::Reflection { .. } => Err(
+                "the [env] shades with a reflection table (method = \"reflection\"): a \
+                 transfer table shades beside a light set only",
+            ),
+            Environment::LightCuts(_) => Err(
+                "the [env] shades with light cuts (method = \"lightcuts\"): a table shades \
+                 beside a light set only",
+            ),
+        }
+    }
+
     /// Whether the viewer previews a turn of this environment rigidly
     /// ([`Environment::turned_rigidly`]) while the view changes, instead of building it
     /// again at the new rotation: a light set (preparing the rotated probe's set again costs
@@ -361,105 +387,45 @@ pub fn build_environment(
                     ),
                 )
             })?;
-            match source {
-                ProbeSource::Files {
-                    base,
-                    cache,
-                    progress,
-                } => {
-                    let p = prepare_transfer(spec, base, basis, cache.path(), progress)?;
-                    cache.record_use(p.cache_file.as_deref(), p.cache_hit);
-                    let summary = EnvSummary {
-                        file: base.join(&spec.file),
-                        lights: p.lights.len(),
-                        cache_hit: p.cache_hit,
-                        cache_rejected: p.cache_rejected.clone(),
-                        negative_texels: p.report.negative_texels,
-                        probe_report: Some(p.report),
-                        probe_size: Some(p.report.size),
-                        total_irradiance: p.lights.total_irradiance().to_array(),
-                        spec: spec.clone(),
-                        base: base.to_path_buf(),
-                    };
-                    let env = Environment::Transfer {
-                        table: Arc::new(p.table),
-                        exact: to_scene_lights(&p.lights),
-                    };
-                    Ok((env, Some(summary)))
-                }
-                ProbeSource::Decoded(probe) => {
-                    spec.check()?;
-                    // As `prepare_transfer` does, without its cache.
-                    let exact = transfer::brightest_texels(probe, spec.exact_lights);
-                    let table = transfer::build_table(
+            table_environment(
+                spec,
+                source,
+                |base, cache, progress| prepare_transfer(spec, base, basis, cache, progress),
+                |probe, exact| {
+                    transfer::build_table(
                         probe,
                         basis,
                         (spec.transfer_azimuth, spec.transfer_polar),
-                        &exact,
+                        exact,
                         spec.intensity,
                         &Progress::hidden(),
                         transfer::BuildFault::None,
-                    )?;
-                    let lights = transfer::build::texel_lights(probe, &exact, spec.intensity);
-                    let env = Environment::Transfer {
-                        table: Arc::new(table),
-                        exact: to_scene_lights(&lights),
-                    };
-                    Ok((env, None))
-                }
-            }
+                    )
+                },
+                |table, exact| Environment::Transfer { table, exact },
+            )
         }
         EnvMethod::Reflection => {
             if let Some(why) = reflection::unsupported(material) {
                 return Err(Error::field("env.method", why));
             }
-            match source {
-                ProbeSource::Files {
-                    base,
-                    cache,
-                    progress,
-                } => {
-                    let p = prepare_reflection(spec, base, material, cache.path(), progress)?;
-                    cache.record_use(p.cache_file.as_deref(), p.cache_hit);
-                    let summary = EnvSummary {
-                        file: base.join(&spec.file),
-                        lights: p.lights.len(),
-                        cache_hit: p.cache_hit,
-                        cache_rejected: p.cache_rejected.clone(),
-                        negative_texels: p.report.negative_texels,
-                        probe_report: Some(p.report),
-                        probe_size: Some(p.report.size),
-                        total_irradiance: p.lights.total_irradiance().to_array(),
-                        spec: spec.clone(),
-                        base: base.to_path_buf(),
-                    };
-                    let env = Environment::Reflection {
-                        table: Arc::new(p.table),
-                        exact: to_scene_lights(&p.lights),
-                    };
-                    Ok((env, Some(summary)))
-                }
-                ProbeSource::Decoded(probe) => {
-                    spec.check()?;
-                    // As `prepare_reflection` does, without its cache.
-                    let exact = transfer::brightest_texels(probe, spec.exact_lights);
-                    let table = reflection::bake_table(
+            table_environment(
+                spec,
+                source,
+                |base, cache, progress| prepare_reflection(spec, base, material, cache, progress),
+                |probe, exact| {
+                    reflection::bake_table(
                         probe,
                         material,
                         reflection::params_of(spec),
-                        &exact,
+                        exact,
                         spec.intensity,
                         &Progress::hidden(),
                         reflection::BakeFault::None,
-                    )?;
-                    let lights = transfer::build::texel_lights(probe, &exact, spec.intensity);
-                    let env = Environment::Reflection {
-                        table: Arc::new(table),
-                        exact: to_scene_lights(&lights),
-                    };
-                    Ok((env, None))
-                }
-            }
+                    )
+                },
+                |table, exact| Environment::Reflection { table, exact },
+            )
         }
         EnvMethod::Lightcuts => {
             ConeBound::new(material)
@@ -496,6 +462,52 @@ pub fn build_environment(
                     Ok((Environment::LightCuts(Arc::new(cuts)), None))
                 }
             }
+        }
+    }
+}
+
+/// The steps the tabulated methods (transfer and reflection tables) share: from files,
+/// the method's preparation (`prepare`: probe, exact texels, cache, progress) and its
+/// summary; from a decoded probe, the same without the cache: the brightest
+/// `spec.exact_lights` texels split off, the table baked from the rest (`bake`) and those
+/// texels made lights. `variant` wraps the table and its exact lights.
+fn table_environment<T>(
+    spec: &EnvSpec,
+    source: ProbeSource<'_>,
+    prepare: impl FnOnce(&Path, Option<&Path>, &Progress) -> Result<PreparedTable<T>>,
+    bake: impl FnOnce(&Probe, &[usize]) -> Result<T>,
+    variant: impl FnOnce(Arc<T>, Vec<Light>) -> Environment,
+) -> Result<(Environment, Option<EnvSummary>)> {
+    match source {
+        ProbeSource::Files {
+            base,
+            cache,
+            progress,
+        } => {
+            let p = prepare(base, cache.path(), progress)?;
+            cache.record_use(p.cache_file.as_deref(), p.cache_hit);
+            let summary = EnvSummary {
+                file: base.join(&spec.file),
+                lights: p.lights.len(),
+                cache_hit: p.cache_hit,
+                cache_rejected: p.cache_rejected.clone(),
+                negative_texels: p.report.negative_texels,
+                probe_report: Some(p.report),
+                probe_size: Some(p.report.size),
+                total_irradiance: p.lights.total_irradiance().to_array(),
+                spec: spec.clone(),
+                base: base.to_path_buf(),
+            };
+            let env = variant(Arc::new(p.table), to_scene_lights(&p.lights));
+            Ok((env, Some(summary)))
+        }
+        ProbeSource::Decoded(probe) => {
+            spec.check()?;
+            // As the preparation from files does, without its cache.
+            let exact = transfer::brightest_texels(probe, spec.exact_lights);
+            let table = bake(probe, &exact)?;
+            let lights = transfer::build::texel_lights(probe, &exact, spec.intensity);
+            Ok((variant(Arc::new(table), to_scene_lights(&lights)), None))
         }
     }
 }

@@ -215,31 +215,9 @@ impl Scene {
                 ));
             }
             // The table shades beside the `[env]`'s light set, if any.
-            let exact = match environment {
-                Environment::None => Vec::new(),
-                Environment::Lights(lights) => lights,
-                Environment::Transfer { .. } => {
-                    return Err(Error::field(
-                        "transfer.table",
-                        "the [env] builds its own table (method = \"transfer\"): a scene \
-                         shades with one table",
-                    ))
-                }
-                Environment::Reflection { .. } => {
-                    return Err(Error::field(
-                        "transfer.table",
-                        "the [env] shades with a reflection table (method = \"reflection\"): \
-                         a transfer table shades beside a light set only",
-                    ))
-                }
-                Environment::LightCuts(_) => {
-                    return Err(Error::field(
-                        "transfer.table",
-                        "the [env] shades with light cuts (method = \"lightcuts\"): a table \
-                         shades beside a light set only",
-                    ))
-                }
-            };
+            let exact = environment
+                .lights_beside_transfer_table()
+                .map_err(|why| Error::field("transfer.table", why))?;
             environment = Environment::Transfer {
                 table: Arc::new(table),
                 exact,

@@ -19,7 +19,9 @@
 //! its parameter lists in [`Grid`], and then the arms the compiler asks for (every `match`
 //! here and in `csv.rs`, `run.rs` and `plot.rs` is exhaustive): the enumeration in
 //! [`Grid::method_points`], [`MethodAxis::of_spec`], the CSV's parameter columns (a new
-//! column changes the CSV format) and the runner's preparation of the method's scene.
+//! column changes the CSV format) and the runner's preparation of the method's scene. An
+//! `[env]` method without a [`MethodKind`] is not swept ([`MethodKind::of`] is `None`) and
+//! needs nothing here.
 
 use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::error::{Error, Result};
@@ -96,6 +98,15 @@ impl MethodKind {
         }
     }
 
+    /// The sweep's method that is `method`, `None` for a method the sweep does not run
+    /// (`auto`, `reflection`): the inverse of [`MethodKind::env_method`], so a new `[env]`
+    /// method is swept only once a variant here names it.
+    pub fn of(method: EnvMethod) -> Option<MethodKind> {
+        MethodKind::ALL
+            .into_iter()
+            .find(|m| m.env_method() == method)
+    }
+
     /// The name, as `[env] method` and `--method` spell it (`lights`, `transfer`).
     pub fn name(self) -> String {
         use clap::ValueEnum;
@@ -139,27 +150,24 @@ impl MethodAxis {
     }
 
     /// What a scene's `[env]` asks for (its own point of the axis); `None` for a method the
-    /// sweep does not run.
+    /// sweep does not run (no [`MethodKind`] is it, [`MethodKind::of`]; `auto` is made
+    /// concrete first).
     pub fn of_spec(spec: &EnvSpec) -> Option<MethodAxis> {
-        match spec.method {
-            EnvMethod::Lights => Some(MethodAxis::Lights {
+        Some(match MethodKind::of(spec.method)? {
+            MethodKind::Lights => MethodAxis::Lights {
                 sampler: spec.sampler,
                 count: spec.count,
-            }),
-            EnvMethod::Transfer => Some(MethodAxis::Transfer {
+            },
+            MethodKind::Transfer => MethodAxis::Transfer {
                 azimuth: spec.transfer_azimuth,
                 polar: spec.transfer_polar,
                 exact_lights: spec.exact_lights,
-            }),
-            EnvMethod::Lightcuts => Some(MethodAxis::Lightcuts {
+            },
+            MethodKind::Lightcuts => MethodAxis::Lightcuts {
                 cut_error: spec.cut_error,
                 cut_max: spec.cut_max,
-            }),
-            // Not a method of its own: the sweep makes it concrete first.
-            EnvMethod::Auto => None,
-            // Not an axis of the sweep yet.
-            EnvMethod::Reflection => None,
-        }
+            },
+        })
     }
 
     /// A short label: `lloyd 128`, `transfer 128x65 k16`.

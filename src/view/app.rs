@@ -153,24 +153,7 @@ impl App {
             None => "scene lights".to_string(),
             Some(e) => {
                 let probe = e.file.file_name().unwrap_or_default().to_string_lossy();
-                // The names a scene file and the command line spell (`median-cut`), never
-                // Rust's (`MedianCut`).
-                let m = e.method.name();
-                use crate::env::schema::EnvMethod;
-                match e.method {
-                    EnvMethod::Lights => {
-                        let sampler = clap::ValueEnum::to_possible_value(&e.sampler)
-                            .map(|v| v.get_name().to_string())
-                            .unwrap_or_default();
-                        format!("{probe} {m} {sampler} {}", e.count)
-                    }
-                    EnvMethod::Auto
-                    | EnvMethod::Transfer
-                    | EnvMethod::Lightcuts
-                    | EnvMethod::Reflection => {
-                        format!("{probe} {m}")
-                    }
-                }
+                format!("{probe} {}", e.method.status_words(e))
             }
         };
         match &self.shown {

@@ -15,7 +15,7 @@
 //! it; its last step is what `brdfkit sweep` measures against that reference for the same
 //! configuration.
 
-use crate::env::schema::{EnvMethod, SamplerKind, MAX_LIGHTS};
+use crate::env::schema::EnvMethod;
 use crate::scene::SceneFile;
 
 /// Largest light count a refinement step asks for.
@@ -34,7 +34,7 @@ pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
     // as fast as the light set and more accurate), every step is the table.
     let auto_cuts = f.env.as_ref().is_some_and(|e| {
         e.method == EnvMethod::Auto
-            && crate::scene::env_method::concrete_method(e, &f.material) == EnvMethod::Lightcuts
+            && crate::scene::env_method::concrete_method(e, &f.material).frame_takes_seconds()
     });
     if k == 0 {
         match f.env.as_mut() {
@@ -46,28 +46,7 @@ pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
     f.resolve_env_method();
     let factor = 4usize.saturating_pow(if auto_cuts { k - 1 } else { k } as u32);
     if let Some(env) = f.env.as_mut() {
-        match env.method {
-            EnvMethod::Lights => {
-                env.count = env
-                    .count
-                    .saturating_mul(factor)
-                    .min(MAX_REFINED_LIGHTS.max(env.count));
-                if env.sampler == SamplerKind::Lloyd {
-                    env.sampler = SamplerKind::MedianCut;
-                }
-            }
-            EnvMethod::Transfer => {
-                env.exact_lights = (env.exact_lights.max(1))
-                    .saturating_mul(factor)
-                    .min(MAX_REFINED_LIGHTS.max(env.exact_lights))
-                    .min(MAX_LIGHTS)
-            }
-            EnvMethod::Lightcuts => env.cut_error /= factor as f32,
-            // The table at every step (a finer table is a bake of seconds, not a frame).
-            EnvMethod::Reflection => {}
-            // Made concrete above (`resolve_env_method`).
-            EnvMethod::Auto => {}
-        }
+        env.method.refine(env, factor, MAX_REFINED_LIGHTS);
     }
     if k >= steps {
         f.render.drop_lights = 0.0;
@@ -79,7 +58,7 @@ pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::env::schema::EnvSpec;
+    use crate::env::schema::{EnvSpec, SamplerKind};
 
     #[test]
     fn under_auto_the_moving_frame_is_the_light_set_and_the_still_ones_the_auto_method() {

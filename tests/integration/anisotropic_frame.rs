@@ -9,9 +9,8 @@
 //! `FrameCheck::Unaligned`), which does not turn with the object: it must miss the bound
 //! for every anisotropic material, which shows the check sees the frame.
 
-use brdfkit::image_io::Image;
+use crate::frame_common::{rel_rmse, shade};
 use brdfkit::library::LIBRARY;
-use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::shade::FrameCheck;
 use std::fmt::Write as _;
@@ -72,27 +71,6 @@ fn scene(dir: &Path, obj: &str, material: &str, map: fn([f32; 3]) -> [f32; 3]) -
     );
     let file = SceneFile::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
     Scene::resolve(&file, dir).unwrap()
-}
-
-fn shade(scene: &Scene, check: FrameCheck) -> Image {
-    let mut opts = RenderOptions::default();
-    opts.shading.frame_check = check;
-    render(scene, &opts).image
-}
-
-/// RMSE of `a - b` over the pixels `b` covers, relative to `b`'s RMS there.
-fn rel_rmse(a: &Image, b: &Image) -> f64 {
-    let (mut d2, mut r2, mut n) = (0.0f64, 0.0f64, 0usize);
-    for (p, q) in a.pixels.iter().zip(&b.pixels) {
-        if *q == glam::Vec3::ZERO {
-            continue;
-        }
-        d2 += (*p - *q).as_dvec3().length_squared();
-        r2 += q.as_dvec3().length_squared();
-        n += 1;
-    }
-    assert!(n > 1000, "the sphere covers {n} pixels");
-    (d2 / r2).sqrt()
 }
 
 #[test]

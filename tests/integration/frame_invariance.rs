@@ -12,10 +12,9 @@
 //! dependence where one exists. The analytic models are exact functions of the angles and
 //! match even without alignment.
 
-use brdfkit::image_io::Image;
+use crate::frame_common::{rel_rmse, shade};
 use brdfkit::library::LIBRARY;
 use brdfkit::material::Material;
-use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::shade::FrameCheck;
 use std::path::Path;
@@ -35,27 +34,6 @@ fn scene(material: &str, env: &str) -> Scene {
     );
     let file = SceneFile::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
     Scene::resolve(&file, Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap()
-}
-
-fn shade(scene: &Scene, check: FrameCheck) -> Image {
-    let mut opts = RenderOptions::default();
-    opts.shading.frame_check = check;
-    render(scene, &opts).image
-}
-
-/// RMSE of `a - b` over the pixels `b` covers, relative to `b`'s RMS there.
-fn rel_rmse(a: &Image, b: &Image) -> f64 {
-    let (mut d2, mut r2, mut n) = (0.0f64, 0.0f64, 0usize);
-    for (p, q) in a.pixels.iter().zip(&b.pixels) {
-        if *q == glam::Vec3::ZERO {
-            continue;
-        }
-        d2 += (*p - *q).as_dvec3().length_squared();
-        r2 += q.as_dvec3().length_squared();
-        n += 1;
-    }
-    assert!(n > 1000, "the teapot covers {n} pixels");
-    (d2 / r2).sqrt()
 }
 
 #[test]

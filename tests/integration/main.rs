@@ -11,6 +11,8 @@
 mod common;
 
 mod closed_form_common;
+mod env_table_common;
+mod frame_common;
 mod shading_paths;
 
 mod acquire;

@@ -3,19 +3,9 @@
 //! every texel a light) under a shipped probe, the same bits for any thread count and tile
 //! size, and the scene errors of the method.
 
+use crate::env_table_common::{against_reference, scene};
 use brdfkit::render::{render, RenderOptions};
-use brdfkit::scene::{Environment, Scene, SceneFile};
-use std::path::Path;
-
-fn scene(probe: &str, material: &str, env_extra: &str) -> brdfkit::error::Result<Scene> {
-    let text = format!(
-        "[mesh]\nsource = \"sphere\"\nsegments = 128\n[material]\n{material}\n\
-         [env]\nfile = \"assets/probes/{probe}.exr\"\n{env_extra}\n\
-         [render]\nwidth = 24\nheight = 24\n"
-    );
-    let file = SceneFile::parse(&text).unwrap();
-    Scene::resolve(&file, Path::new(env!("CARGO_MANIFEST_DIR")))
-}
+use brdfkit::scene::SceneFile;
 
 const GLOSSY: &str =
     "kind = \"blinn-phong\"\nkd = [0.05, 0.05, 0.05]\nks = [0.9, 0.9, 0.9]\nexponent = 50";
@@ -26,21 +16,10 @@ const GLOSSY: &str =
 #[test]
 fn glossy_reflection_table_matches_the_converged_reference() {
     let table = "method = \"reflection\"\nreflection_grid = 24\nreflection_slices = 7";
-    let reference = render(
-        &scene("sky", GLOSSY, "sampler = \"full\"").unwrap(),
-        &RenderOptions::converged_reference(),
-    )
-    .image;
-    let s = scene("sky", GLOSSY, table).unwrap();
-    assert_eq!(s.delta_lights().len(), 64);
-    let got = render(&s, &RenderOptions::default()).image;
-    let e = brdfkit::metrics::relative_rmse(&reference, &got, None);
+    let run = against_reference("sky", GLOSSY, table, 64);
+    let (s, got, e, e0) = (run.scene, run.image, run.error, run.error_without_table);
     eprintln!("sky: Blinn-Phong 50 reflection table rel RMSE {e:.5}");
     assert!(e < 0.02, "rel RMSE {e}");
-    let mut lights_only = s.clone();
-    lights_only.environment = Environment::Lights(s.environment.delta_lights().to_vec());
-    let bare = render(&lights_only, &RenderOptions::default()).image;
-    let e0 = brdfkit::metrics::relative_rmse(&reference, &bare, None);
     assert!(e0 > 0.05, "the table adds too little ({e0})");
     // Any thread count and tile size: the same bits.
     let opts = RenderOptions {

@@ -2,19 +2,10 @@
 //! (`RenderOptions::converged_reference()` on `sampler = "full"`: f64, every texel a light)
 //! under the shipped probes, and the scene errors of the method.
 
+use crate::env_table_common::{against_reference, scene};
 use brdfkit::render::{render, RenderOptions};
-use brdfkit::scene::{Environment, Scene, SceneFile};
+use brdfkit::scene::Environment;
 use std::path::Path;
-
-fn scene(probe: &str, material: &str, env_extra: &str) -> brdfkit::error::Result<Scene> {
-    let text = format!(
-        "[mesh]\nsource = \"sphere\"\nsegments = 128\n[material]\n{material}\n\
-         [env]\nfile = \"assets/probes/{probe}.exr\"\n{env_extra}\n\
-         [render]\nwidth = 24\nheight = 24\n"
-    );
-    let file = SceneFile::parse(&text).unwrap();
-    Scene::resolve(&file, Path::new(env!("CARGO_MANIFEST_DIR")))
-}
 
 const LAMBERT: &str = "kind = \"lambert\"\nalbedo = [0.8, 0.6, 0.4]";
 
@@ -27,21 +18,10 @@ fn lambert_transfer_matches_the_converged_reference() {
     let grid =
         "method = \"transfer\"\ntransfer_azimuth = 64\ntransfer_polar = 33\nexact_lights = 16";
     for probe in ["city", "studio"] {
-        let reference = render(
-            &scene(probe, LAMBERT, "sampler = \"full\"").unwrap(),
-            &RenderOptions::converged_reference(),
-        )
-        .image;
-        let s = scene(probe, LAMBERT, grid).unwrap();
-        assert_eq!(s.delta_lights().len(), 16);
-        let got = render(&s, &RenderOptions::default()).image;
-        let e = brdfkit::metrics::relative_rmse(&reference, &got, None);
+        let run = against_reference(probe, LAMBERT, grid, 16);
+        let (e, e0) = (run.error, run.error_without_table);
         eprintln!("{probe}: Lambert transfer rel RMSE {e:.5}");
         assert!(e < 0.005, "{probe}: rel RMSE {e}");
-        let mut lights_only = s.clone();
-        lights_only.environment = Environment::Lights(s.environment.delta_lights().to_vec());
-        let bare = render(&lights_only, &RenderOptions::default()).image;
-        let e0 = brdfkit::metrics::relative_rmse(&reference, &bare, None);
         assert!(e0 > 0.05, "{probe}: the table adds too little ({e0})");
     }
 }

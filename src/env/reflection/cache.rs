@@ -4,7 +4,8 @@
 //!
 //! # Key
 //! [`StableHasher`] (XXH3-64) of a key tag, the crate version,
-//! [`REFLECTION_ALGORITHM_VERSION`], the probe file's bytes, the loader options that change
+//! [`REFLECTION_ALGORITHM_VERSION`], the probe file's bytes (in that order, the start every
+//! environment cache's key shares: [`key_hasher`]), the loader options that change
 //! texels (`zero_non_finite`, `max_texels`), the material (its complete `Debug` form, every
 //! parameter and table value, streamed into the hasher: [`material_fingerprint`]), every
 //! table parameter (grid, slices, residual width), the number of brightest texels left out
@@ -20,7 +21,11 @@
 
 use super::build::{BakeParams, MAX_VALUES};
 use super::table::{BakeError, ReflectionTable, COEFFS};
-use crate::env::cache_entry::{check_checksum, read_entry_bytes, EntryKind, Stamp, CRATE_VERSION};
+use crate::env::cache_entry::{
+    encode_values_entry, impl_values_header, key_hasher, read_values_entry, values_checksum,
+    EntryKind, CRATE_VERSION,
+};
+use crate::env::transfer::TableCache;
 use crate::env::LoadOptions;
 use crate::hash::{self, StableHasher};
 use crate::material::Material;
@@ -67,36 +72,16 @@ pub fn table_cache_key(
     bytes: &[u8],
     opts: &LoadOptions,
     material: &Material,
-    params: &BakeParams,
-    exact_lights: usize,
-    intensity: f32,
-) -> u64 {
-    versioned_key(
-        REFLECTION_ALGORITHM_VERSION,
-        bytes,
-        opts,
-        material,
-        params,
-        exact_lights,
-        intensity,
-    )
-}
-
-fn versioned_key(
-    algorithm: u32,
-    bytes: &[u8],
-    opts: &LoadOptions,
-    material: &Material,
     p: &BakeParams,
     exact_lights: usize,
     intensity: f32,
 ) -> u64 {
-    let mut h = StableHasher::new();
-    h.write(b"brdfkit-reflection-table-v1");
-    h.write_str(CRATE_VERSION);
-    h.write_u64(algorithm as u64);
-    h.write_u64(bytes.len() as u64);
-    h.write(bytes);
+    let mut h = key_hasher(
+        b"brdfkit-reflection-table-v1",
+        CRATE_VERSION,
+        REFLECTION_ALGORITHM_VERSION,
+        bytes,
+    );
     h.write_u64(opts.zero_non_finite as u64);
     h.write_u64(opts.max_texels as u64);
     material_fingerprint(material, &mut h);
@@ -108,16 +93,15 @@ fn versioned_key(
     h.finish()
 }
 
+/// This cache's entries as [`crate::env::transfer::prepare_table`] names and writes them.
+pub const TABLE_CACHE: TableCache<ReflectionTable> = TableCache {
+    file_name: table_file_name,
+    encode: encode_entry,
+};
+
 /// The cache file of `key` in `dir`.
 pub fn table_file_name(dir: &Path, key: u64) -> PathBuf {
-    dir.join(format!("reflection-{}.bin", EntryKind::key_text(key)))
-}
-
-fn values_checksum(values: &[f32]) -> u64 {
-    let mut h = StableHasher::new();
-    h.write_u64(values.len() as u64);
-    h.write_f32s(values.iter().copied());
-    h.finish()
+    ENTRY.file_name(dir, key)
 }
 
 /// The first line of an entry (module doc, "Format").
@@ -135,6 +119,8 @@ pub struct TableHeader {
     pub checksum: String,
 }
 
+impl_values_header!(TableHeader);
+
 /// The bytes of the entry of `table` under `key`.
 pub fn encode_entry(table: &ReflectionTable, key: u64) -> Vec<u8> {
     let values = table.values();
@@ -149,13 +135,7 @@ pub fn encode_entry(table: &ReflectionTable, key: u64) -> Vec<u8> {
         error: table.error(),
         checksum: hash::tagged(values_checksum(values)),
     };
-    let mut out = serde_json::to_vec(&header).expect("a header serialises");
-    out.push(b'\n');
-    out.reserve(4 * values.len());
-    for v in values {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    out
+    encode_values_entry(&header, values)
 }
 
 /// Reads and checks the entry `path` for `key` and `params`, the probe rotation `rotation`
@@ -166,47 +146,25 @@ pub fn read_entry(
     params: &BakeParams,
     rotation: f64,
 ) -> std::result::Result<Option<ReflectionTable>, String> {
-    let Some(bytes) = read_entry_bytes(path, MAX_ENTRY_BYTES, "reflection cache")? else {
-        return Ok(None);
-    };
-    let nl = bytes
-        .iter()
-        .position(|&b| b == b'\n')
-        .ok_or("no header line")?;
-    let h: TableHeader = serde_json::from_slice(&bytes[..nl])
-        .map_err(|e| format!("not a reflection cache entry: {e}"))?;
-    let stamp = Stamp {
-        format: &h.format,
-        crate_version: &h.crate_version,
-        algorithm_version: h.algorithm_version,
-        key: &h.key,
-    };
-    ENTRY.check_stamp(stamp, key)?;
     let n = (params.grid + 1).pow(2) * (params.slices + 1) * 3 * COEFFS;
-    if (h.grid, h.slices, h.values) != (params.grid, params.slices, n) {
-        return Err(format!(
-            "grid {}, {} slices, {} values; expected grid {}, {} slices, {n} values",
-            h.grid, h.slices, h.values, params.grid, params.slices
-        ));
-    }
-    let body = &bytes[nl + 1..];
-    if body.len() != 4 * n {
-        return Err(format!(
-            "{} bytes of values, expected {}: truncated or padded",
-            body.len(),
-            4 * n
-        ));
-    }
-    let values: Vec<f32> = body
-        .chunks_exact(4)
-        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
-    check_checksum(&h.checksum, values_checksum(&values), "values")?;
-    Ok(Some(ReflectionTable::from_parts(
-        params.grid,
-        params.slices,
-        rotation,
-        values,
-        h.error,
-    )))
+    let expected = |h: &TableHeader| {
+        if (h.grid, h.slices, h.values) != (params.grid, params.slices, n) {
+            return Err(format!(
+                "grid {}, {} slices, {} values; expected grid {}, {} slices, {n} values",
+                h.grid, h.slices, h.values, params.grid, params.slices
+            ));
+        }
+        Ok(n)
+    };
+    let entry = read_values_entry(
+        path,
+        MAX_ENTRY_BYTES,
+        "reflection cache",
+        &ENTRY,
+        key,
+        expected,
+    )?;
+    Ok(entry.map(|(h, values)| {
+        ReflectionTable::from_parts(params.grid, params.slices, rotation, values, h.error)
+    }))
 }

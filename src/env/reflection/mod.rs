@@ -55,8 +55,7 @@ pub use build::{bake_table, BakeFault, BakeParams};
 pub use table::{BakeError, ReflectionTable};
 
 use crate::env::schema::EnvSpec;
-use crate::env::transfer::{brightest_texels, build::texel_lights};
-use crate::env::{LightSet, LoadReport};
+use crate::env::transfer::{prepare_table, PreparedTable};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::progress::Progress;
@@ -84,21 +83,13 @@ pub fn params_of(spec: &EnvSpec) -> BakeParams {
 }
 
 /// What [`prepare_reflection`] made for a scene's `[env]` with `method = "reflection"`.
-#[derive(Clone, Debug)]
-pub struct PreparedReflection {
-    pub table: ReflectionTable,
-    /// The brightest `exact_lights` texels as directional lights.
-    pub lights: LightSet,
-    pub report: LoadReport,
-    pub cache_hit: bool,
-    pub cache_rejected: Option<String>,
-    pub cache_file: Option<std::path::PathBuf>,
-}
+pub type PreparedReflection = PreparedTable<ReflectionTable>;
 
 /// Loads the probe of `spec` (relative to `base`) and bakes the table of `material` on the
 /// spec's parameters (or reads it from its valid cache entry in `cache_dir`), the brightest
-/// `spec.exact_lights` texels split off as lights; `spec.intensity` scales both. `progress`
-/// counts grid nodes when the table is baked. Errors name the file or the field.
+/// `spec.exact_lights` texels split off as lights; `spec.intensity` scales both
+/// ([`prepare_table`]). `progress` counts grid nodes when the table is baked. Errors name
+/// the file or the field.
 pub fn prepare_reflection(
     spec: &EnvSpec,
     base: &Path,
@@ -110,64 +101,36 @@ pub fn prepare_reflection(
     if let Some(why) = unsupported(material) {
         return Err(Error::field("env.method", why));
     }
-    let path = base.join(&spec.file);
-    let bytes = crate::image_io::read_regular_file(
-        &path,
-        crate::env::probe::MAX_PROBE_FILE_BYTES,
-        "light probe",
-    )?;
-    let opts = spec.load_options();
-    let (probe, report) = crate::env::probe::load_probe(&path, &opts)?;
     let params = params_of(spec);
-    params.check(probe.width(), probe.height())?;
-    let exact = brightest_texels(&probe, spec.exact_lights);
-    let key = cache::table_cache_key(
-        &bytes,
-        &opts,
-        material,
-        &params,
-        spec.exact_lights,
-        spec.intensity,
-    );
-    drop(bytes);
-    let file = cache_dir.map(|d| cache::table_file_name(d, key));
-    let (mut cached, mut cache_rejected) = (None, None);
-    if let Some(f) = &file {
-        match cache::read_entry(f, key, &params, probe.rotation()) {
-            Ok(t) => cached = t,
-            Err(why) => cache_rejected = Some(why),
-        }
-    }
-    let cache_hit = cached.is_some();
-    let table = match cached {
-        Some(t) => t,
-        None => {
-            let t = bake_table(
-                &probe,
+    prepare_table(
+        spec,
+        base,
+        cache_dir,
+        cache::TABLE_CACHE,
+        |bytes, opts, probe| {
+            params.check(probe.width(), probe.height())?;
+            Ok(cache::table_cache_key(
+                bytes,
+                opts,
+                material,
+                &params,
+                spec.exact_lights,
+                spec.intensity,
+            ))
+        },
+        |f, key, rotation| cache::read_entry(f, key, &params, rotation),
+        |probe, exact| {
+            bake_table(
+                probe,
                 material,
                 params,
-                &exact,
+                exact,
                 spec.intensity,
                 progress,
                 BakeFault::None,
-            )?;
-            if let Some(f) = &file {
-                // A cache that cannot be written only costs time: ignore the error.
-                if std::fs::create_dir_all(f.parent().unwrap_or(Path::new("."))).is_ok() {
-                    let _ = crate::image_io::write_atomic(f, &cache::encode_entry(&t, key));
-                }
-            }
-            t
-        }
-    };
-    Ok(PreparedReflection {
-        lights: texel_lights(&probe, &exact, spec.intensity),
-        table,
-        report,
-        cache_hit,
-        cache_rejected,
-        cache_file: file,
-    })
+            )
+        },
+    )
 }
 
 #[cfg(test)]

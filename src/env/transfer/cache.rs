@@ -4,7 +4,7 @@
 //! `sweep` never do).
 //!
 //! # Key
-//! [`StableHasher`] (XXH3-64) of a key tag, the crate version,
+//! [`StableHasher`](crate::hash::StableHasher) (XXH3-64) of a key tag, the crate version,
 //! [`TRANSFER_ALGORITHM_VERSION`], the probe file's bytes, the loader options that change
 //! texels (`zero_non_finite`, `max_texels`) and every table parameter: the basis (kind,
 //! bands, cosine), the grid `(nu, nv)`, the number of brightest texels left out, and the
@@ -23,12 +23,13 @@
 //! ([`crate::image_io::write_atomic`]: a unique temporary sibling, then a rename).
 
 use super::table::TransferTable;
-use super::TransferBasis;
+use super::{TableCache, TransferBasis};
 use crate::env::cache_entry::{
-    check_checksum, key_hasher, read_entry_bytes, EntryKind, Stamp, CRATE_VERSION,
+    encode_values_entry, impl_values_header, key_hasher, read_values_entry, values_checksum,
+    EntryKind, CRATE_VERSION,
 };
 use crate::env::LoadOptions;
-use crate::hash::{self, StableHasher};
+use crate::hash;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -90,18 +91,15 @@ fn versioned_key(algorithm: u32, bytes: &[u8], opts: &LoadOptions, p: &TablePara
     h.finish()
 }
 
+/// This cache's entries as [`crate::env::transfer::prepare_table`] names and writes them.
+pub const TABLE_CACHE: TableCache<TransferTable> = TableCache {
+    file_name: table_file_name,
+    encode: encode_entry,
+};
+
 /// The cache file of `key` in `dir`.
 pub fn table_file_name(dir: &Path, key: u64) -> PathBuf {
     ENTRY.file_name(dir, key)
-}
-
-/// XXH3-64 of the value count and the values' bits, stored in each entry and recomputed
-/// on read.
-pub fn values_checksum(values: &[f32]) -> u64 {
-    let mut h = StableHasher::new();
-    h.write_u64(values.len() as u64);
-    h.write_f32s(values.iter().copied());
-    h.finish()
 }
 
 /// The first line of an entry (module doc, "Format").
@@ -123,6 +121,8 @@ pub struct TableHeader {
     pub checksum: String,
 }
 
+impl_values_header!(TableHeader);
+
 /// The bytes of the entry of `table` under `key`.
 pub fn encode_entry(table: &TransferTable, key: u64) -> Vec<u8> {
     let (nu, nv) = table.grid();
@@ -138,13 +138,7 @@ pub fn encode_entry(table: &TransferTable, key: u64) -> Vec<u8> {
         values: values.len(),
         checksum: hash::tagged(values_checksum(values)),
     };
-    let mut out = serde_json::to_vec(&header).expect("a header serialises");
-    out.push(b'\n');
-    out.reserve(4 * values.len());
-    for v in values {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    out
+    encode_values_entry(&header, values)
 }
 
 /// Reads and checks the entry `path` for `key`, a table of `basis` on `grid` (module doc,
@@ -157,51 +151,31 @@ pub fn read_entry(
     grid: (usize, usize),
     rotation: f64,
 ) -> std::result::Result<Option<TransferTable>, String> {
-    let Some(bytes) = read_entry_bytes(path, MAX_ENTRY_BYTES, "transfer cache")? else {
-        return Ok(None);
-    };
-    let nl = bytes
-        .iter()
-        .position(|&b| b == b'\n')
-        .ok_or("no header line")?;
-    let h: TableHeader = serde_json::from_slice(&bytes[..nl])
-        .map_err(|e| format!("not a transfer cache entry: {e}"))?;
-    let stamp = Stamp {
-        format: &h.format,
-        crate_version: &h.crate_version,
-        algorithm_version: h.algorithm_version,
-        key: &h.key,
-    };
-    ENTRY.check_stamp(stamp, key)?;
     let n = grid.0 * grid.1 * 3 * basis.terms();
-    if (h.nu, h.nv, h.terms, h.values) != (grid.0, grid.1, basis.terms(), n) {
-        return Err(format!(
-            "grid {} x {}, {} terms, {} values; expected {} x {}, {} terms, {n} values",
-            h.nu,
-            h.nv,
-            h.terms,
-            h.values,
-            grid.0,
-            grid.1,
-            basis.terms()
-        ));
-    }
-    let body = &bytes[nl + 1..];
-    if body.len() != 4 * n {
-        return Err(format!(
-            "{} bytes of values, expected {}: truncated or padded",
-            body.len(),
-            4 * n
-        ));
-    }
-    let values: Vec<f32> = body
-        .chunks_exact(4)
-        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect();
-    check_checksum(&h.checksum, values_checksum(&values), "values")?;
-    Ok(Some(TransferTable::from_parts(
-        grid, basis, rotation, values,
-    )))
+    let expected = |h: &TableHeader| {
+        if (h.nu, h.nv, h.terms, h.values) != (grid.0, grid.1, basis.terms(), n) {
+            return Err(format!(
+                "grid {} x {}, {} terms, {} values; expected {} x {}, {} terms, {n} values",
+                h.nu,
+                h.nv,
+                h.terms,
+                h.values,
+                grid.0,
+                grid.1,
+                basis.terms()
+            ));
+        }
+        Ok(n)
+    };
+    let entry = read_values_entry(
+        path,
+        MAX_ENTRY_BYTES,
+        "transfer cache",
+        &ENTRY,
+        key,
+        expected,
+    )?;
+    Ok(entry.map(|(_, values)| TransferTable::from_parts(grid, basis, rotation, values)))
 }
 
 #[cfg(test)]

@@ -17,11 +17,11 @@
 //! - The header ([`TableFile`]): format tag [`FORMAT`], [`VERSION`], the values file's name
 //!   (relative to the header), the grid, the basis, the probe rotation (f32 radians, in its
 //!   shortest round-trip decimal form), the value count and the XXH3-64 checksum of the
-//!   values ([`super::cache::values_checksum`]).
+//!   values ([`crate::env::cache_entry::values_checksum`]).
 
-use super::cache::values_checksum;
 use super::table::TransferTable;
 use super::TransferBasis;
+use crate::env::cache_entry::values_checksum;
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

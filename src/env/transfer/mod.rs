@@ -95,42 +95,59 @@ impl TransferBasis {
 }
 
 use crate::env::schema::EnvSpec;
-use crate::env::{LightSet, LoadReport};
+use crate::env::{LightSet, LoadOptions, LoadReport, Probe};
 use crate::error::Result;
 use crate::progress::Progress;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// What [`prepare_transfer`] made for a scene's `[env]` with `method = "transfer"`.
+/// What [`prepare_table`] made for a scene's `[env]` of a tabulated method: a transfer
+/// table ([`PreparedTransfer`]) or a reflection table
+/// ([`crate::env::reflection::PreparedReflection`]).
 #[derive(Clone, Debug)]
-pub struct PreparedTransfer {
+pub struct PreparedTable<T> {
     /// The table of every texel but the brightest `exact_lights`.
-    pub table: TransferTable,
+    pub table: T,
     /// The brightest `exact_lights` texels as directional lights ([`build::texel_lights`]).
     pub lights: LightSet,
     /// The probe loader's report.
     pub report: LoadReport,
-    /// True when the table came from the disk cache ([`cache`]).
+    /// True when the table came from the disk cache.
     pub cache_hit: bool,
     /// Why an existing cache entry was not used (damaged, another version, ...).
     pub cache_rejected: Option<String>,
     /// The cache file used (read or written), if any.
-    pub cache_file: Option<std::path::PathBuf>,
+    pub cache_file: Option<PathBuf>,
 }
 
-/// Loads the probe of `spec` (relative to `base`) and builds its transfer table for
-/// `basis` on the spec's grid, the brightest `spec.exact_lights` texels split off as
-/// lights; `spec.intensity` scales both. With `cache_dir`, the table is read from its
-/// cache entry when one is valid, else built and written there ([`cache`]); the probe is
-/// decoded either way (milliseconds; the brightest texels come from it). `progress` counts
-/// table rows when the table is built (nothing on a cache hit). Errors name the file or
-/// the field.
-pub fn prepare_transfer(
+/// What [`prepare_transfer`] made for a scene's `[env]` with `method = "transfer"`.
+pub type PreparedTransfer = PreparedTable<TransferTable>;
+
+/// How [`prepare_table`] names and writes one method's cache entries.
+pub struct TableCache<T> {
+    /// The entry file of a key in a cache directory.
+    pub file_name: fn(&Path, u64) -> PathBuf,
+    /// The bytes of a table's entry under a key.
+    pub encode: fn(&T, u64) -> Vec<u8>,
+}
+
+/// The preparation every tabulated method shares: loads the probe of `spec` (relative to
+/// `base`), computes its cache key from the probe file's bytes, the loader options and the
+/// decoded probe (`key`, which also checks the method's parameters against the probe),
+/// reads the table from its entry in `cache_dir` when `read` (entry file, key, the probe's
+/// rotation) finds a valid one, else bakes it from the probe without the brightest
+/// `spec.exact_lights` texels (`bake`, given their indices) and writes it there
+/// atomically; those texels become lights scaled by `spec.intensity`. The probe is decoded
+/// either way (milliseconds; the brightest texels come from it). Errors name the file or
+/// the field; a cache that cannot be written only costs time and is not one.
+pub fn prepare_table<T>(
     spec: &EnvSpec,
     base: &Path,
-    basis: TransferBasis,
     cache_dir: Option<&Path>,
-    progress: &Progress,
-) -> Result<PreparedTransfer> {
+    cache: TableCache<T>,
+    key: impl FnOnce(&[u8], &LoadOptions, &Probe) -> Result<u64>,
+    read: impl FnOnce(&Path, u64, f64) -> std::result::Result<Option<T>, String>,
+    bake: impl FnOnce(&Probe, &[usize]) -> Result<T>,
+) -> Result<PreparedTable<T>> {
     spec.check()?;
     let path = base.join(&spec.file);
     let bytes = crate::image_io::read_regular_file(
@@ -140,19 +157,13 @@ pub fn prepare_transfer(
     )?;
     let opts = spec.load_options();
     let (probe, report) = crate::env::probe::load_probe(&path, &opts)?;
-    let exact = brightest_texels(&probe, spec.exact_lights);
-    let params = cache::TableParams {
-        basis,
-        grid: (spec.transfer_azimuth, spec.transfer_polar),
-        exact_lights: spec.exact_lights,
-        intensity: spec.intensity,
-    };
-    let key = cache::table_cache_key(&bytes, &opts, &params);
+    let key = key(&bytes, &opts, &probe)?;
     drop(bytes);
-    let file = cache_dir.map(|d| cache::table_file_name(d, key));
+    let exact = brightest_texels(&probe, spec.exact_lights);
+    let file = cache_dir.map(|d| (cache.file_name)(d, key));
     let (mut cached, mut cache_rejected) = (None, None);
     if let Some(f) = &file {
-        match cache::read_entry(f, key, basis, params.grid, probe.rotation()) {
+        match read(f, key, probe.rotation()) {
             Ok(t) => cached = t,
             Err(why) => cache_rejected = Some(why),
         }
@@ -161,25 +172,17 @@ pub fn prepare_transfer(
     let table = match cached {
         Some(t) => t,
         None => {
-            let t = build_table(
-                &probe,
-                basis,
-                params.grid,
-                &exact,
-                spec.intensity,
-                progress,
-                BuildFault::None,
-            )?;
+            let t = bake(&probe, &exact)?;
             if let Some(f) = &file {
                 // A cache that cannot be written only costs time: ignore the error.
                 if std::fs::create_dir_all(f.parent().unwrap_or(Path::new("."))).is_ok() {
-                    let _ = crate::image_io::write_atomic(f, &cache::encode_entry(&t, key));
+                    let _ = crate::image_io::write_atomic(f, &(cache.encode)(&t, key));
                 }
             }
             t
         }
     };
-    Ok(PreparedTransfer {
+    Ok(PreparedTable {
         lights: build::texel_lights(&probe, &exact, spec.intensity),
         table,
         report,
@@ -187,6 +190,46 @@ pub fn prepare_transfer(
         cache_rejected,
         cache_file: file,
     })
+}
+
+/// Loads the probe of `spec` (relative to `base`) and builds its transfer table for
+/// `basis` on the spec's grid, the brightest `spec.exact_lights` texels split off as
+/// lights; `spec.intensity` scales both. With `cache_dir`, the table is read from its
+/// cache entry when one is valid, else built and written there ([`cache`],
+/// [`prepare_table`]). `progress` counts table rows when the table is built (nothing on a
+/// cache hit). Errors name the file or the field.
+pub fn prepare_transfer(
+    spec: &EnvSpec,
+    base: &Path,
+    basis: TransferBasis,
+    cache_dir: Option<&Path>,
+    progress: &Progress,
+) -> Result<PreparedTransfer> {
+    let params = cache::TableParams {
+        basis,
+        grid: (spec.transfer_azimuth, spec.transfer_polar),
+        exact_lights: spec.exact_lights,
+        intensity: spec.intensity,
+    };
+    prepare_table(
+        spec,
+        base,
+        cache_dir,
+        cache::TABLE_CACHE,
+        |bytes, opts, _| Ok(cache::table_cache_key(bytes, opts, &params)),
+        |f, key, rotation| cache::read_entry(f, key, basis, params.grid, rotation),
+        |probe, exact| {
+            build_table(
+                probe,
+                basis,
+                params.grid,
+                exact,
+                spec.intensity,
+                progress,
+                BuildFault::None,
+            )
+        },
+    )
 }
 
 #[cfg(test)]
