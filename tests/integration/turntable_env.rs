@@ -1,6 +1,6 @@
 //! Turning the environment (`render --turntable N --turntable-env`): frame `k` of `N` is
 //! the static render of the scene file whose `[env] rotation` is `360 k / N` degrees, for
-//! every `[env] method` (`lights`, `transfer`, `lightcuts`, `auto`) and every material
+//! every `[env] method` (`lights`, `transfer`, `lightcuts`, `reflection`, `auto`) and every material
 //! class of the sweep (diffuse: Lambert; sh-glossy: the library's teal-paint SH data set;
 //! glossy: Blinn-Phong 200) plus a D-BRDF (the library's lindt-paper). Every method builds
 //! the environment again at the frame's rotation, so the tolerance is zero: the same bits.
@@ -32,7 +32,7 @@ const CLASSES: [(&str, &str); 4] = [
 ];
 
 /// Small tables and sets: the check is of turning, not of accuracy.
-const METHODS: [(&str, &str); 4] = [
+const METHODS: [(&str, &str); 5] = [
     (
         "lights",
         "method = \"lights\"\nsampler = \"median-cut\"\ncount = 32",
@@ -43,17 +43,23 @@ const METHODS: [(&str, &str); 4] = [
     ),
     ("lightcuts", "method = \"lightcuts\"\ncut_error = 0.02"),
     (
+        "reflection",
+        "method = \"reflection\"\nreflection_grid = 16\nreflection_slices = 4\nreflection_residual = 64",
+    ),
+    (
         "auto",
         "transfer_azimuth = 32\ntransfer_polar = 17\nexact_lights = 8\ncut_error = 0.02",
     ),
 ];
 
 /// The pairs a method cannot shade (a transfer table: SH data sets and Lambert only;
-/// light cuts: no cone bound for an SH data set).
-const REFUSED: [(&str, &str); 3] = [
+/// light cuts: no cone bound for an SH data set; a reflection table: isotropic materials
+/// only, and lindt-paper is anisotropic).
+const REFUSED: [(&str, &str); 4] = [
     ("transfer", "glossy"),
     ("transfer", "dbrdf"),
     ("lightcuts", "sh-glossy"),
+    ("reflection", "dbrdf"),
 ];
 
 fn text(material: &str, env: &str, rotation: f64) -> String {
