@@ -19,6 +19,10 @@ use brdfkit::render::{render, RenderOptions};
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
 use std::path::{Path, PathBuf};
 
+/// A cell of the sheet, in row-major order: the material and the probe (none: the
+/// default scene's directional light).
+type Cell<'a> = (&'a str, Option<&'a str>);
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let out = args
@@ -26,9 +30,7 @@ fn main() {
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("assets/readme/materials.png"));
     let probes: Vec<&str> = args.iter().skip(1).map(String::as_str).collect();
-    // Cells in row-major order: (material, probe or none).
-    let (cell, per_row, cells): ((u32, u32), u32, Vec<(&str, Option<&str>)>) = if probes.is_empty()
-    {
+    let (cell, per_row, cells): ((u32, u32), u32, Vec<Cell>) = if probes.is_empty() {
         (
             (240, 180),
             4,
