@@ -16,6 +16,7 @@ pub mod lights_overlay;
 pub mod lights_report;
 pub mod parse;
 mod render;
+mod render_shard;
 pub mod source;
 mod sweep;
 mod turntable;
@@ -366,9 +367,12 @@ pub struct RenderArgs {
     /// With --turntable: keep the camera still and turn the environment about +y instead (frame k: [env] rotation + 360 k / N degrees, every method).
     #[arg(long, requires = "turntable")]
     pub turntable_env: bool,
-    /// With --turntable: write only frames k with k % N == I (0-based I/N) and no GIF; --assemble makes the GIF after.
-    #[arg(long, value_name = "I/N", requires = "turntable")]
+    /// Only shard I of N (0-based I/N), for array jobs. With --turntable: only frames k with k % N == I, and no GIF (--assemble makes it after). A still image (any render, --reference included): only its bands of rows b with b % N == I (a band is a whole number of tiles, 32 rows by default), written to -o PART.exr as a partial image whose header records the shard, the full size and the scene's hash; --merge joins the N parts.
+    #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
+    /// Render nothing: join the partial images of `render --shard I/N` (every shard 0..N once, all of one scene and size) into -o (.exr or .png; default out.png and out.exr), the bits of the unsharded render.
+    #[arg(long, value_name = "PART", num_args = 1.., conflicts_with_all = ["turntable", "shard", "reference", "device"])]
+    pub merge: Vec<PathBuf>,
     /// With --turntable: render nothing; build OUT.gif from the existing OUT_0000.png ... frames.
     #[arg(long, requires = "turntable")]
     pub assemble: bool,

@@ -53,6 +53,7 @@ mod peer_rgl;
 mod perturbation;
 mod reflection_scene;
 mod render_options;
+mod render_shards;
 mod rgl_files;
 mod robustness;
 mod sh_basis;
