@@ -67,7 +67,7 @@ pub struct Part {
 /// `path`, atomically ([`write_atomically`]): nothing appears under `path` on failure.
 pub fn write_part(path: &Path, header: &PartHeader, pixels: &[Vec3]) -> Result<()> {
     let w = header.width as usize;
-    assert!(w > 0 && !pixels.is_empty() && pixels.len() % w == 0);
+    assert!(w > 0 && !pixels.is_empty() && pixels.len().is_multiple_of(w));
     let h = pixels.len() / w;
     let mut attrs = LayerAttributes::named(text("rgb"));
     let o = &mut attrs.other;

@@ -36,6 +36,7 @@ mod frame_invariance;
 mod golden;
 mod golden_cameras;
 mod golden_list;
+mod golden_shards;
 mod help_text;
 mod interrupt;
 mod kernel;
