@@ -31,6 +31,12 @@ pub fn run(action: GoldenAction) -> Result<bool> {
                 return Ok(passed);
             }
             if device == GoldenDevice::Gpu {
+                if shard.is_some() || json.is_some() {
+                    return Err(Error::field(
+                        "--shard/--json",
+                        "shard the CPU check only: not with --device gpu",
+                    ));
+                }
                 if bounds {
                     return Err(Error::field(
                         "--bounds",
