@@ -17,6 +17,7 @@ pub mod display;
 pub mod exr_guard;
 pub mod interrupt;
 mod output_check;
+pub mod shard_part;
 
 pub use atomic::replace_via_temp;
 pub use display::{display_u8, encode_u8, srgb_encode, to_u8, Tonemap};

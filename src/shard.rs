@@ -21,6 +21,10 @@
 //! brdfkit sweep --merge sweep-0.csv sweep-1.csv sweep-2.csv sweep-3.csv -o sweep.csv --plot sweep.png
 //! ```
 //!
+//! A still image the same way, by bands of rows ([`RowBands`]): `brdfkit render --shard
+//! "$SLURM_ARRAY_TASK_ID/4" -o part_$SLURM_ARRAY_TASK_ID.exr` per task (band `b` of the
+//! image to shard `b % N`), then `brdfkit render --merge part_*.exr -o full.exr`.
+//!
 //! A turntable the same way: `brdfkit render --turntable 120 --shard "$SLURM_ARRAY_TASK_ID/4"
 //! -o spin.png` per task, then `brdfkit render --turntable 120 --assemble -o spin.png`.
 //! (Give every shard the same shared reference cache, `--cache DIR`, or let the first task
@@ -92,6 +96,30 @@ impl std::str::FromStr for Shard {
     }
 }
 
+/// The rows of a still image split into shards: bands of `rows` image rows, band `b` (rows
+/// `b rows .. (b + 1) rows`, the last one shorter) to shard `b % N`. Interleaved bands keep
+/// the shards' work even when the object fills only part of the frame. `rows` is a whole
+/// number of the renderer's tiles (the renderer chooses it: `crate::render::shard_rows`), so
+/// a shard shades whole tiles and its pixels are the unsharded render's bits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowBands {
+    pub shard: Shard,
+    /// Image rows per band (at least 1).
+    pub rows: u32,
+}
+
+impl RowBands {
+    /// Whether image row `y` belongs to this shard.
+    pub fn owns(&self, y: u32) -> bool {
+        self.shard.contains((y / self.rows) as usize)
+    }
+
+    /// How many of the rows `0..height` belong to this shard.
+    pub fn rows_owned(&self, height: u32) -> u32 {
+        (0..height).filter(|&y| self.owns(y)).count() as u32
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -136,5 +164,28 @@ mod tests {
                 assert_eq!(owners, 1, "item {k} of {n} shards");
             }
         }
+    }
+
+    #[test]
+    fn row_bands_partition_rows() {
+        for n in 1..5 {
+            for rows in [1, 8, 32] {
+                let total: u32 = (0..n)
+                    .map(|i| {
+                        RowBands {
+                            shard: Shard { index: i, count: n },
+                            rows,
+                        }
+                        .rows_owned(100)
+                    })
+                    .sum();
+                assert_eq!(total, 100, "{n} shards of {rows}-row bands");
+            }
+        }
+        let b = RowBands {
+            shard: Shard { index: 1, count: 2 },
+            rows: 8,
+        };
+        assert!(!b.owns(7) && b.owns(8) && b.owns(15) && !b.owns(16));
     }
 }

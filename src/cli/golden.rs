@@ -4,6 +4,7 @@ use super::{GoldenAction, GoldenDevice};
 use crate::error::{Error, Result};
 use crate::golden::CheckOptions;
 use crate::kernel::lanes::Dispatch;
+use crate::shard::Shard;
 use std::path::PathBuf;
 
 pub fn run(action: GoldenAction) -> Result<bool> {
@@ -15,8 +16,27 @@ pub fn run(action: GoldenAction) -> Result<bool> {
             bounds,
             device,
             gpu_fault,
+            shard,
+            json,
+            merge,
         } => {
+            if !merge.is_empty() {
+                let (outcomes, bounds_failed, passed) =
+                    crate::golden::shard::merge_check_reports(&merge)?;
+                print_outcomes(&outcomes);
+                for b in &bounds_failed {
+                    println!("{b:<34} FAIL  fast vs reference bound");
+                }
+                println!("golden check: {} shard reports merged", merge.len());
+                return Ok(passed);
+            }
             if device == GoldenDevice::Gpu {
+                if shard.is_some() || json.is_some() {
+                    return Err(Error::field(
+                        "--shard/--json",
+                        "shard the CPU check only: not with --device gpu",
+                    ));
+                }
                 if bounds {
                     return Err(Error::field(
                         "--bounds",
@@ -36,33 +56,41 @@ pub fn run(action: GoldenAction) -> Result<bool> {
                 ));
             }
             let opts = CheckOptions { kernel };
-            let outcomes = crate::golden::check(&dir, &report, &names, &opts)?;
-            let mut ok = true;
-            for o in &outcomes {
-                println!(
-                    "{:<34} {}  max abs error {:.3e}  {}",
-                    o.name,
-                    if o.passed { "pass" } else { "FAIL" },
-                    o.max_abs_error,
-                    o.message
-                );
-                ok &= o.passed;
+            let stamp = crate::golden::shard::stamp(
+                &dir,
+                &names,
+                match &shard {
+                    Some(s) => Shard::parse(s)?,
+                    None => Shard::ALL,
+                },
+                crate::golden::shard::CHECK_REPORT_FORMAT,
+            )?;
+            if let Some(j) = &json {
+                crate::image_io::check_output(j, &["json"], "--json")?;
             }
-            let failed = outcomes.iter().filter(|o| !o.passed).count();
-            println!(
-                "golden check: {} entries, {} passed, {} failed",
-                outcomes.len(),
-                outcomes.len() - failed,
-                failed
-            );
+            // A shard with no entry checks nothing (an empty list would mean every entry).
+            let outcomes = if stamp.entries.is_empty() {
+                Vec::new()
+            } else {
+                crate::golden::check(&dir, &report, &stamp.entries, &opts)?
+            };
+            let mut ok = outcomes.iter().all(|o| o.passed);
+            print_outcomes(&outcomes);
             if !ok {
                 println!(
                     "expected | difference | actual images and JSON reports: {}",
                     report.display()
                 );
             }
-            if bounds {
-                let measured = crate::golden::check_bounds(&dir, &names)?;
+            let mut bounds_failed = Vec::new();
+            if bounds && !stamp.entries.is_empty() {
+                let measured = crate::golden::check_bounds(&dir, &stamp.entries)?;
+                bounds_failed.extend(
+                    measured
+                        .iter()
+                        .filter(|b| !b.passed)
+                        .map(|b| b.name.clone()),
+                );
                 for b in &measured {
                     println!(
                         "{:<34} {}  fast vs reference at 1/{}: max abs {:.3e} (stored {:.3e})  rel RMSE {:.3e} ({:.3e})  FLIP mean {:.4} ({:.4})",
@@ -85,6 +113,18 @@ pub fn run(action: GoldenAction) -> Result<bool> {
                     measured.len() - failed,
                     failed
                 );
+            }
+            if let Some(j) = &json {
+                crate::golden::shard::write_json(
+                    j,
+                    &crate::golden::shard::CheckReport {
+                        stamp,
+                        outcomes,
+                        bounds_failed,
+                        passed: ok,
+                    },
+                )?;
+                println!("wrote {}", j.display());
             }
             Ok(ok)
         }
@@ -113,19 +153,72 @@ pub fn run(action: GoldenAction) -> Result<bool> {
             }
             Ok(true)
         }
-        GoldenAction::Bless { names, dir, kernel } => {
+        GoldenAction::Bless {
+            names,
+            dir,
+            kernel,
+            shard,
+            records,
+            merge,
+        } => {
+            if !merge.is_empty() {
+                let merged = crate::golden::shard::merge_bless_records(&dir, &merge)?;
+                println!(
+                    "merged {} records from {} shards into {}",
+                    merged.len(),
+                    merge.len(),
+                    crate::golden::manifest_path(&dir).display()
+                );
+                return Ok(true);
+            }
             if Dispatch::choose(kernel).is_none() {
                 return Err(Error::field(
                     "--kernel",
                     format!("'{}' is not available on this CPU", kernel.name()),
                 ));
             }
-            for p in crate::golden::bless(&dir, &names, &CheckOptions { kernel })? {
+            let opts = CheckOptions { kernel };
+            let written = match (&shard, &records) {
+                (Some(s), Some(r)) => {
+                    crate::image_io::check_output(r, &["toml"], "--records")?;
+                    let w = crate::golden::shard::bless_shard(
+                        &dir,
+                        &names,
+                        Shard::parse(s)?,
+                        &opts,
+                        r,
+                    )?;
+                    println!("wrote {}", r.display());
+                    w
+                }
+                _ => crate::golden::bless(&dir, &names, &opts)?,
+            };
+            for p in written {
                 println!("blessed {}", p.display());
             }
             Ok(true)
         }
     }
+}
+
+/// One line per entry's outcome, then the summary line of `golden check`.
+fn print_outcomes(outcomes: &[crate::golden::Outcome]) {
+    for o in outcomes {
+        println!(
+            "{:<34} {}  max abs error {:.3e}  {}",
+            o.name,
+            if o.passed { "pass" } else { "FAIL" },
+            o.max_abs_error,
+            o.message
+        );
+    }
+    let failed = outcomes.iter().filter(|o| !o.passed).count();
+    println!(
+        "golden check: {} entries, {} passed, {} failed",
+        outcomes.len(),
+        outcomes.len() - failed,
+        failed
+    );
 }
 
 /// `golden check --device gpu`: one line per entry (pass, FAIL or skip with the reason) and

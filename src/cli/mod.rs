@@ -16,6 +16,7 @@ pub mod lights_overlay;
 pub mod lights_report;
 pub mod parse;
 mod render;
+mod render_shard;
 pub mod source;
 mod sweep;
 mod turntable;
@@ -366,9 +367,12 @@ pub struct RenderArgs {
     /// With --turntable: keep the camera still and turn the environment about +y instead (frame k: [env] rotation + 360 k / N degrees, every method).
     #[arg(long, requires = "turntable")]
     pub turntable_env: bool,
-    /// With --turntable: write only frames k with k % N == I (0-based I/N) and no GIF; --assemble makes the GIF after.
-    #[arg(long, value_name = "I/N", requires = "turntable")]
+    /// Only shard I of N (0-based I/N), for array jobs. With --turntable: only frames k with k % N == I, and no GIF (--assemble makes it after). A still image (any render, --reference included): only its bands of rows b with b % N == I (a band is a whole number of tiles, 32 rows by default), written to -o PART.exr as a partial image whose header records the shard, the full size and the scene's hash; --merge joins the N parts.
+    #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
+    /// Render nothing: join the partial images of `render --shard I/N` (every shard 0..N once, all of one scene and size) into -o (.exr or .png; default out.png and out.exr), the bits of the unsharded render.
+    #[arg(long, value_name = "PART", num_args = 1.., conflicts_with_all = ["turntable", "shard", "reference", "device"])]
+    pub merge: Vec<PathBuf>,
     /// With --turntable: render nothing; build OUT.gif from the existing OUT_0000.png ... frames.
     #[arg(long, requires = "turntable")]
     pub assemble: bool,
@@ -428,6 +432,15 @@ pub enum GoldenAction {
         /// Seeded GPU fault (half-texel, no-cosine, mirrored-azimuth, srgb-twice), to show that the check fails on it.
         #[arg(long, hide = true)]
         gpu_fault: Option<String>,
+        /// Only shard I of N (0-based I/N): entries k with k % N == I of the selection (the names given, else every entry) in manifest order. With --json, a report to merge.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Also write a JSON report (the shard, the selection, the manifest's hash, each entry's outcome) to FILE, for `golden check --merge`.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+        /// Check nothing: merge the --json reports of every shard (0..N, each once, of one manifest and selection) into one verdict, with the exit status of an unsharded check.
+        #[arg(long, value_name = "REPORT", num_args = 1.., conflicts_with_all = ["shard", "json", "bounds", "names"])]
+        merge: Vec<PathBuf>,
     },
     /// List the golden entries for scripts: one line per entry, tab-separated: name, scene file, FLIP bounds of the manifest (mean=M,p99=V), FLIP bounds a GPU build is held to (golden/gpu-bounds.toml's, else the manifest's), AOV (- for a shaded image).
     List {
@@ -447,6 +460,15 @@ pub enum GoldenAction {
         /// Kernel path to render on (recorded in the manifest's blessed_on).
         #[arg(long, value_enum, default_value = "auto")]
         kernel: crate::kernel::lanes::KernelPath,
+        /// Only shard I of N (0-based I/N): entries k with k % N == I of the selection in manifest order. Writes those entries' images, and their manifest records to --records FILE instead of the manifest; `golden bless --merge` writes the records into the manifest.
+        #[arg(long, value_name = "I/N", requires = "records")]
+        shard: Option<String>,
+        /// With --shard: where the shard's manifest records go (TOML).
+        #[arg(long, value_name = "FILE", requires = "shard")]
+        records: Option<PathBuf>,
+        /// Bless nothing: write the --records of every shard (0..N, each once, from this manifest) into the manifest and the README table.
+        #[arg(long, value_name = "RECORDS", num_args = 1.., conflicts_with_all = ["shard", "records", "names"])]
+        merge: Vec<PathBuf>,
     },
 }
 

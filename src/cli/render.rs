@@ -49,6 +49,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
             return Ok(());
         }
     }
+    if !a.merge.is_empty() {
+        return super::render_shard::merge(&a);
+    }
     let (mut file, base) = scene_file(&a.common, a.reference)?;
     // How the probe's warnings name it: as the user gave it.
     let probe_name = file.env.as_ref().map(|env| probe_label(&a.common, env));
@@ -107,6 +110,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             image_io::check_output(p, allowed, flag)?;
         }
     }
+    let part = super::render_shard::plan(&a, &file, &base, &outputs)?;
     let formats = outputs
         .iter()
         .map(|p| image_io::format_of(p))
@@ -207,6 +211,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     opts.aov = a.common.aov;
     opts.threads = Some(scene.render.threads);
     opts.stats = a.common.stats && !reference;
+    opts.rows = part.as_ref().map(|p| p.bands);
     // Tiles counted by the shading loop: a bar with an ETA on a terminal, nothing off one,
     // for the renders that can take more than about a second (the reference takes
     // minutes, the f64 path seconds; the kernels only at FAST_BAR_PIXELS and beyond).
@@ -220,7 +225,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     };
     if let Some(what) = what {
-        opts.shading.progress = Progress::bar(render::tile_count(&scene), what, "tiles");
+        let what = part.as_ref().map_or(what.to_string(), |p| p.label(what));
+        opts.shading.progress =
+            Progress::bar(render::tile_count_in(&scene, opts.rows), &what, "tiles");
     }
     let rendered = match &gpu {
         Some(g) => render::Rendered {
@@ -264,6 +271,18 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 neg.min
             );
         }
+    }
+    if let Some(p) = &part {
+        let path = p.write(&img)?;
+        eprintln!(
+            "wrote {} (shard {} of {}x{}, {:.1} ms)",
+            path.display(),
+            p.bands.shard,
+            img.width,
+            img.height,
+            elapsed.as_secs_f64() * 1e3
+        );
+        return Ok(());
     }
     for (path, fmt) in outputs.iter().zip(formats) {
         match (fmt, a.common.aov) {

@@ -47,6 +47,7 @@ mod gpu_check;
 mod list;
 mod manifest;
 mod report;
+pub mod shard;
 mod summary;
 mod tolerance;
 
@@ -151,7 +152,7 @@ pub struct CheckOptions {
 }
 
 /// The outcome of comparing one entry.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct Outcome {
     pub name: String,
     pub passed: bool,
@@ -351,6 +352,19 @@ pub fn check(
 /// table in the directory's `README.md` ([`readme_table`]). Every entry is rendered before
 /// anything is written, so a failing entry leaves golden/ as it was.
 pub fn bless(dir: &Path, names: &[String], opts: &CheckOptions) -> Result<Vec<PathBuf>> {
+    let (manifest, written) = bless_images(dir, names, opts)?;
+    write_manifest(dir, &manifest)?;
+    Ok(written)
+}
+
+/// [`bless`] without writing the manifest and README: the named entries' images written,
+/// and the manifest as it will be with their records updated (the sharded bless,
+/// `shard.rs`, writes only its own entries' records).
+pub fn bless_images(
+    dir: &Path,
+    names: &[String],
+    opts: &CheckOptions,
+) -> Result<(Manifest, Vec<PathBuf>)> {
     let mut manifest = load_manifest(dir)?;
     for n in names {
         Entry::find(&manifest, &manifest_path(dir), n)?;
@@ -386,22 +400,28 @@ pub fn bless(dir: &Path, names: &[String], opts: &CheckOptions) -> Result<Vec<Pa
         entry.hash = content_hash(&image_io::read_exr(&path)?);
         written.push(path);
     }
+    Ok((manifest, written))
+}
+
+/// Writes `manifest` to `dir`'s manifest.toml (with its header comment) and the table of
+/// `dir`'s README.md, each atomically.
+pub fn write_manifest(dir: &Path, manifest: &Manifest) -> Result<()> {
     let mpath = manifest_path(dir);
     let text = format!(
         "# Golden images: see README.md. config, hash, blessed_on and fast_vs_reference(_small)\n\
          # are written by `brdfkit golden bless`; everything else by hand.\n\n{}",
-        toml::to_string_pretty(&manifest).expect("serialisable")
+        toml::to_string_pretty(manifest).expect("serialisable")
     );
     image_io::write_atomically(&mpath, |tmp| {
         std::fs::write(tmp, &text).map_err(|e| Error::io(&mpath, "cannot write manifest", e))
     })?;
     let readme = dir.join("README.md");
     if let Ok(old) = std::fs::read_to_string(&readme) {
-        if let Some(new) = with_readme_table(&old, &manifest) {
+        if let Some(new) = with_readme_table(&old, manifest) {
             image_io::write_atomically(&readme, |tmp| {
                 std::fs::write(tmp, &new).map_err(|e| Error::io(&readme, "cannot write", e))
             })?;
         }
     }
-    Ok(written)
+    Ok(())
 }

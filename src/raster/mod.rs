@@ -94,8 +94,12 @@ pub struct VisBuffer {
     pub depth: Vec<f32>,
     /// Number of covering triangles per pixel, when counted.
     pub coverage: Option<Vec<u32>>,
-    /// Whether each tile received any triangle.
+    /// Whether each tile received any triangle (false for every tile of a row left to
+    /// another shard: [`VisBuffer::leave_tile_row`]).
     pub tile_occupied: Vec<bool>,
+    /// Per row of tiles: whether it is left to another shard of a sharded still image
+    /// ([`VisBuffer::leave_tile_row`]); all false from [`rasterize`].
+    pub tile_row_left: Vec<bool>,
     /// The set-up triangles that `visible` indexes.
     pub triangles: Vec<SetupTriangle>,
     /// The camera ray through each pixel centre, when the caller knows the camera
@@ -132,6 +136,18 @@ impl PixelRays {
 }
 
 impl VisBuffer {
+    /// Leaves row of tiles `ty` to another shard (`render --shard`): its tiles count as
+    /// empty for every pass (nothing is shaded there; its pixels stay black) and the tile
+    /// loop neither visits nor counts them, so a progress bar counts this shard's tiles only.
+    pub fn leave_tile_row(&mut self, ty: u32) {
+        let (start, end) = (
+            (ty * self.tiles_x) as usize,
+            ((ty + 1) * self.tiles_x) as usize,
+        );
+        self.tile_occupied[start..end].fill(false);
+        self.tile_row_left[ty as usize] = true;
+    }
+
     /// Index of pixel `(x, y)` in the tile-major arrays.
     #[inline]
     pub fn index(&self, x: u32, y: u32) -> usize {
@@ -288,6 +304,7 @@ pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> V
         depth,
         coverage,
         tile_occupied,
+        tile_row_left: vec![false; tiles_y as usize],
         triangles: setup,
         rays: None,
     }

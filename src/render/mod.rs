@@ -22,6 +22,7 @@ use crate::image_io::Image;
 use crate::raster::{self, RasterConfig, VisBuffer};
 use crate::scene::Scene;
 use crate::shade;
+use crate::shard::{RowBands, Shard};
 use glam::Vec4;
 
 /// Clip-space positions of the scene's mesh vertices (`clip_from_world` applied).
@@ -70,6 +71,45 @@ pub fn tile_count(scene: &Scene) -> u64 {
     r.width.div_ceil(r.tile_size) as u64 * r.height.div_ceil(r.tile_size) as u64
 }
 
+/// Image rows per band of a sharded still image ([`RowBands`], [`RenderOptions::rows`]) at
+/// tile size `tile_size` (the scene's `render.tile_size`): the least common multiple of it and the light cuts' square
+/// ([`shade::CUT_TILE`]), so a band holds whole tiles and whole cut squares, and a shard
+/// shades exactly what the unsharded render shades there.
+pub fn shard_rows(tile_size: u32) -> u32 {
+    let (a, b) = (tile_size, shade::CUT_TILE);
+    let gcd = |mut a: u32, mut b: u32| {
+        while b != 0 {
+            (a, b) = (b, a % b);
+        }
+        a
+    };
+    a / gcd(a, b) * b
+}
+
+/// The bands of shard `shard` of an image rendered at tile size `tile_size` ([`shard_rows`]).
+pub fn row_bands(tile_size: u32, shard: Shard) -> RowBands {
+    RowBands {
+        shard,
+        rows: shard_rows(tile_size),
+    }
+}
+
+/// Tiles a render with [`RenderOptions::rows`] `rows` shades or skips: [`tile_count`]'s,
+/// less the rows of tiles left to other shards (the length of that render's progress bar).
+pub fn tile_count_in(scene: &Scene, rows: Option<RowBands>) -> u64 {
+    let r = &scene.render;
+    let tiles_x = r.width.div_ceil(r.tile_size) as u64;
+    match rows {
+        None => tile_count(scene),
+        Some(b) => {
+            let kept = (0..r.height.div_ceil(r.tile_size))
+                .filter(|&ty| b.owns(ty * r.tile_size))
+                .count() as u64;
+            kept * tiles_x
+        }
+    }
+}
+
 /// A rendered image and, when [`RenderOptions::stats`] asked for it, the work done.
 #[derive(Clone, Debug)]
 pub struct Rendered {
@@ -84,7 +124,8 @@ pub struct Rendered {
 /// `opts.shading.path` overrides it) or, with `opts.aov`, that debug output. A beauty render
 /// computes no AOV and counts no coverage; an AOV render shades nothing. With
 /// `opts.threads`, on a dedicated pool of that many threads; the image is the same for any
-/// thread count.
+/// thread count. With `opts.rows`, only that shard's rows (the others black; an AOV is
+/// computed whole, it is cheap).
 pub fn render(scene: &Scene, opts: &RenderOptions) -> Rendered {
     match opts.threads {
         None => render_here(scene, opts),
@@ -98,7 +139,15 @@ pub fn render(scene: &Scene, opts: &RenderOptions) -> Rendered {
 
 /// [`render`] on the current rayon pool.
 fn render_here(scene: &Scene, opts: &RenderOptions) -> Rendered {
-    let vis = rasterize(scene, opts.aov.is_some_and(Aov::needs_coverage));
+    let mut vis = rasterize(scene, opts.aov.is_some_and(Aov::needs_coverage));
+    if let Some(b) = opts.rows {
+        assert_eq!(b.rows % vis.tile_size, 0, "shard bands of whole tiles");
+        for ty in 0..vis.tiles_y {
+            if !b.owns(ty * vis.tile_size) {
+                vis.leave_tile_row(ty);
+            }
+        }
+    }
     let mut stats = RenderStats {
         tiles: vis.tile_occupied.len() as u64,
         coverage_counted: vis.coverage.is_some(),

@@ -9,6 +9,7 @@
 
 use crate::aov::Aov;
 use crate::shade::{ShadeOptions, ShadingPath};
+use crate::shard::RowBands;
 
 /// How to render a scene; see the module doc. Build one with struct-update syntax:
 /// `RenderOptions { stats: true, ..RenderOptions::default() }`.
@@ -27,6 +28,11 @@ pub struct RenderOptions {
     /// skips), the kernel instruction set, light culling, and where tiles are counted
     /// (progress). Not used by an AOV render.
     pub shading: ShadeOptions,
+    /// Only the rows of one shard of a still image (`render --shard I/N`): the bands of
+    /// rows of [`RowBands`] (band height [`super::shard_rows`]) that the shard owns are
+    /// rendered, every other pixel stays black; the owned pixels are the bits of the
+    /// unsharded render. `None` renders every row.
+    pub rows: Option<RowBands>,
 }
 
 impl RenderOptions {

@@ -96,7 +96,7 @@ pub use {
     counts::ShadeCounts,
     entry::{shade, Shaded},
     gbuffer::{surface_at, surface_at_index, Surface},
-    lightcuts::CutStats,
+    lightcuts::{tile::CUT_TILE, CutStats},
     options::{effective_frame_rule, FrameCheck, ShadeOptions, ShadingPath},
     packed_analytic::PACKED_MAX_LIGHTS,
     prep::FramePrep,

@@ -111,7 +111,8 @@ pub(super) fn bands<W, R: Send>(
 /// The tile loop of every shading path: [`bands`] of one row of tiles, and in each its tiles
 /// in order: `tile(state, tile's pixels, the band's pixels)` for each tile a triangle
 /// touched (the others are skipped without a look at a pixel), every tile, shaded or
-/// skipped, counted into `progress` once it is done (per tile, never per pixel). Returns
+/// skipped, counted into `progress` once it is done (per tile, never per pixel); a row of
+/// tiles left to another shard ([`VisBuffer::leave_tile_row`]) is neither shaded nor counted. Returns
 /// the tiles' results summed, per band in tile order and then in band order.
 pub(super) fn for_each_tile<W, R>(
     image: &mut Image,
@@ -125,6 +126,10 @@ where
 {
     bands(image, vis.tile_size, init, |state, ty, _, band| {
         let mut sum = R::default();
+        // A row left to another shard: not shaded, not counted.
+        if vis.tile_row_left[ty] {
+            return sum;
+        }
         for tx in 0..vis.tiles_x as usize {
             let t = ty * vis.tiles_x as usize + tx;
             if vis.tile_occupied[t] {

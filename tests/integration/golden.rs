@@ -20,7 +20,7 @@ fn golden_dir() -> std::path::PathBuf {
 
 /// A copy of golden/ in a temporary directory (probe paths `../assets/` made absolute),
 /// with `edits` (file name, text to find, replacement) applied to its scene files.
-fn golden_copy(edits: &[(&str, &str, &str)]) -> tempfile::TempDir {
+pub(crate) fn golden_copy(edits: &[(&str, &str, &str)]) -> tempfile::TempDir {
     let tmp = tempfile::tempdir().unwrap();
     let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/");
     for e in std::fs::read_dir(golden_dir()).unwrap() {
