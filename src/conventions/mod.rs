@@ -4,6 +4,10 @@
 //! angle, a texel centre or a shading frame by itself. If two modules disagree about a
 //! convention, one of them is not calling this module.
 //!
+//! (Past 400 lines because more than half of it is the conventions' own text below, which a
+//! GPU porter reads in one place; the code is under 200 lines, and the frame, the
+//! octahedral maps and the scalar trait are files of their own.)
+//!
 //! # World
 //! Right-handed, **y up**, metres (any unit works; nothing depends on scale). The default
 //! camera looks along -z. The Utah teapot's patch data is z up and is turned to y up on load

@@ -11,6 +11,10 @@
 //!   vectors are its eight lanes ([`Narrow`]).
 //! - [`Portable`]: `[f32; 8]` with per-lane loops, for any CPU (wide: [`Narrow`]).
 //!
+//! (Past 400 lines because it is the interface and its dispatch together: the traits each
+//! implementation fills in, with every method's contract, and the one place that chooses
+//! among them; each implementation is a file of its own.)
+//!
 //! A value of an x86 path's vector type can only come from a token, and the only way to
 //! make the token is [`Dispatch::choose`] after `is_x86_feature_detected!` of the path's
 //! features: holding a vector proves the CPU runs its instructions, which makes the safe
