@@ -123,6 +123,11 @@ impl Material {
         dispatch!(self, m => m.name())
     }
 
+    /// [`Brdf::lambertian_term`] of the model (RGB, 1/sr).
+    pub fn lambertian_term(&self) -> Vec3 {
+        dispatch!(self, m => m.lambertian_term())
+    }
+
     /// [`Brdf::is_isotropic`] of the model.
     pub fn is_isotropic(&self) -> bool {
         dispatch!(self, m => m.is_isotropic())

@@ -62,4 +62,9 @@ impl Brdf for BlinnPhong {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.kd / PI + self.ks * ((self.exponent + 8.0) / (8.0 * PI)))
     }
+
+    /// `k_d / pi`.
+    fn lambertian_term(&self) -> Vec3 {
+        self.kd / PI
+    }
 }

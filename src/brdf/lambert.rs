@@ -46,4 +46,9 @@ impl Brdf for Lambert {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.albedo * FRAC_1_PI)
     }
+
+    /// `albedo / pi`: all of it.
+    fn lambertian_term(&self) -> Vec3 {
+        self.albedo * FRAC_1_PI
+    }
 }

@@ -87,4 +87,9 @@ impl Brdf for LambertDbrdf {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.rd * std::f32::consts::FRAC_1_PI + self.lobe.max_cosine_weighted()?)
     }
+
+    /// `rd / pi`, the base.
+    fn lambertian_term(&self) -> Vec3 {
+        self.rd * std::f32::consts::FRAC_1_PI
+    }
 }

@@ -103,6 +103,16 @@ pub trait Brdf: Send + Sync {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         None
     }
+
+    /// The Lambertian term the model adds to its lobes (RGB, 1/sr): the constant `k_d / pi`
+    /// of Blinn-Phong and Phong, `albedo / pi` of Lambert, `r_d / pi` of a Lambert +
+    /// D-BRDF; zero for a model without one (a D-BRDF alone, measured tables, and a model
+    /// whose [`Brdf::eval`] includes the cosine). `f - lambertian_term()` is the model's
+    /// lobes, which is what a reflection-space table holds
+    /// (`crate::env::reflection`, "Diffuse term").
+    fn lambertian_term(&self) -> Vec3 {
+        Vec3::ZERO
+    }
 }
 
 /// `f * cos(polar_i)` whatever the model's cosine convention: the integrand of the

@@ -64,4 +64,9 @@ impl Brdf for Phong {
     fn max_cosine_weighted(&self) -> Option<Vec3> {
         Some(self.kd / PI + self.ks * ((self.exponent + 2.0) / (2.0 * PI)))
     }
+
+    /// `k_d / pi`.
+    fn lambertian_term(&self) -> Vec3 {
+        self.kd / PI
+    }
 }

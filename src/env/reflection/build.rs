@@ -28,8 +28,8 @@
 //! samples come from a fixed SplitMix64 sequence.
 
 use super::table::{
-    chart_frame, chart_is_z, node_direction, slice_angle, BakeError, ReflectionTable, COEFFS,
-    PSI_SAMPLES,
+    chart_frame, chart_is_z, node_direction, slice_angle, value_count, BakeError, ReflectionTable,
+    COEFFS, PSI_SAMPLES,
 };
 use crate::conventions::{probe_direction, probe_texel_solid_angle, texel_center_f64};
 use crate::env::{Probe, LUMINANCE_WEIGHTS};
@@ -70,6 +70,9 @@ pub enum BakeFault {
     /// The sine coefficients stored negated: psi measured the other way round (a
     /// handedness slip between bake and lookup).
     SineTermsNegated,
+    /// The Lambertian term left in the lobes' series and the diffuse term over normals
+    /// zero (the table before "Diffuse term" of the parent module doc).
+    DiffuseInSeries,
 }
 
 /// The table's parameters (the `[env]` fields `reflection_grid`, `reflection_slices`,
@@ -99,7 +102,7 @@ impl BakeParams {
                 format!("{} is out of range (2 to 256)", self.slices),
             ));
         }
-        let values = (self.grid + 1).pow(2) * (self.slices + 1) * 3 * COEFFS;
+        let values = value_count(self.grid, self.slices);
         if values > MAX_VALUES {
             return Err(Error::field(
                 "env.reflection_grid",
@@ -187,8 +190,16 @@ fn residual_power(probe: &Probe, exclude: &[usize], intensity: f32) -> Vec<[f64;
 }
 
 /// The exact sum of the module doc at normal `n` and view `v` (unit, probe frame) over
-/// `texels`, in f64.
-fn radiance_sum(material: &Material, cosine: bool, n: DVec3, v: DVec3, texels: &Texels) -> DVec3 {
+/// `texels`, in f64, of `f - minus` (`minus`: the Lambertian term the table holds over
+/// normals instead, or zero for the whole BRDF).
+fn radiance_sum(
+    material: &Material,
+    cosine: bool,
+    minus: DVec3,
+    n: DVec3,
+    v: DVec3,
+    texels: &Texels,
+) -> DVec3 {
     let cos_o = n.dot(v).clamp(0.0, 1.0);
     let tangent = v - cos_o * n;
     let x = if tangent.length_squared() > 1e-24 {
@@ -205,7 +216,7 @@ fn radiance_sum(material: &Material, cosine: bool, n: DVec3, v: DVec3, texels: &
             continue;
         }
         let wi = DVec3::new(l.dot(x), l.dot(y), z);
-        let f = material.eval_f64(wi, wo);
+        let f = material.eval_f64(wi, wo) - minus;
         let f = if cosine { f } else { f * z };
         sum += f * DVec3::from_array(*p);
     }
@@ -249,6 +260,12 @@ pub fn bake_table(
     let (fw, fh) = (rw / block, rh / block);
     let cos_near = NEAR_CONE_DEG.to_radians().cos();
     let cosine = material.includes_cosine();
+    // The Lambertian term, tabulated over normals (parent module doc, "Diffuse term").
+    let lambertian = if cosine || fault == BakeFault::DiffuseInSeries {
+        DVec3::ZERO
+    } else {
+        material.lambertian_term().as_dvec3()
+    };
     let g = params.grid;
     let ns = params.slices + 1;
     let nodes = (g + 1) * (g + 1);
@@ -281,7 +298,7 @@ pub fn bake_table(
                 let mut coeffs = [[0.0f64; COEFFS]; 3];
                 if polar == 0.0 {
                     let (n, v) = sample_normal_view(r, 0.0, 0.0, tb);
-                    let l = radiance_sum(material, cosine, n, v, &texels);
+                    let l = radiance_sum(material, cosine, lambertian, n, v, &texels);
                     for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
                         q[0] = lc;
                     }
@@ -289,7 +306,7 @@ pub fn bake_table(
                     for m in 0..PSI_SAMPLES {
                         let psi = std::f64::consts::TAU * m as f64 / PSI_SAMPLES as f64;
                         let (n, v) = sample_normal_view(r, polar, psi, tb);
-                        let l = radiance_sum(material, cosine, n, v, &texels);
+                        let l = radiance_sum(material, cosine, lambertian, n, v, &texels);
                         let (s1, c1) = psi.sin_cos();
                         let (s2, c2) = (2.0 * psi).sin_cos();
                         let basis = [0.5, c1, s1, c2, s2];
@@ -316,7 +333,27 @@ pub fn bake_table(
             out
         })
         .collect();
-    let values: Vec<f32> = per_node.into_iter().flatten().collect();
+    // The diffuse term at each node as a normal: the Lambertian term times the residual's
+    // irradiance, every texel of the (downsampled) residual, in index order.
+    let diffuse: Vec<[f32; 3]> = (0..nodes)
+        .into_par_iter()
+        .map(|k| {
+            let n = node_direction(k % (g + 1), k / (g + 1), g);
+            let mut e = DVec3::ZERO;
+            for (l, p) in fine.dir.iter().zip(&fine.power) {
+                let z = l.dot(n);
+                if z > 0.0 {
+                    e += z * DVec3::from_array(*p);
+                }
+            }
+            (lambertian * e).as_vec3().to_array()
+        })
+        .collect();
+    let values: Vec<f32> = per_node
+        .into_iter()
+        .flatten()
+        .chain(diffuse.into_iter().flatten())
+        .collect();
     let unrotated =
         ReflectionTable::from_parts(g, params.slices, 0.0, values, BakeError::default());
     // The exact reference: every texel of the full probe but the excluded ones.
@@ -401,7 +438,7 @@ pub(super) fn measure_error(
     let pairs: Vec<(f64, f64)> = pts
         .par_iter()
         .map(|&(n, v)| {
-            let exact = luminance_of(radiance_sum(material, cosine, n, v, full));
+            let exact = luminance_of(radiance_sum(material, cosine, DVec3::ZERO, n, v, full));
             let got = luminance_of(table.radiance(n.as_vec3(), v.as_vec3()).as_dvec3());
             (exact, got)
         })

@@ -20,7 +20,7 @@
 //! that fails any of it is ignored (and rewritten), never trusted.
 
 use super::build::{BakeParams, MAX_VALUES};
-use super::table::{BakeError, ReflectionTable, COEFFS};
+use super::table::{value_count, BakeError, ReflectionTable};
 use crate::env::cache_entry::{
     encode_values_entry, impl_values_header, key_hasher, read_values_entry, values_checksum,
     EntryKind, CRATE_VERSION,
@@ -35,10 +35,10 @@ use std::path::{Path, PathBuf};
 /// Version of the algorithm that turns a probe, a material and the parameters into a table
 /// ([`super::build::bake_table`]). Part of every key: bump it when a table's values change
 /// for the same inputs.
-pub const REFLECTION_ALGORITHM_VERSION: u32 = 1;
+pub const REFLECTION_ALGORITHM_VERSION: u32 = 2;
 
 /// Format tag of an entry.
-pub const REFLECTION_CACHE_FORMAT: &str = "brdfkit-reflection-cache-v1";
+pub const REFLECTION_CACHE_FORMAT: &str = "brdfkit-reflection-cache-v2";
 
 const ENTRY: EntryKind = EntryKind {
     format: REFLECTION_CACHE_FORMAT,
@@ -146,7 +146,7 @@ pub fn read_entry(
     params: &BakeParams,
     rotation: f64,
 ) -> std::result::Result<Option<ReflectionTable>, String> {
-    let n = (params.grid + 1).pow(2) * (params.slices + 1) * 3 * COEFFS;
+    let n = value_count(params.grid, params.slices);
     let expected = |h: &TableHeader| {
         if (h.grid, h.slices, h.values) != (params.grid, params.slices, n) {
             return Err(format!(

@@ -44,9 +44,11 @@ pub struct BakeError {
     pub grazing_max: f64,
 }
 
-/// A reflection-space radiance table (parent module doc). Values are f32,
-/// `values[((node * slices_total + s) * 3 + c) * COEFFS + k]` with `node = j (G + 1) + i`
-/// the vertex at octahedral `(u, v) = (-1 + 2i/G, -1 + 2j/G)`.
+/// A reflection-space radiance table (parent module doc). Values are f32: first the lobes'
+/// series, `values[((node * slices_total + s) * 3 + c) * COEFFS + k]` with
+/// `node = j (G + 1) + i` the vertex at octahedral `(u, v) = (-1 + 2i/G, -1 + 2j/G)`, then
+/// the diffuse term over normals on the same vertices,
+/// `values[lobe_values + node * 3 + c]` ([`value_count`]; parent module doc, "Diffuse term").
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReflectionTable {
     pub(super) grid: usize,
@@ -61,6 +63,17 @@ pub struct ReflectionTable {
     pub(super) chart_z: Vec<bool>,
     pub(super) values: Vec<f32>,
     pub(super) error: BakeError,
+}
+
+/// Values of the lobes' series of a table of `grid` cells and `slices` uniform slices.
+pub fn lobe_value_count(grid: usize, slices: usize) -> usize {
+    (grid + 1).pow(2) * (slices + 1) * 3 * COEFFS
+}
+
+/// Values of a table of `grid` cells and `slices` uniform slices: the lobes' series and the
+/// diffuse term's RGB per node ([`ReflectionTable`]).
+pub fn value_count(grid: usize, slices: usize) -> usize {
+    lobe_value_count(grid, slices) + (grid + 1).pow(2) * 3
 }
 
 /// The polar angle of the view of slice `s` of `slices` uniform ones and the horizon slice
@@ -126,7 +139,7 @@ impl ReflectionTable {
         error: BakeError,
     ) -> ReflectionTable {
         let n = grid + 1;
-        debug_assert_eq!(values.len(), n * n * (slices + 1) * 3 * COEFFS);
+        debug_assert_eq!(values.len(), value_count(grid, slices));
         let chart_z = (0..n * n)
             .map(|k| chart_is_z(node_direction(k % n, k / n, grid)))
             .collect();
@@ -192,7 +205,8 @@ impl ReflectionTable {
     /// normal `n` and unit world view `v` (towards the viewer, at most 90 degrees from `n`):
     /// bilinear over the four grid nodes around `r = reflect(v, n)`, linear between the two
     /// slices around the view's polar angle (clamped to the horizon slice), each node's
-    /// Fourier series evaluated at psi measured in its own chart. Plain f32 in a fixed order:
+    /// Fourier series evaluated at psi measured in its own chart; plus the diffuse term,
+    /// bilinear over the four grid nodes around `n`. Plain f32 in a fixed order:
     /// the same bits on every path and thread count.
     #[inline]
     pub fn radiance(&self, n: Vec3, v: Vec3) -> Vec3 {
@@ -210,29 +224,31 @@ impl ReflectionTable {
             let span = (HORIZON_SLICE_DEG - LAST_UNIFORM_SLICE_DEG).to_radians() as f32;
             (self.slices - 1, ((polar - last) / span).min(1.0))
         };
-        // Grid cell and weights.
+        // Grid cell and weights: of `r` for the lobes, of `n` for the diffuse term.
         let g = self.grid;
-        let (u, w) = sphere_oct_encode(r);
-        let cell = |x: f32| {
-            let f = ((x + 1.0) * 0.5 * g as f32).clamp(0.0, g as f32);
-            let i0 = (f.floor() as usize).min(g - 1);
-            (i0, f - i0 as f32)
-        };
-        let ((i0, a), (j0, b)) = (cell(u), cell(w));
         let n1 = g + 1;
-        let corners = [
-            (j0 * n1 + i0, (1.0 - a) * (1.0 - b)),
-            (j0 * n1 + i0 + 1, a * (1.0 - b)),
-            ((j0 + 1) * n1 + i0, (1.0 - a) * b),
-            ((j0 + 1) * n1 + i0 + 1, a * b),
-        ];
+        let corners = |d: Vec3| {
+            let (u, w) = sphere_oct_encode(d);
+            let cell = |x: f32| {
+                let f = ((x + 1.0) * 0.5 * g as f32).clamp(0.0, g as f32);
+                let i0 = (f.floor() as usize).min(g - 1);
+                (i0, f - i0 as f32)
+            };
+            let ((i0, a), (j0, b)) = (cell(u), cell(w));
+            [
+                (j0 * n1 + i0, (1.0 - a) * (1.0 - b)),
+                (j0 * n1 + i0 + 1, a * (1.0 - b)),
+                ((j0 + 1) * n1 + i0, (1.0 - a) * b),
+                ((j0 + 1) * n1 + i0 + 1, a * b),
+            ]
+        };
         let bases = [
             psi_basis(n, r, cos_o, chart_frame_f32(r, false)),
             psi_basis(n, r, cos_o, chart_frame_f32(r, true)),
         ];
         let ns = self.slices + 1;
         let mut out = [0.0f32; 3];
-        for (node, wc) in corners {
+        for (node, wc) in corners(r) {
             let basis = &bases[self.chart_z[node] as usize];
             for (s, wt) in [(s0, 1.0 - ws), (s0 + 1, ws)] {
                 let wgt = wc * wt;
@@ -246,6 +262,13 @@ impl ReflectionTable {
                         + q[4] * basis[4];
                     *o += wgt * f;
                 }
+            }
+        }
+        let diffuse = lobe_value_count(g, self.slices);
+        for (node, wc) in corners(n) {
+            let at = diffuse + node * 3;
+            for (c, o) in out.iter_mut().enumerate() {
+                *o += wc * self.values[at + c];
             }
         }
         Vec3::from_array(out)
