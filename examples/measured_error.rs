@@ -3,8 +3,12 @@
 //! made from, under each shipped probe.
 //!
 //! ```sh
-//! cargo run --release --example measured_error -- [SIZE] [ROW...]
+//! cargo run --release --example measured_error -- [SIZE] [PROBE...] [ROW...]
 //! ```
+//!
+//! PROBE: `city`, `studio`, `sky` (default all three). `--keep DIR` leaves the files it
+//! writes (`NAME.bsdf`, `NAME.binary`, and `NAME-fit.exr`, each D-BRDF fit) in DIR, to
+//! look at with `brdfkit render --material`.
 //!
 //! No measured file can be downloaded in the project's environment, so every table here is
 //! written from an analytic BRDF and read back through its own reader:
@@ -30,8 +34,10 @@
 //! the 99th percentile of the per-pixel relative error (as `examples/library_error.rs`).
 
 use brdfkit::acquire::fit::{fit_dbrdf, FitOptions};
+use brdfkit::brdf::dbrdf::file::write_dbrdf;
 use brdfkit::brdf::rgl::samples::{sample, SAMPLE_NAMES};
-use brdfkit::brdf::{AshikhminShirley, BlinnPhong, Brdf, MerlBrdf, RglBrdf};
+use brdfkit::brdf::{AshikhminShirley, BlinnPhong, MerlBrdf, RglBrdf};
+use brdfkit::conventions::local_direction_f64;
 use brdfkit::image_io::Image;
 use brdfkit::material::Material;
 use brdfkit::render::{render, RenderOptions};
@@ -88,9 +94,8 @@ fn row(kind: &str, name: &str, dir: &Path) -> (Material, Material, String) {
             let path = dir.join(format!("{name}.bsdf"));
             std::fs::write(&path, &s.bytes).unwrap();
             let file = RglBrdf::read(&path).unwrap();
-            let src = brdfkit::brdf::rgl::samples::source(name).unwrap();
             (
-                analytic(name, src.as_ref()),
+                analytic(name),
                 Material::from(Arc::new(file)),
                 format!("{} KB file", s.bytes.len() / 1024),
             )
@@ -104,6 +109,13 @@ fn row(kind: &str, name: &str, dir: &Path) -> (Material, Material, String) {
             let table = merl_table(name, dir);
             let fit = fit_dbrdf(&table, &FitOptions::default()).unwrap();
             let note = format!("fit rel L2 {:.4}", fit.report.rel_l2);
+            let out = dir.join(format!("{name}-fit.exr"));
+            write_dbrdf(
+                &out,
+                &fit.brdf,
+                &format!("measured_error: fit of {name}.binary"),
+            )
+            .unwrap();
             (
                 Material::from(Arc::new(table)),
                 Material::from(Arc::new(fit.brdf)),
@@ -115,10 +127,11 @@ fn row(kind: &str, name: &str, dir: &Path) -> (Material, Material, String) {
 }
 
 /// The analytic source of an RGL sample as a material (the samples' sources are Blinn-Phong
-/// or Ashikhmin-Shirley; the spectral one's diffuse colour is its spectrum in sRGB).
-fn analytic(name: &str, _src: &dyn Brdf) -> Material {
-    use brdfkit::brdf::rgl::samples::spectral_reference;
-    match name {
+/// or Ashikhmin-Shirley; the spectral one's diffuse colour is its spectrum in sRGB),
+/// checked against `brdfkit::brdf::rgl::samples::source` at a few pairs of directions.
+fn analytic(name: &str) -> Material {
+    use brdfkit::brdf::rgl::samples::{source, spectral_reference};
+    let m = match name {
         "blinn-rgb" => Material::BlinnPhong(BlinnPhong {
             kd: Vec3::new(0.3, 0.2, 0.1),
             ks: Vec3::splat(0.5),
@@ -132,15 +145,40 @@ fn analytic(name: &str, _src: &dyn Brdf) -> Material {
         }),
         "blinn-spectral" => Material::BlinnPhong(spectral_reference()),
         _ => unreachable!("SAMPLE_NAMES"),
+    };
+    let src = source(name).unwrap();
+    for k in 0..16 {
+        let a = 0.1 + 0.09 * k as f64;
+        let wi = local_direction_f64(0.05 * k as f64, a);
+        let wo = local_direction_f64(1.2 - 0.07 * k as f64, 2.0 * a + 1.0);
+        assert_eq!(
+            m.eval_f64(wi, wo),
+            src.eval_f64(wi, wo),
+            "{name}: not its source"
+        );
     }
+    m
 }
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let size: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(24);
+    let keep = args
+        .iter()
+        .position(|a| a == "--keep")
+        .map(|k| args.get(k + 1).expect("--keep DIR").clone());
+    let size: u32 = args.iter().find_map(|s| s.parse().ok()).unwrap_or(24);
+    const PROBES: [&str; 3] = ["city", "studio", "sky"];
+    let mut probes: Vec<&str> = PROBES
+        .into_iter()
+        .filter(|p| args.iter().any(|a| a == p))
+        .collect();
+    if probes.is_empty() {
+        probes = PROBES.to_vec();
+    }
     let mut rows: Vec<String> = args
         .iter()
-        .filter(|a| a.parse::<u32>().is_err())
+        .filter(|a| a.parse::<u32>().is_err() && !PROBES.contains(&a.as_str()))
+        .filter(|a| *a != "--keep" && Some(*a) != keep.as_ref())
         .cloned()
         .collect();
     if rows.is_empty() {
@@ -150,7 +188,14 @@ fn main() {
             rows.push(format!("merl-fit:{m}"));
         }
     }
-    let dir = tempfile::tempdir().unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = match &keep {
+        Some(d) => {
+            std::fs::create_dir_all(d).unwrap();
+            Path::new(d).to_path_buf()
+        }
+        None => tmp.path().to_path_buf(),
+    };
     let opts = RenderOptions::converged_reference();
     println!("| row | probe | rel RMSE | p99 | note |");
     println!("|---|---|---|---|---|");
@@ -158,8 +203,8 @@ fn main() {
         let (kind, name) = r
             .split_once(':')
             .unwrap_or_else(|| panic!("row {r:?}: KIND:NAME"));
-        let (reference, tested, note) = row(kind, name, dir.path());
-        for probe in ["city", "studio", "sky"] {
+        let (reference, tested, note) = row(kind, name, &dir);
+        for &probe in &probes {
             let mut s = scene(probe, size);
             s.material = reference.clone();
             let want: Image = render(&s, &opts).image;
