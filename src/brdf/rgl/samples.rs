@@ -100,16 +100,19 @@ pub fn sample(name: &str) -> Option<Sample> {
     sample_in(name, false)
 }
 
-/// The test material `name` in the smallest grids the reader accepts (2 polar nodes, 3
-/// azimuth nodes when anisotropic, 2 x 2 tables, 3 wavelengths when spectral): files of
-/// 0.5 to 1.3 KB, the fuzz target's seeds (fuzz/README.md). `None` for an unknown name.
+/// The test material `name` in about the smallest grids the reader accepts (2 polar nodes,
+/// 3 azimuth nodes when anisotropic, 2 x 2 tables but a 3 x 3 `vndf`, 3 wavelengths when
+/// spectral): files of about a kilobyte, the fuzz target's seeds (fuzz/README.md). `None`
+/// for an unknown name.
 pub fn tiny_sample(name: &str) -> Option<Sample> {
     sample_in(name, true)
 }
 
 fn sample_in(name: &str, tiny: bool) -> Option<Sample> {
+    // A 2 x 2 vndf grid has no node inside the hemisphere (its density vanishes at the pole
+    // and the horizon), so the tiny files' is 3 x 3.
     let (thetas, grid, vgrid, n) = if tiny {
-        (2, (2, 2), (2, 2), 2)
+        (2, (2, 2), (3, 3), 2)
     } else {
         (16, (8, 32), (32, 32), 32)
     };
