@@ -2,18 +2,24 @@
 //! `.bsdf` tensor files, for the Mitsuba comparison (scripts/peer/render_rgl_peer.py) and
 //! for trying `--material FILE.bsdf` by hand.
 //!
-//! Usage: `cargo run --release --example write_rgl -- OUT_DIR [NAME...]` (default: all of
-//! `blinn-rgb`, `aniso-rgb`, `blinn-spectral`); writes `OUT_DIR/NAME.bsdf`.
+//! Usage: `cargo run --release --example write_rgl -- [--tiny] OUT_DIR [NAME...]` (default:
+//! all of `blinn-rgb`, `aniso-rgb`, `blinn-spectral`); writes `OUT_DIR/NAME.bsdf`.
+//! `--tiny` writes the same materials in the smallest grids the reader accepts (about a
+//! kilobyte each: the seeds of the `rgl_file` fuzz target, fuzz/README.md).
 
-use brdfkit::brdf::rgl::samples::{sample, SAMPLE_NAMES};
+use brdfkit::brdf::rgl::samples::{sample, tiny_sample, SAMPLE_NAMES};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let tiny = args.first().is_some_and(|a| a == "--tiny");
+    if tiny {
+        args.remove(0);
+    }
     let Some(out) = args.first().map(PathBuf::from) else {
         eprintln!(
-            "usage: write_rgl OUT_DIR [NAME...] (names: {})",
+            "usage: write_rgl [--tiny] OUT_DIR [NAME...] (names: {})",
             SAMPLE_NAMES.join(", ")
         );
         return ExitCode::from(2);
@@ -28,7 +34,12 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     for name in names {
-        let Some(s) = sample(name) else {
+        let made = if tiny {
+            tiny_sample(name)
+        } else {
+            sample(name)
+        };
+        let Some(s) = made else {
             eprintln!(
                 "{name:?}: not a test material (names: {})",
                 SAMPLE_NAMES.join(", ")

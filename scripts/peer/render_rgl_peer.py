@@ -6,11 +6,11 @@ written by `cargo run --release --example write_rgl -- DIR` (this script runs it
 reads each file with its own reader and renders it on the unit sphere of
 scripts/peer/render_peer.py (same camera, pixel-centre rays, `direct` integrator, probe
 orientation and resampling: that script's module doc; its functions are reused here)
-under one directional light and under the downsampled `city` probe. tests/integration/
-peer_rgl.rs renders the same scenes with brdfkit's converged reference and compares. CI does
-not need Mitsuba: the images are stored in tests/data/peer/ (64x64, with a JSON file each
-recording the Mitsuba version, variant, sample counts, seeds, measured noise and the
-SHA-256 of the material file).
+under one directional light and under the downsampled `city` probe; the spectral file also
+under a white directional light. tests/integration/peer_rgl.rs renders the same scenes with
+brdfkit's converged reference and compares. CI does not need Mitsuba: the images are stored
+in tests/data/peer/ (64x64, with a JSON file each recording the Mitsuba version, variant,
+sample counts, seeds, measured noise and the SHA-256 of the material file).
 
 Usage (repository root; Mitsuba 3 from PyPI, `pip install mitsuba numpy`; the LLVM
 variants need libLLVM >= 16, see render_peer.py):
@@ -20,13 +20,22 @@ variants need libLLVM >= 16, see render_peer.py):
 
 Variants: an RGB file (`rgb` field) needs an RGB variant (`llvm_ad_rgb`), a spectral file
 (`wavelengths` + `spectra`) a spectral one (`llvm_ad_spectral`): Mitsuba's `measured`
-plugin refuses the other combination. The script runs itself once per variant. In the
-spectral variant the emitters' RGB values are upsampled to spectra (white = D65, as
-brdfkit's spectral-to-sRGB conversion assumes, src/brdf/rgl/colour.rs), each camera ray
-samples its wavelengths, and the radiance is converted to linear sRGB with
-`spectrum_to_srgb`, as Mitsuba's film does. Under a coloured probe the two renderers
-differ at second order (brdfkit multiplies RGB, Mitsuba integrates spectra); the test
-materials' spectra are smooth.
+plugin refuses the other combination. The script runs itself once per variant.
+
+Spectral scenes. The emitters' RGB values become spectra (Mitsuba's `d65` texture: the
+upsampled RGB times the D65 illuminant, so RGB white is D65, as brdfkit's spectral-to-sRGB
+conversion assumes, src/brdf/rgl/colour.rs), each camera sample draws its wavelengths, and
+the radiance is converted to linear sRGB with `spectrum_to_srgb`, as Mitsuba's film does.
+Two differences remain, both recorded in the JSON (`spectral`) so the test can state them
+exactly: (1) Mitsuba's camera and film turn an RGB-white emitter into 0.99999, 0.99988,
+0.99980 (`film_white`: its D65 normalisation, CIE tables and XYZ-to-sRGB matrix agree to
+~2e-4), where brdfkit white-balances to exactly 1; (2) under a coloured light Mitsuba multiplies spectra (the file's by the
+light's) and brdfkit RGB (the file's converted colour by the light's RGB), which differ for
+a saturated reflectance: for the warm directional light the script records the film's
+sRGB of the light's spectrum times the material's diffuse spectrum and times 1
+(`film_light_times_kd`, `film_light`), from which the test predicts the difference per
+pixel. The `white` scene has neither (1 divided out, no (2)): there the two renderers must
+agree within the noise. Under `city` (2) is left as a stated bound.
 
 Shading frame. Mitsuba's sphere has its tangent along increasing longitude about the
 sphere's axis; brdfkit's tangent is world up (+y) projected onto the tangent plane
@@ -61,6 +70,14 @@ MATERIALS = {
 }
 PROBE = "city"
 DIRECTIONAL = rp.DIRECTIONAL
+# The spectral file also under a white light: there brdfkit's spectra-to-sRGB conversion is
+# exact against Mitsuba's spectral render up to the film's white (`film_white`).
+WHITE = {"to_light": DIRECTIONAL["to_light"], "irradiance": [1.0, 1.0, 1.0]}
+SCENE_KINDS = {
+    "blinn-rgb": ("directional", PROBE),
+    "aniso-rgb": ("directional", PROBE),
+    "blinn-spectral": ("directional", "white", PROBE),
+}
 
 
 def register_framed(mi, dr):
@@ -141,6 +158,63 @@ def make_scene(mi, path, emitter):
     })
 
 
+def film_rgb(mi, dr, sensor, spectrum, n=1 << 20):
+    """The linear sRGB Mitsuba's camera and film make of a radiance spectrum on average:
+    `spectrum(wavelengths)` at the camera's own wavelength samples (`sample_wavelengths`,
+    weight included) on a stratified grid of `n` points, converted by `spectrum_to_srgb`
+    as `render_centres` converts each sample. A quadrature of the estimator's mean."""
+    u = (dr.arange(mi.Float, n) + 0.5) / n
+    si = dr.zeros(mi.SurfaceInteraction3f)
+    wav, weight = sensor.sample_wavelengths(si, u)
+    si.wavelengths = wav
+    rgb = np.array(mi.spectrum_to_srgb(weight * spectrum(si, wav), wav))
+    if rgb.shape[0] != 3:
+        rgb = rgb.T
+    return rgb.mean(axis=1)
+
+
+def light_spectrum(mi, rgb):
+    """An emitter's spectrum for an RGB value in a spectral variant: Mitsuba's `d65`
+    texture (the upsampled RGB times the D65 illuminant), what `directional` and `envmap`
+    make of RGB."""
+    tex = mi.load_dict({"type": "d65", "color": rgb})
+    return lambda si, wav: tex.eval(si)
+
+
+def spectral_kd_nodes():
+    """The diffuse spectrum of `blinn-spectral` at the file's wavelengths: the formula of
+    src/brdf/rgl/samples.rs (`spectral_kd`, 370 to 830 nm in 20 nm steps), which the test
+    checks the recorded values against."""
+    waves = 370.0 + 20.0 * np.arange(24)
+    return waves, 0.05 + 0.5 * np.exp(-(((waves - 610.0) / 50.0) ** 2))
+
+
+def spectral_record(mi, dr, scene, light):
+    """What the test needs to predict the spectral file's difference under `light`
+    (tests/integration/peer_rgl.rs): Mitsuba's film white (an RGB-white emitter, D65),
+    and, for the test material's diffuse spectrum `kd` (`spectral_kd_nodes`, linear
+    between the file's wavelengths and constant beyond, as the `measured` plugin
+    interpolates) and its flat specular part, the film's sRGB of the light's spectrum times
+    `kd` and times 1."""
+    sensor = scene.sensors()[0]
+    white = film_rgb(mi, dr, sensor, light_spectrum(mi, [1.0, 1.0, 1.0]))
+    waves, kd = spectral_kd_nodes()
+    e = light_spectrum(mi, light["irradiance"])
+
+    def e_kd(si, wav):
+        w = np.array(wav)
+        if w.shape[0] != 4:
+            w = w.T
+        k = np.interp(w, waves, kd)
+        return e(si, wav) * mi.Spectrum(k)
+    return {
+        "film_white": white.tolist(),
+        "film_light_times_kd": film_rgb(mi, dr, sensor, e_kd).tolist(),
+        "film_light": film_rgb(mi, dr, sensor, e).tolist(),
+        "kd_wavelengths": waves.tolist(), "kd": kd.tolist(),
+    }
+
+
 def render_centres(mi, dr, scene, spp, seed, spectral):
     """One pass: `spp` samples through every pixel centre (render_peer.render_centres), each
     camera sample with its own wavelengths in a spectral variant."""
@@ -189,7 +263,7 @@ def run_variant(args, variant):
         path = os.path.join(files, f"{mat}.bsdf")
         with open(path, "rb") as f:
             digest = hashlib.sha256(f.read()).hexdigest()
-        for scene_kind in ("directional", PROBE):
+        for scene_kind in SCENE_KINDS[mat]:
             name = f"rgl-{mat}-{scene_kind}"
             if args.only and name not in args.only:
                 continue
@@ -209,10 +283,14 @@ def run_variant(args, variant):
                                            "sha256": digest},
                 "image": f"{name}.exr", "stderr_image": f"{name}.stderr.exr",
             }
-            if scene_kind == "directional":
-                scene = make_scene(mi, path, rp.directional_emitter(DIRECTIONAL))
-                passes, spp = (args.passes, args.spp_directional) if spectral else (1, 1)
-                meta["light"] = {"kind": "directional", **DIRECTIONAL}
+            if scene_kind in ("directional", "white"):
+                light = DIRECTIONAL if scene_kind == "directional" else WHITE
+                scene = make_scene(mi, path, rp.directional_emitter(light))
+                passes, spp = ((args.passes_directional, args.spp_directional) if spectral
+                               else (1, 1))
+                meta["light"] = {"kind": "directional", **light}
+                if spectral:
+                    meta["spectral"] = spectral_record(mi, dr, scene, light)
             else:
                 data = rp.upsample_for_mitsuba(probe, args.upsample)
                 scene = make_scene(mi, path, rp.envmap_emitter(mi, data))
@@ -222,6 +300,9 @@ def run_variant(args, variant):
                                  "mitsuba_envmap": f"piecewise-constant probe resampled "
                                                    f"{args.upsample}x, see render_peer.py",
                                  "to_world": "diag(-1, 1, -1): 180 degrees about +y"}
+            if spectral and "spectral" not in meta:
+                white = film_rgb(mi, dr, scene.sensors()[0], light_spectrum(mi, [1.0] * 3))
+                meta["spectral"] = {"film_white": white.tolist()}
             mean, stderr = render_passes(mi, dr, scene, spp, passes, spectral)
             meta.update({"spp_per_pass": spp, "passes": passes, "seeds": list(range(passes)),
                          "spp_total": spp * passes})
@@ -244,8 +325,11 @@ def main():
                     help="directory of the .bsdf files (written there first)")
     ap.add_argument("--no-write", action="store_true", help="use the files as they are")
     ap.add_argument("--spp", type=int, default=1024, help="samples per pixel per pass (probe)")
-    ap.add_argument("--spp-directional", type=int, default=512,
+    ap.add_argument("--spp-directional", type=int, default=128,
                     help="samples per pixel per pass (spectral directional)")
+    ap.add_argument("--passes-directional", type=int, default=64,
+                    help="independent passes (spectral directional: the test's z bounds "
+                         "assume 64, Student's t with 63 degrees of freedom)")
     ap.add_argument("--passes", type=int, default=16, help="independent passes (seeds)")
     ap.add_argument("--upsample", type=int, default=8, help="k of the envmap resampling")
     ap.add_argument("--only", action="append", help="scene name(s) to render")
@@ -259,6 +343,7 @@ def main():
     for variant in sorted(set(MATERIALS.values())):
         cmd = [sys.executable, __file__, "--variant", variant, "--files", args.files,
                "--spp", str(args.spp), "--spp-directional", str(args.spp_directional),
+               "--passes-directional", str(args.passes_directional),
                "--passes", str(args.passes), "--upsample", str(args.upsample)]
         for o in args.only or []:
             cmd += ["--only", o]

@@ -234,7 +234,7 @@ pub(crate) fn render_config(s: &Scene, config: Config) -> Image {
 /// [`MIN_VIEW_COS`]), `None` elsewhere. The ray follows brdfkit's camera
 /// (src/scene/camera.rs: right-handed look-at, vertical fov, pixel centres at +1/2, image y
 /// down), in f64.
-fn analytic_hits(meta: &Value) -> Vec<Option<(DVec3, DVec3)>> {
+pub(crate) fn analytic_hits(meta: &Value) -> Vec<Option<(DVec3, DVec3)>> {
     let cam = camera(meta);
     let (w, h) = (
         meta["width"].as_u64().unwrap() as usize,

@@ -173,6 +173,15 @@ fn a_malformed_rgl_file_is_refused_in_one_line() {
     let good = sample("blinn-rgb").unwrap().bytes;
     std::fs::write(d.path().join("cut.bsdf"), &good[..good.len() / 2]).unwrap();
     std::fs::write(d.path().join("magic.bsdf"), b"not a tensor file at all").unwrap();
+    let mut nan = good.clone();
+    let vndf = brdfkit::brdf::rgl::tensor::parse(&good)
+        .unwrap()
+        .into_iter()
+        .find(|f| f.name == "vndf")
+        .unwrap()
+        .offset as usize;
+    nan[vndf + 8..vndf + 12].copy_from_slice(&f32::NAN.to_le_bytes());
+    std::fs::write(d.path().join("nan.bsdf"), &nan).unwrap();
     for cmd in [
         &["render", "--material", "cut.bsdf", "-o", "x.png"][..],
         &["acquire", "cut.bsdf", "-o", "x.exr"],
@@ -184,5 +193,10 @@ fn a_malformed_rgl_file_is_refused_in_one_line() {
         d.path(),
         &["render", "--material", "magic.bsdf", "-o", "x.png"],
         &["magic.bsdf", "not a tensor file"],
+    );
+    assert_error(
+        d.path(),
+        &["render", "--material", "nan.bsdf", "-o", "x.png"],
+        &["nan.bsdf", "field `vndf`", "element 2 is NaN"],
     );
 }

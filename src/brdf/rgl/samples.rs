@@ -38,7 +38,8 @@ fn blinn_ndf(n: f64) -> impl Fn(DVec3) -> f64 + Sync {
     move |m: DVec3| 0.85 * (n + 2.0) / (2.0 * PI) * m.z.max(0.0).powf(n) + 0.15 * cosine(m)
 }
 
-fn spectral_kd(l: f64) -> f64 {
+/// The diffuse spectrum of `blinn-spectral` at wavelength `l` (nm), module doc.
+pub fn spectral_kd(l: f64) -> f64 {
     0.05 + 0.5 * (-((l - 610.0) / 50.0).powi(2)).exp()
 }
 
@@ -67,8 +68,9 @@ fn aniso() -> AshikhminShirley {
 const SPECTRAL_KS: f64 = 0.4;
 const SPECTRAL_EXPONENT: f64 = 40.0;
 
-/// The RGB Blinn-Phong the spectral material stands for (module doc).
-fn spectral_reference() -> BlinnPhong {
+/// The RGB Blinn-Phong the spectral material stands for (module doc): `kd` the diffuse
+/// spectrum in linear sRGB, `ks` and the exponent those of the file.
+pub fn spectral_reference() -> BlinnPhong {
     let waves = spectral_wavelengths();
     let weights = srgb_weights(&waves.iter().map(|&w| w as f64).collect::<Vec<_>>());
     let mut kd = DVec3::ZERO;
@@ -95,12 +97,31 @@ pub fn source(name: &str) -> Option<Box<dyn Brdf>> {
 
 /// The test material `name` (module doc), or `None` for an unknown name.
 pub fn sample(name: &str) -> Option<Sample> {
+    sample_in(name, false)
+}
+
+/// The test material `name` in about the smallest grids the reader accepts (2 polar nodes,
+/// 3 azimuth nodes when anisotropic, 2 x 2 tables but a 3 x 3 `vndf`, 3 wavelengths when
+/// spectral): files of about a kilobyte, the fuzz target's seeds (fuzz/README.md). `None`
+/// for an unknown name.
+pub fn tiny_sample(name: &str) -> Option<Sample> {
+    sample_in(name, true)
+}
+
+fn sample_in(name: &str, tiny: bool) -> Option<Sample> {
+    // A 2 x 2 vndf grid has no node inside the hemisphere (its density vanishes at the pole
+    // and the horizon), so the tiny files' is 3 x 3.
+    let (thetas, grid, vgrid, n) = if tiny {
+        (2, (2, 2), (3, 3), 2)
+    } else {
+        (16, (8, 32), (32, 32), 32)
+    };
     let iso = Layout {
-        theta_i: Layout::thetas(16, 87.0),
+        theta_i: Layout::thetas(thetas, 87.0),
         phi_i: vec![0.0],
-        ndf_res: (8, 32),
-        vndf_res: (32, 32),
-        sample_res: 32,
+        ndf_res: grid,
+        vndf_res: vgrid,
+        sample_res: n,
         wavelengths: None,
     };
     Some(match name {
@@ -127,13 +148,21 @@ pub fn sample(name: &str) -> Option<Sample> {
                 0.85 * lobe + 0.15 * cosine(h)
             };
             let f = move |l: DVec3, v: DVec3| m.eval_f64(l, v).to_array().to_vec();
-            let layout = Layout {
-                theta_i: Layout::thetas(9, 85.0),
-                phi_i: Layout::phis(17),
-                ndf_res: (32, 32),
-                vndf_res: (32, 32),
-                sample_res: 32,
-                wavelengths: None,
+            let layout = if tiny {
+                Layout {
+                    theta_i: Layout::thetas(2, 85.0),
+                    phi_i: Layout::phis(3),
+                    ..iso.clone()
+                }
+            } else {
+                Layout {
+                    theta_i: Layout::thetas(9, 85.0),
+                    phi_i: Layout::phis(17),
+                    ndf_res: (32, 32),
+                    vndf_res: (32, 32),
+                    sample_res: 32,
+                    wavelengths: None,
+                }
             };
             let desc = "brdfkit test material: Ashikhmin-Shirley nu 8, nv 64, rs 0.25";
             Sample {
@@ -142,7 +171,11 @@ pub fn sample(name: &str) -> Option<Sample> {
             }
         }
         "blinn-spectral" => {
-            let waves = spectral_wavelengths();
+            let waves = if tiny {
+                vec![450.0, 550.0, 650.0]
+            } else {
+                spectral_wavelengths()
+            };
             let (ks, n) = (SPECTRAL_KS, SPECTRAL_EXPONENT);
             let lobe = BlinnPhong {
                 kd: Vec3::ZERO,

@@ -242,13 +242,6 @@ fn isotropy_is_what_the_file_says() {
     }
 }
 
-fn err_of(bytes: &[u8]) -> String {
-    match RglBrdf::from_bytes(bytes, path()) {
-        Ok(_) => panic!("accepted"),
-        Err(e) => e.to_string(),
-    }
-}
-
 /// The offset of field `name`'s header entry's offset value, and its shape values.
 fn header_pos(bytes: &[u8], name: &str) -> (usize, usize) {
     let mut pos = 18;
@@ -338,11 +331,70 @@ fn hostile_files_are_refused_naming_the_field() {
     // rename `jacobian` to `jacobiaN`: missing
     b[off - 3 - 1] = b'N';
     cases.push(("missing field", b, "field `jacobian`: missing"));
-    for (what, bytes, want) in cases {
-        let e = err_of(&bytes);
-        println!("{what}: {e}");
-        assert!(e.starts_with("/data/test.bsdf: "), "{what}: {e}");
-        assert!(e.contains(want), "{what}: {e}");
-        assert!(!e.contains('\n'), "{what}: {e}");
+    let mut b = good.clone();
+    let d = data_of(&b, "ndf") + 4 * 3;
+    b[d..d + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    cases.push(("NaN ndf", b, "field `ndf`: element 3 is NaN"));
+    let mut b = good.clone();
+    let d = data_of(&b, "sigma") + 4 * 5;
+    b[d..d + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    cases.push(("NaN sigma", b, "field `sigma`: element 5 is NaN"));
+    let spectral = &samples()[2].1;
+    let mut b = spectral.clone();
+    let d = data_of(&b, "spectra") + 4 * 11;
+    b[d..d + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    cases.push(("NaN spectra", b, "field `spectra`: element 11 is NaN"));
+    let mut b = spectral.clone();
+    let d = data_of(&b, "wavelengths") + 4 * 2;
+    b[d..d + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    cases.push((
+        "NaN wavelengths",
+        b,
+        "field `wavelengths`: element 2 is NaN",
+    ));
+    let mut b = good.clone();
+    let (_, shape) = header_pos(&b, "vndf");
+    // [n_phi, n_theta, h, w] with n_theta 15 instead of 16 (the data still fits)
+    b[shape + 8..shape + 16].copy_from_slice(&15u64.to_le_bytes());
+    cases.push((
+        "shape against theta_i",
+        b,
+        "field `vndf`: shape [1, 15, 32, 32]",
+    ));
+    // Every case is tried and every miss reported (a panic counts as a miss), so that a
+    // guard taken out shows as its own case failing.
+    let mut missed = Vec::new();
+    for (what, bytes, want) in &cases {
+        let got = std::panic::catch_unwind(|| {
+            RglBrdf::from_bytes(bytes, path())
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        });
+        match got {
+            Err(_) => missed.push(format!("{what}: panicked")),
+            Ok(Ok(())) => missed.push(format!("{what}: accepted")),
+            Ok(Err(e)) => {
+                println!("{what}: {e}");
+                let one_line = e.starts_with("/data/test.bsdf: ") && !e.contains('\n');
+                if !one_line || !e.contains(want) {
+                    missed.push(format!("{what}: {e:?} (expected one line with {want:?})"));
+                }
+            }
+        }
+    }
+    assert!(missed.is_empty(), "{}", missed.join("\n"));
+}
+
+/// The fuzz target's seeds: each small material is read, and fits the fuzz runs'
+/// `-max_len=4096`.
+#[test]
+fn tiny_samples_are_valid_fuzz_seeds() {
+    for name in SAMPLE_NAMES {
+        let s = super::samples::tiny_sample(name).unwrap();
+        let b = RglBrdf::from_bytes(&s.bytes, path()).unwrap();
+        println!("{name}: {} bytes", s.bytes.len());
+        assert!(s.bytes.len() <= 4096, "{name}: {} bytes", s.bytes.len());
+        assert_eq!(b.is_isotropic(), name != "aniso-rgb");
+        assert_eq!(b.wavelengths.is_some(), name == "blinn-spectral");
     }
 }
