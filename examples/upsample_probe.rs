@@ -62,10 +62,6 @@ fn main() {
         });
         let (big, _) = Probe::from_texels("upsampled", w, h, texels, &LoadOptions::default())
             .expect("finite, non-negative texels");
-        println!(
-            "{}: power {:.6?}",
-            path.display(),
-            big.total_power()
-        );
+        println!("{}: power {:.6?}", path.display(), big.total_power());
     }
 }

@@ -63,7 +63,10 @@ fn tree_invariants_on_the_shipped_probes() {
                 assert_eq!(tree.cone_slot(tree.left(i)), tree.cone_slot(i) + 1);
             }
             if !tree.is_leaf(tree.right(i)) {
-                assert_eq!(tree.cone_slot(tree.right(i)), tree.cone_slot(i) + left_leaves);
+                assert_eq!(
+                    tree.cone_slot(tree.right(i)),
+                    tree.cone_slot(i) + left_leaves
+                );
             }
             let mut c = chain.clone();
             c.push(i);
@@ -122,7 +125,12 @@ fn tree_invariants_on_the_shipped_probes() {
 #[test]
 fn build_is_deterministic() {
     let probe = load("sky", 0.0);
-    let pool = |n: usize| rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
     let a = pool(4).install(|| LightTree::build(&probe, 1.0));
     let b = pool(1).install(|| LightTree::build(&probe, 1.0));
     assert_eq!(a.irradiance, b.irradiance);

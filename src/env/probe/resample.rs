@@ -22,9 +22,8 @@ pub fn upsample_bilinear(probe: &Probe, width: usize, height: usize) -> Vec<[f32
             let x = ((col as f64 + 0.5) / width as f64 * pw as f64 - 0.5).rem_euclid(pw as f64);
             let (c0, fx) = (x.floor() as usize % pw, (x - x.floor()) as f32);
             let c1 = (c0 + 1) % pw;
-            let mix = |a: [f32; 3], b: [f32; 3], f: f32| {
-                [0, 1, 2].map(|c| a[c] * (1.0 - f) + b[c] * f)
-            };
+            let mix =
+                |a: [f32; 3], b: [f32; 3], f: f32| [0, 1, 2].map(|c| a[c] * (1.0 - f) + b[c] * f);
             let top = mix(probe.texel(r0, c0), probe.texel(r0, c1), fx);
             let bottom = mix(probe.texel(r1, c0), probe.texel(r1, c1), fx);
             out.push(mix(top, bottom, fy));
@@ -39,7 +38,10 @@ pub fn upsample_bilinear(probe: &Probe, width: usize, height: usize) -> Vec<[f32
 /// the radiance). Same name and rotation.
 pub fn downsample_box(probe: &Probe, f: usize) -> Probe {
     let (w, h) = (probe.width(), probe.height());
-    assert!(f >= 1 && w % f == 0 && h % f == 0, "{f} must divide {w} x {h}");
+    assert!(
+        f >= 1 && w % f == 0 && h % f == 0,
+        "{f} must divide {w} x {h}"
+    );
     let (cw, ch) = (w / f, h / f);
     let mut texels = Vec::with_capacity(cw * ch);
     for crow in 0..ch {

@@ -190,9 +190,8 @@ pub const RESIDUAL_WIDTH: usize = 512;
 /// wider than that.
 pub fn residual_factor(w: usize, h: usize, nu: usize, max_width: usize) -> usize {
     let nu = nu.max(1);
-    let ok = |f: usize| {
-        w % f == 0 && h % f == 0 && (w / f) % nu == 0 && (f == 1 || w / f >= 4 * nu)
-    };
+    let ok =
+        |f: usize| w % f == 0 && h % f == 0 && (w / f) % nu == 0 && (f == 1 || w / f >= 4 * nu);
     let limit = max_width.max(4 * nu);
     let need = w.div_ceil(limit).max(1);
     (need..=w / nu)

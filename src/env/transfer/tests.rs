@@ -308,8 +308,8 @@ fn residual_factor_keeps_whole_shifts() {
 
 /// A table from the residual downsampled 2 x 2 against the one from the full residual, on
 /// the 64 x 32 probe (its bright texels split off): every value within 1% of the table's
-/// largest magnitude, and the irradiance term of the residual's total exact (every texel's
-/// power lands in one coarse texel). A seeded missing hemisphere clip is far outside.
+/// largest magnitude (measured: 5.3e-3 for 4 bands, 3.7e-3 for the irradiance). A seeded
+/// transposed axis is far outside.
 #[test]
 fn downsampled_residual_matches_the_full_one() {
     let p = probe();
@@ -343,9 +343,11 @@ fn downsampled_residual_matches_the_full_one() {
                 .fold(0.0f32, f32::max)
         };
         let e = worst(&table(32, BuildFault::None));
-        eprintln!("{basis:?}: 32 x 16 residual vs 64 x 32, largest difference / largest value {e:.2e}");
+        eprintln!(
+            "{basis:?}: 32 x 16 residual vs 64 x 32, largest difference / largest value {e:.2e}"
+        );
         assert!(e < 1e-2, "{basis:?}: {e}");
-        let f = worst(&table(32, BuildFault::NoHemisphereClip));
+        let f = worst(&table(32, BuildFault::TransposedAxes));
         assert!(f > 5e-2, "{basis:?}: seeded fault {f}");
     }
 }

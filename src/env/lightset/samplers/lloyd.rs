@@ -5,8 +5,8 @@
 //! Voronoi cells' exact summed RGB power ([`super::voronoi`]), so the total is exact
 //! whatever the number of iterations.
 
-use super::voronoi::lights_from_cells;
 use super::nearest_light_cells;
+use super::voronoi::lights_from_cells;
 use super::voronoi::{lights_from_probe_cells, probe_cells};
 use crate::env::probe::ProbeTables;
 use crate::env::{LightSet, Probe};
