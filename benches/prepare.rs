@@ -46,8 +46,9 @@ fn prepare_rows(c: &mut Criterion) {
     };
     write_exr(&big, &image).expect("the upsampled probe written");
     drop(image);
-    let material = SceneFile::parse("[material]\nkind = \"library\"\nname = \"teal-paint\"\n")
-        .and_then(|f| Scene::resolve(&f, base))
+    let teal = SceneFile::parse("[material]\nkind = \"library\"\nname = \"teal-paint\"\n")
+        .expect("a scene file");
+    let material = Scene::resolve(&teal, base)
         .expect("the library's teal paint")
         .material;
     let basis = TransferBasis::for_material(&material).expect("an SH data set");

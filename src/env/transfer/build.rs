@@ -191,8 +191,12 @@ pub const RESIDUAL_WIDTH: usize = 512;
 /// wider than that.
 pub fn residual_factor(w: usize, h: usize, nu: usize, max_width: usize) -> usize {
     let nu = nu.max(1);
-    let ok =
-        |f: usize| w % f == 0 && h % f == 0 && (w / f) % nu == 0 && (f == 1 || w / f >= 4 * nu);
+    let ok = |f: usize| {
+        w.is_multiple_of(f)
+            && h.is_multiple_of(f)
+            && (w / f).is_multiple_of(nu)
+            && (f == 1 || w / f >= 4 * nu)
+    };
     let limit = max_width.max(4 * nu);
     let need = w.div_ceil(limit).max(1);
     (need..=w / nu)

@@ -52,7 +52,7 @@ pub fn lloyd_with_progress(
 ) -> LightSet {
     let (w, h) = (probe.width(), probe.height());
     let f = (2..=w)
-        .find(|&f| w % f == 0 && h % f == 0 && w / f <= RELAXATION_WIDTH)
+        .find(|&f| w.is_multiple_of(f) && h.is_multiple_of(f) && w / f <= RELAXATION_WIDTH)
         .filter(|_| w > RELAXATION_WIDTH)
         .unwrap_or(1);
     if f == 1 {
