@@ -22,6 +22,7 @@
 //! half-vector box), so its cuts double and often reach `cut_max`.
 
 use brdfkit::env::lightcuts::prepare_lightcuts;
+use brdfkit::progress::Progress;
 use brdfkit::render::{self, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::shade::{self, ShadeOptions, ShadingPath};
@@ -54,7 +55,8 @@ fn lightcuts(c: &mut Criterion) {
             let file = SceneFile::parse(&scene_text(material, probe)).unwrap();
             let scene = Scene::resolve(&file, base).unwrap();
             let t0 = Instant::now();
-            let p = prepare_lightcuts(file.env.as_ref().unwrap(), base).unwrap();
+            let p =
+                prepare_lightcuts(file.env.as_ref().unwrap(), base, &Progress::hidden()).unwrap();
             let build = t0.elapsed().as_secs_f64();
             let vis = render::rasterize(&scene, false);
             // A: the per-pixel cut (the reference path), one frame timed here, as it takes

@@ -144,9 +144,8 @@ impl EnvMethod {
 
     /// What the command line's progress bar counts while this method prepares `env`
     /// (`crate::cli::render`): its label and unit, drawn once the preparation sets its
-    /// length (nothing on a cache hit); `None` when nothing is counted: a light tree's
-    /// build (~0.3 s), a light set file (read, not sampled), `auto` (made concrete before
-    /// anything is prepared).
+    /// length (nothing on a cache hit); `None` when nothing is counted: a light set file
+    /// (read, not sampled), `auto` (made concrete before anything is prepared).
     pub fn preparation_progress(self, env: &EnvSpec) -> Option<(String, &'static str)> {
         match self {
             EnvMethod::Transfer => Some((
@@ -173,7 +172,8 @@ impl EnvMethod {
                 };
                 Some((what, config.progress_unit()))
             }
-            EnvMethod::Lightcuts | EnvMethod::Auto => None,
+            EnvMethod::Lightcuts => Some(("light tree".to_string(), "texel visits")),
+            EnvMethod::Auto => None,
         }
     }
 }

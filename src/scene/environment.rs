@@ -431,8 +431,8 @@ pub fn build_environment(
             ConeBound::new(material)
                 .map_err(|why| Error::field("env.method", format!("\"lightcuts\": {why}")))?;
             match source {
-                ProbeSource::Files { base, .. } => {
-                    let p = prepare_lightcuts(spec, base)?;
+                ProbeSource::Files { base, progress, .. } => {
+                    let p = prepare_lightcuts(spec, base, progress)?;
                     // Every texel of positive weight is a light (a leaf of the tree).
                     let tree = &p.cuts.tree;
                     let summary = EnvSummary {

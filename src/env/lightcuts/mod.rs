@@ -44,13 +44,18 @@
 //!
 //! # The tree ([`LightTree`])
 //! A binary tree over every texel of positive weight (a 512 x 256 probe: ~131k leaves,
-//! ~262k nodes of 60 bytes, ~16 MB), built top-down once per scene and probe (no cache;
-//! 0.2-0.3 s for the shipped probes, probe load included): a cluster's texels are sorted along the largest extent of their
-//! directions' bounding box and split at the luminance-weighted median, so a bright texel
-//! (the sun, a studio lamp) gets a cluster of its own within a few levels. Each node stores
-//! (arrays of one value per node) its total irradiance, its representative direction, and a
-//! bounding cone (axis: the normalised centre of the directions' box; half angle: the
-//! largest angle to a member, its cosine lowered by [`tree::CONE_SLACK`]).
+//! ~262k nodes; a 4096 x 2048 one: 8.4 M leaves), built top-down once per scene and probe
+//! (no cache): a cluster's texels are ordered along the largest extent of their
+//! directions' bounding box and split at the luminance-weighted median (a selection, not a
+//! sort), so a bright texel (the sun, a studio lamp) gets a cluster of its own within a few
+//! levels; clusters of at least 2^15 texels on each side are split over two rayon tasks.
+//! Each node stores (arrays of one value per node) its total irradiance and its
+//! representative direction; each interior node a bounding cone (axis: the normalised
+//! centre of the directions' box; half angle: the largest angle to a member, its cosine
+//! lowered by [`tree::CONE_SLACK`]); a leaf, exact, needs none. About 56 bytes per texel,
+//! nothing per texel beside the tree while it is built (directions, powers and weights are
+//! computed from the probe's texels when needed): docs/environment-methods.md has the
+//! build's time and memory per probe size.
 
 pub mod tree;
 
@@ -100,8 +105,13 @@ pub struct PreparedLightCuts {
 
 /// Loads the probe of `spec` (relative to `base`; rotation and cleaning as every method
 /// loads it, [`EnvSpec::load_options`]) and builds its light tree, texel radiance times
-/// `spec.intensity`. Errors name the file or the field ([`EnvSpec::check`]).
-pub fn prepare_lightcuts(spec: &EnvSpec, base: &Path) -> Result<PreparedLightCuts> {
+/// `spec.intensity`; `progress` counts the build ([`LightTree::build_with_progress`]).
+/// Errors name the file or the field ([`EnvSpec::check`]).
+pub fn prepare_lightcuts(
+    spec: &EnvSpec,
+    base: &Path,
+    progress: &crate::progress::Progress,
+) -> Result<PreparedLightCuts> {
     spec.check()?;
     let path = base.join(&spec.file);
     crate::image_io::check_regular_file(
@@ -113,7 +123,7 @@ pub fn prepare_lightcuts(spec: &EnvSpec, base: &Path) -> Result<PreparedLightCut
     let (probe, report) = crate::env::probe::load_probe(&path, &spec.load_options())?;
     Ok(PreparedLightCuts {
         cuts: LightCuts {
-            tree: LightTree::build(&probe, spec.intensity),
+            tree: LightTree::build_with_progress(&probe, spec.intensity, progress),
             cut_error: spec.cut_error,
             cut_max: spec.cut_max,
             fault: BoundFault::None,

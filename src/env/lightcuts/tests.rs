@@ -1,7 +1,7 @@
 //! The light tree's invariants on the shipped probes (each checked against the probe's own
 //! texels, not against the tree).
 
-use super::tree::{LightTree, LEAF};
+use super::tree::LightTree;
 use crate::env::probe::ProbeTables;
 use crate::env::{LoadOptions, Probe};
 use glam::DVec3;
@@ -36,28 +36,42 @@ fn tree_invariants_on_the_shipped_probes() {
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); tree.len()];
         while let Some((i, chain)) = stack.pop() {
             if tree.is_leaf(i) {
-                let texel = tree.texel[i] as usize;
+                let texel = tree.texel(i);
                 seen[texel] += 1;
                 let d = t.dir[texel];
-                for &a in chain.iter().chain([i].iter()) {
+                members[i].push(texel);
+                // A leaf is exact: only its ancestors have cones.
+                for &a in chain.iter() {
                     members[a].push(texel);
-                    let c = tree.axis[a].as_dvec3().dot(d);
+                    let s = tree.cone_slot(a);
+                    let c = tree.axis[s].as_dvec3().dot(d);
                     assert!(
-                        c >= tree.cos_half[a] as f64 - 1e-6,
+                        c >= tree.cos_half[s] as f64 - 1e-6,
                         "{name}: texel {texel} outside the cone of node {a}"
                     );
                     // The f32 direction too (the representative's, the reference's light).
-                    let c32 = tree.axis[a].dot(d.as_vec3());
-                    assert!(c32 >= tree.cos_half[a], "{name}: f32 direction outside");
+                    let c32 = tree.axis[s].dot(d.as_vec3());
+                    assert!(c32 >= tree.cos_half[s], "{name}: f32 direction outside");
                 }
                 continue;
             }
-            assert_eq!(tree.left[i] as usize, i + 1, "pre-order");
-            assert_ne!(tree.left[i], LEAF);
+            // Pre-order: the left child follows, the right one follows the left subtree;
+            // cone slots are pre-order over the interior nodes.
+            let left_leaves = (tree.right(i) - tree.left(i)).div_ceil(2);
+            assert_eq!(tree.right(i), i + 2 * left_leaves, "pre-order");
+            if !tree.is_leaf(tree.left(i)) {
+                assert_eq!(tree.cone_slot(tree.left(i)), tree.cone_slot(i) + 1);
+            }
+            if !tree.is_leaf(tree.right(i)) {
+                assert_eq!(
+                    tree.cone_slot(tree.right(i)),
+                    tree.cone_slot(i) + left_leaves
+                );
+            }
             let mut c = chain.clone();
             c.push(i);
-            stack.push((tree.left[i] as usize, c.clone()));
-            stack.push((tree.right[i] as usize, c));
+            stack.push((tree.left(i), c.clone()));
+            stack.push((tree.right(i), c));
         }
         for (k, w) in t.weight.iter().enumerate() {
             assert_eq!(seen[k], (*w > 0.0) as u32, "{name}: texel {k}");
@@ -81,14 +95,20 @@ fn tree_invariants_on_the_shipped_probes() {
                 .sum::<DVec3>()
                 .normalize();
             let rep = tree.rep[i].as_dvec3();
-            let (axis, cos) = (tree.axis[i].as_dvec3(), tree.cos_half[i] as f64);
-            if m.len() > 1 && axis.dot(mean) >= cos + 1e-6 {
+            if m.len() == 1 {
+                assert!(tree.is_leaf(i));
+                assert_eq!(tree.rep[i], t.dir[brightest].as_vec3(), "{name}: node {i}");
+                continue;
+            }
+            let s = tree.cone_slot(i);
+            let (axis, cos) = (tree.axis[s].as_dvec3(), tree.cos_half[s] as f64);
+            if axis.dot(mean) >= cos + 1e-6 {
                 assert!((rep - mean).length() < 1e-6, "{name}: node {i}");
-            } else if m.len() == 1 || axis.dot(mean) < cos - 1e-6 {
+            } else if axis.dot(mean) < cos - 1e-6 {
                 assert_eq!(tree.rep[i], t.dir[brightest].as_vec3(), "{name}: node {i}");
             }
             assert!(
-                tree.axis[i].dot(tree.rep[i]) >= tree.cos_half[i] - 1e-6,
+                tree.axis[s].dot(tree.rep[i]) >= tree.cos_half[s] - 1e-6,
                 "{name}: node {i}: representative outside the cone"
             );
         }
@@ -99,20 +119,24 @@ fn tree_invariants_on_the_shipped_probes() {
     }
 }
 
-/// The same probe gives the same tree, bit for bit, whatever the thread pool (the build is
-/// sequential; this pins it).
+/// The same probe gives the same tree, bit for bit, whatever the thread pool (subtrees of
+/// at least 2^15 texels are built by parallel tasks; this pins that they write the same
+/// nodes).
 #[test]
 fn build_is_deterministic() {
     let probe = load("sky", 0.0);
-    let a = LightTree::build(&probe, 1.0);
-    let b = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap()
-        .install(|| LightTree::build(&probe, 1.0));
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let a = pool(4).install(|| LightTree::build(&probe, 1.0));
+    let b = pool(1).install(|| LightTree::build(&probe, 1.0));
     assert_eq!(a.irradiance, b.irradiance);
+    assert_eq!(a.rep, b.rep);
     assert_eq!(a.axis, b.axis);
     assert_eq!(a.cos_half, b.cos_half);
-    assert_eq!(a.left, b.left);
-    assert_eq!(a.texel, b.texel);
+    assert_eq!(a.right, b.right);
+    assert_eq!(a.slot, b.slot);
 }

@@ -359,6 +359,7 @@ pub fn load_probe(path: &Path, opts: &LoadOptions) -> crate::error::Result<(Prob
 
 mod clean;
 mod read;
+pub mod resample;
 mod tables;
 use read::{check_size, read_exr, read_hdr};
 pub use read::{HDR_TEXELS_PER_BYTE, HDR_TEXEL_SLACK};

@@ -8,8 +8,10 @@
 //! (rotation applied, no half-texel offset).
 
 use super::Probe;
+use crate::conventions::texel_center_f64;
 use crate::env::luminance;
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Per-texel tables shared by the samplers, row-major like the probe.
 #[derive(Clone, Debug)]
@@ -29,21 +31,35 @@ pub struct ProbeTables {
 }
 
 impl ProbeTables {
-    /// Builds the tables of a probe (O(texels)).
+    /// Builds the tables of a probe (O(texels)), parallel over rows. The directions are
+    /// [`Probe::direction`]'s arithmetic (the same bits) from sines and cosines computed once
+    /// per row and per column.
     pub fn new(probe: &Probe) -> Self {
         let (w, h) = (probe.width(), probe.height());
-        let mut weight = Vec::with_capacity(w * h);
-        let mut power = Vec::with_capacity(w * h);
-        let mut dir = Vec::with_capacity(w * h);
-        for row in 0..h {
-            let omega = probe.solid_angle(row);
-            for col in 0..w {
-                let t = probe.texel(row, col);
-                weight.push(luminance(t) * omega);
-                power.push(DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64) * omega);
-                dir.push(probe.direction(row, col));
-            }
-        }
+        let cols: Vec<(f64, f64)> = (0..w)
+            .map(|c| (std::f64::consts::TAU * texel_center_f64(c, w)).sin_cos())
+            .collect();
+        let (s, c) = probe.rotation().sin_cos();
+        let mut weight = vec![0.0f64; w * h];
+        let mut power = vec![DVec3::ZERO; w * h];
+        let mut dir = vec![DVec3::ZERO; w * h];
+        weight
+            .par_chunks_mut(w)
+            .zip(power.par_chunks_mut(w))
+            .zip(dir.par_chunks_mut(w))
+            .enumerate()
+            .for_each(|(row, ((wr, pr), dr))| {
+                let omega = probe.solid_angle(row);
+                let (sp, cp) = (std::f64::consts::PI * texel_center_f64(row, h)).sin_cos();
+                for col in 0..w {
+                    let t = probe.texel(row, col);
+                    wr[col] = luminance(t) * omega;
+                    pr[col] = DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64) * omega;
+                    let (sa, ca) = cols[col];
+                    let d = DVec3::new(-sp * sa, cp, sp * ca);
+                    dr[col] = DVec3::new(d.x * c + d.z * s, d.y, -d.x * s + d.z * c);
+                }
+            });
         let total_weight = weight.iter().sum();
         let total_power = power.iter().copied().sum();
         ProbeTables {

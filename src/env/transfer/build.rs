@@ -18,10 +18,23 @@
 //! per term and channel at the end. It agrees with the direct sum (kept, test only) to
 //! within f64 rounding (tests.rs, `fft_build_matches_the_direct_sum`).
 //!
+//! # Residual
+//! The sum runs over the residual: the probe without the texels summed exactly per pixel
+//! (`exclude`, the brightest). A table of at most 8 bands on a grid of 2.8-degree nodes
+//! needs it only smooth, so a residual wider than [`RESIDUAL_WIDTH`] is first downsampled by
+//! an integer factor ([`residual_factor`]): each coarse texel carries the exact summed power
+//! of its block of fine texels, at the coarse texel's centre, and the sum above runs over
+//! the coarse texels (`W` is then the coarse width). The brightest texels stay exact, taken
+//! out at full resolution before the downsampling. The cost no longer grows with the probe
+//! past that width: a 4096 x 2048 probe (8 M texels) is summed as 512 x 256, its texels
+//! only read once and added up (docs/environment-methods.md has the times and the accuracy
+//! cost against the full-resolution sum).
+//!
 //! # Determinism
 //! One rayon task per table row; each node's sum runs over probe rows in index order
 //! inside that task, the transforms planned once per build, so the table is the same bits
-//! for any thread count. (rustfft picks its SIMD kernels by CPU: another machine may round
+//! for any thread count. The residual's rows and their transforms are each computed by one
+//! task, in a fixed order. (rustfft picks its SIMD kernels by CPU: another machine may round
 //! the f64 sums differently in the last bits, far below the table's f32.)
 
 use super::table::TransferTable;
@@ -54,16 +67,63 @@ pub enum BuildFault {
 /// Indices (`row * width + col`) of the `k` texels of largest luminance x solid angle
 /// ([`crate::env::luminance`], exact texel solid angles), brightest first; ties keep the
 /// lower index. Fewer when the probe has fewer texels.
+///
+/// The order is total (weight, then index), so the `k` brightest are one set whatever
+/// finds them: each band of probe rows keeps its own `k` best in a bounded heap (in
+/// parallel), and the bands' lists are merged and cut to `k`. O(texels log k), a few
+/// tens of milliseconds for a 4096 x 2048 probe (a full sort took about a second).
 pub fn brightest_texels(probe: &Probe, k: usize) -> Vec<usize> {
-    let w = probe.width();
-    let mut order: Vec<(f64, usize)> = probe
-        .texels()
-        .iter()
-        .enumerate()
-        .map(|(idx, t)| (luminance(*t) * probe.solid_angle(idx / w), idx))
+    use std::collections::BinaryHeap;
+    /// Weight and index ordered brightest first: `a < b` when `a` is brighter (or as bright
+    /// with a lower index), so a max-heap's top is the dimmest kept.
+    #[derive(Clone, Copy)]
+    struct Ranked(f64, usize);
+    impl PartialEq for Ranked {
+        fn eq(&self, o: &Self) -> bool {
+            self.cmp(o) == std::cmp::Ordering::Equal
+        }
+    }
+    impl Eq for Ranked {}
+    impl Ord for Ranked {
+        fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+            o.0.total_cmp(&self.0).then(self.1.cmp(&o.1))
+        }
+    }
+    impl PartialOrd for Ranked {
+        fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+            Some(self.cmp(o))
+        }
+    }
+    let (w, h) = (probe.width(), probe.height());
+    if k == 0 || w * h == 0 {
+        return Vec::new();
+    }
+    let texels = probe.texels();
+    let band = (h / (4 * rayon::current_num_threads().max(1))).max(1);
+    let best = |rows: std::ops::Range<usize>| -> Vec<Ranked> {
+        let mut heap: BinaryHeap<Ranked> = BinaryHeap::with_capacity(k + 1);
+        for row in rows {
+            let omega = probe.solid_angle(row);
+            for (col, t) in texels[row * w..(row + 1) * w].iter().enumerate() {
+                let r = Ranked(luminance(*t) * omega, row * w + col);
+                if heap.len() < k {
+                    heap.push(r);
+                } else if r < *heap.peek().expect("k > 0 kept") {
+                    heap.pop();
+                    heap.push(r);
+                }
+            }
+        }
+        heap.into_vec()
+    };
+    let mut all: Vec<Ranked> = (0..h.div_ceil(band))
+        .into_par_iter()
+        .map(|b| best(b * band..((b + 1) * band).min(h)))
+        .flatten()
         .collect();
-    order.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    order.into_iter().take(k).map(|(_, idx)| idx).collect()
+    all.sort_unstable();
+    all.truncate(k);
+    all.into_iter().map(|r| r.1).collect()
 }
 
 /// The texels `indices` as directional lights: each texel's centre direction (probe
@@ -83,7 +143,8 @@ pub fn texel_lights(probe: &Probe, indices: &[usize], intensity: f32) -> LightSe
 
 /// Builds the transfer table of `probe` (times `intensity`) for `basis` on the
 /// `grid = (nu, nv)` of normals (parent module doc), leaving out the texels `exclude` (summed exactly
-/// elsewhere, [`texel_lights`]). One progress step per table row (`nv` in all).
+/// elsewhere, [`texel_lights`]), from the residual at most [`RESIDUAL_WIDTH`] texels wide
+/// ([`build_table_from_residual`]). One progress step per table row (`nv` in all).
 ///
 /// Errors (naming the scene field): `nu` not a divisor of the probe's width, `nu < 3`,
 /// `nv < 2`, or more than 2^24 values.
@@ -96,6 +157,67 @@ pub fn build_table(
     progress: &Progress,
     fault: BuildFault,
 ) -> Result<TransferTable> {
+    build_table_from_residual(
+        probe,
+        basis,
+        grid,
+        (exclude, RESIDUAL_WIDTH),
+        intensity,
+        progress,
+        fault,
+    )
+}
+
+/// Largest width, in texels, of the residual probe (the probe without its `exact_lights`
+/// brightest texels) a transfer table is projected from, unless the table's grid asks for
+/// more ([`residual_factor`]: at least four residual texels per azimuth node). A wider probe
+/// is downsampled by an integer factor, each coarse texel carrying the exact summed power of
+/// its block at its centre (the module doc's "Residual").
+///
+/// Why 512: the shipped probes are 512 x 256, so their tables (and the golden images drawn
+/// with them) keep their bits; and a table of at most 8 bands needs the residual only
+/// smooth: at 512 texels a coarse texel is 0.7 degrees, a quarter of the default grid's
+/// node spacing (2.8 degrees), whose bilinear interpolation bounds the table's accuracy.
+/// Measured against the full-resolution projection on city upsampled to 2048 x 1024
+/// (`examples/transfer_residual_error.rs`, teal-paint and Lambert): relative RMSE 0.0003%,
+/// p99 0.002%, against the method's own 0.1-1% and a few percent (docs/environment-methods.md).
+pub const RESIDUAL_WIDTH: usize = 512;
+
+/// The integer factor a `w x h` probe is downsampled by before its projection onto a table
+/// of `nu` azimuth nodes: the smallest `f` that divides `w` and `h`, leaves `w / f` a
+/// multiple of `nu` (so the FFT build's shifts stay whole texels) of at least `4 nu`
+/// texels, and `w / f` at most `max(max_width, 4 nu)`; when no factor brings it that low,
+/// the largest admissible factor below that (1, the full probe, at worst). 1 for a probe no
+/// wider than that.
+pub fn residual_factor(w: usize, h: usize, nu: usize, max_width: usize) -> usize {
+    let nu = nu.max(1);
+    let ok = |f: usize| {
+        w.is_multiple_of(f)
+            && h.is_multiple_of(f)
+            && (w / f).is_multiple_of(nu)
+            && (f == 1 || w / f >= 4 * nu)
+    };
+    let limit = max_width.max(4 * nu);
+    let need = w.div_ceil(limit).max(1);
+    (need..=w / nu)
+        .find(|&f| ok(f))
+        .or_else(|| (1..need).rev().find(|&f| ok(f)))
+        .unwrap_or(1)
+}
+
+/// [`build_table`] with the residual's largest width given: `residual = (exclude,
+/// max_width)`, the texels left out and the width [`residual_factor`] downsamples the rest
+/// to (`usize::MAX`: the full probe, as the accuracy study compares against).
+pub fn build_table_from_residual(
+    probe: &Probe,
+    basis: TransferBasis,
+    grid: (usize, usize),
+    residual: (&[usize], usize),
+    intensity: f32,
+    progress: &Progress,
+    fault: BuildFault,
+) -> Result<TransferTable> {
+    let (exclude, max_width) = residual;
     let (nu, nv) = grid;
     let (w, h) = (probe.width(), probe.height());
     if nu < 3 || w % nu != 0 {
@@ -117,25 +239,21 @@ pub fn build_table(
             format!("{nu} x {nv} nodes x {nt} terms is over 2^24 values"),
         ));
     }
-    // Texel power L Omega intensity per channel, excluded texels zero.
-    let mut power: Vec<[f64; 3]> = probe
-        .texels()
-        .iter()
-        .enumerate()
-        .map(|(idx, t)| {
-            let o = probe.solid_angle(idx / w) * intensity as f64;
-            [t[0] as f64 * o, t[1] as f64 * o, t[2] as f64 * o]
+    let f = residual_factor(w, h, nu, max_width);
+    let (power, cw, ch) = residual_power(probe, exclude, intensity, f);
+    // Unrotated texel centre directions of the residual (the table lives in the probe's
+    // frame).
+    let dirs: Vec<DVec3> = (0..cw * ch)
+        .map(|idx| {
+            probe_direction(
+                texel_center_f64(idx % cw, cw),
+                texel_center_f64(idx / cw, ch),
+            )
         })
         .collect();
-    for &idx in exclude {
-        power[idx] = [0.0; 3];
-    }
-    // Unrotated texel centre directions (the table lives in the probe's frame).
-    let dirs: Vec<DVec3> = (0..w * h)
-        .map(|idx| probe_direction(texel_center_f64(idx % w, w), texel_center_f64(idx / w, h)))
-        .collect();
     progress.set_length(nv as u64);
-    let spectra = PowerSpectra::new(&power, w, h);
+    let spectra = PowerSpectra::new(&power, cw, ch);
+    let (w, h) = (cw, ch);
     let rows: Vec<Vec<f64>> = (0..nv)
         .into_par_iter()
         .map(|j| {
@@ -173,6 +291,52 @@ pub fn build_table(
         probe.rotation(),
         values,
     ))
+}
+
+/// The residual's texel power `L Omega intensity` per channel (the texels `exclude` zero),
+/// summed over blocks of `f x f` texels (row-major within a block) into a
+/// `w / f x h / f` image: `(power, w / f, h / f)`. With `f = 1` every texel's own power,
+/// the full probe. Parallel over residual rows, each summed by one task in a fixed order.
+fn residual_power(
+    probe: &Probe,
+    exclude: &[usize],
+    intensity: f32,
+    f: usize,
+) -> (Vec<[f64; 3]>, usize, usize) {
+    let (w, h) = (probe.width(), probe.height());
+    let (cw, ch) = (w / f, h / f);
+    let mut excluded = vec![false; w * h];
+    for &idx in exclude {
+        excluded[idx] = true;
+    }
+    let texels = probe.texels();
+    let mut power = vec![[0.0f64; 3]; cw * ch];
+    power
+        .par_chunks_mut(cw)
+        .enumerate()
+        .for_each(|(crow, out)| {
+            for row in crow * f..(crow + 1) * f {
+                let o = probe.solid_angle(row) * intensity as f64;
+                for (ccol, acc) in out.iter_mut().enumerate() {
+                    for col in ccol * f..(ccol + 1) * f {
+                        let idx = row * w + col;
+                        if excluded[idx] {
+                            continue;
+                        }
+                        let t = texels[idx];
+                        let p = [t[0] as f64 * o, t[1] as f64 * o, t[2] as f64 * o];
+                        if f == 1 {
+                            *acc = p;
+                        } else {
+                            for c in 0..3 {
+                                acc[c] += p[c];
+                            }
+                        }
+                    }
+                }
+            }
+        });
+    (power, cw, ch)
 }
 
 /// **Test only**, the direct sum the FFT build ([`table_row_fft`]) is checked against: the
@@ -327,22 +491,27 @@ impl PowerSpectra {
         let fft = FftPlanner::new().plan_fft_forward(w);
         let half = w / 2 + 1;
         let mut spec = vec![Complex64::new(0.0, 0.0); h * 3 * half];
-        let mut nonzero = vec![false; h];
-        let mut buf = vec![Complex64::new(0.0, 0.0); w];
-        for r in 0..h {
-            let row = &power[r * w..(r + 1) * w];
-            nonzero[r] = row.iter().any(|p| *p != [0.0; 3]);
-            if !nonzero[r] {
-                continue;
-            }
-            for c in 0..3 {
-                for (b, p) in buf.iter_mut().zip(row) {
-                    *b = Complex64::new(p[c], 0.0);
-                }
-                fft.process(&mut buf);
-                spec[(r * 3 + c) * half..(r * 3 + c + 1) * half].copy_from_slice(&buf[..half]);
-            }
-        }
+        let nonzero: Vec<bool> = spec
+            .par_chunks_mut(3 * half)
+            .enumerate()
+            .map_init(
+                || vec![Complex64::new(0.0, 0.0); w],
+                |buf, (r, out)| {
+                    let row = &power[r * w..(r + 1) * w];
+                    if !row.iter().any(|p| *p != [0.0; 3]) {
+                        return false;
+                    }
+                    for c in 0..3 {
+                        for (b, p) in buf.iter_mut().zip(row) {
+                            *b = Complex64::new(p[c], 0.0);
+                        }
+                        fft.process(buf);
+                        out[c * half..(c + 1) * half].copy_from_slice(&buf[..half]);
+                    }
+                    true
+                },
+            )
+            .collect();
         PowerSpectra {
             spec,
             nonzero,

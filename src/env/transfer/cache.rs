@@ -7,8 +7,9 @@
 //! [`StableHasher`](crate::hash::StableHasher) (XXH3-64) of a key tag, the crate version,
 //! [`TRANSFER_ALGORITHM_VERSION`], the probe file's bytes, the loader options that change
 //! texels (`zero_non_finite`, `max_texels`) and every table parameter: the basis (kind,
-//! bands, cosine), the grid `(nu, nv)`, the number of brightest texels left out, and the
-//! intensity's bits ([`table_cache_key`]). The probe rotation is not in the key: the table
+//! bands, cosine), the grid `(nu, nv)`, the number of brightest texels left out, the
+//! intensity's bits and the residual's largest width ([`super::build::RESIDUAL_WIDTH`])
+//! ([`table_cache_key`]). The probe rotation is not in the key: the table
 //! lives in the probe's own frame and the rotation is applied at lookup, so the viewer
 //! turning the environment (shift-drag) reads one entry for every angle. Entries are
 //! `<dir>/transfer-<key>.bin`, `<key>` 16 hex digits ([`table_file_name`]).
@@ -36,7 +37,9 @@ use std::path::{Path, PathBuf};
 /// Version of the algorithm that turns probe texels and table parameters into a transfer
 /// table ([`super::build::build_table`], [`super::build::brightest_texels`]). Part of every
 /// key and stored in every entry: bump it when a table's values change for the same inputs.
-pub const TRANSFER_ALGORITHM_VERSION: u32 = 1;
+/// 2: a probe wider than [`super::build::RESIDUAL_WIDTH`] is projected from its
+/// downsampled residual.
+pub const TRANSFER_ALGORITHM_VERSION: u32 = 2;
 
 /// Format tag of a transfer-table cache entry.
 pub const TABLE_CACHE_FORMAT: &str = "brdfkit-transfer-cache-v1";
@@ -88,6 +91,7 @@ fn versioned_key(algorithm: u32, bytes: &[u8], opts: &LoadOptions, p: &TablePara
     h.write_u64(p.grid.1 as u64);
     h.write_u64(p.exact_lights as u64);
     h.write_u64(p.intensity.to_bits() as u64);
+    h.write_u64(super::build::RESIDUAL_WIDTH as u64);
     h.finish()
 }
 

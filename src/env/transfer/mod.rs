@@ -14,7 +14,9 @@
 //!
 //! The integral is the exact sum over every probe texel with its exact solid angle
 //! ([`crate::conventions::probe_texel_solid_angle`]) and the hemisphere clip at the texel
-//! centre, as the converged reference sums the full probe
+//! centre (for a probe wider than [`build::RESIDUAL_WIDTH`], over its residual downsampled
+//! with power summed exactly, [`build`]'s "Residual"), as the converged reference sums the
+//! full probe
 //! ([`crate::render::RenderOptions::converged_reference`] on `sampler = "full"`). The `K`
 //! brightest texels (luminance x solid angle) may be left out of the table and summed
 //! exactly per pixel as directional lights through the ordinary kernels: each light that

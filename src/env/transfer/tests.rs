@@ -287,3 +287,92 @@ fn fft_build_matches_the_direct_sum() {
         assert!(f > 1e-2, "{basis:?}: seeded fault {f}");
     }
 }
+
+/// The residual's downsampling factor: the smallest that brings the width to at most
+/// `max(max_width, 4 nu)` with whole texels per node shift, else the largest below.
+#[test]
+fn residual_factor_keeps_whole_shifts() {
+    use build::residual_factor;
+    assert_eq!(residual_factor(512, 256, 128, 512), 1);
+    assert_eq!(residual_factor(1024, 512, 128, 512), 2);
+    assert_eq!(residual_factor(4096, 2048, 128, 512), 8);
+    assert_eq!(residual_factor(8192, 4096, 128, 512), 16);
+    // 3200 / 7 is not whole, 3200 / 25 = 128 is under 4 nodes' texels: 3200 / 5 = 640.
+    assert_eq!(residual_factor(3200, 1600, 128, 512), 5);
+    // A grid wider than the limit's quarter keeps four texels per node.
+    assert_eq!(residual_factor(4096, 2048, 256, 512), 4);
+    // No admissible factor (the height): the full probe.
+    assert_eq!(residual_factor(4096, 2047, 128, 512), 1);
+    assert_eq!(residual_factor(64, 32, 8, usize::MAX), 1);
+}
+
+/// A table from the residual downsampled 2 x 2 against the one from the full residual, on
+/// the 64 x 32 probe (its bright texels split off): every value within 1% of the table's
+/// largest magnitude (measured: 5.3e-3 for 4 bands, 3.7e-3 for the irradiance). A seeded
+/// transposed axis is far outside.
+#[test]
+fn downsampled_residual_matches_the_full_one() {
+    let p = probe();
+    let exact = brightest_texels(&p, 6);
+    for basis in [
+        TransferBasis::Sh {
+            bands: 4,
+            cosine: true,
+        },
+        TransferBasis::Irradiance,
+    ] {
+        let table = |max_width, fault| {
+            build::build_table_from_residual(
+                &p,
+                basis,
+                (8, 9),
+                (&exact, max_width),
+                1.0,
+                &Progress::hidden(),
+                fault,
+            )
+            .unwrap()
+        };
+        let full = table(usize::MAX, BuildFault::None);
+        let scale = full.values().iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        let worst = |t: &TransferTable| {
+            t.values()
+                .iter()
+                .zip(full.values())
+                .map(|(a, b)| (a - b).abs() / scale)
+                .fold(0.0f32, f32::max)
+        };
+        let e = worst(&table(32, BuildFault::None));
+        eprintln!(
+            "{basis:?}: 32 x 16 residual vs 64 x 32, largest difference / largest value {e:.2e}"
+        );
+        assert!(e < 1e-2, "{basis:?}: {e}");
+        let f = worst(&table(32, BuildFault::TransposedAxes));
+        assert!(f > 5e-2, "{basis:?}: seeded fault {f}");
+    }
+}
+
+/// The bounded-heap choice of the brightest texels against a full sort (weight descending,
+/// index ascending), on a probe with many equal texels (ties decided by index).
+#[test]
+fn brightest_texels_agree_with_a_full_sort() {
+    let (w, h) = (64, 32);
+    let texels: Vec<[f32; 3]> = (0..w * h)
+        .map(|i| {
+            let v = ((i * 7919) % 13) as f32;
+            [v, v * 0.5, 1.0]
+        })
+        .collect();
+    let (p, _) = Probe::from_texels("ties", w, h, texels, &LoadOptions::default()).unwrap();
+    let mut order: Vec<(f64, usize)> = p
+        .texels()
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (crate::env::luminance(*t) * p.solid_angle(i / w), i))
+        .collect();
+    order.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for k in [0, 1, 5, 64, 300, w * h, w * h + 10] {
+        let want: Vec<usize> = order.iter().take(k).map(|o| o.1).collect();
+        assert_eq!(brightest_texels(&p, k), want, "k = {k}");
+    }
+}

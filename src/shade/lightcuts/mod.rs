@@ -158,11 +158,12 @@ fn cluster(
     let err = if tree.is_leaf(i) {
         0.0
     } else {
+        let c = tree.cone_slot(i);
         let cone = Cone {
-            axis: frame.to_local(tree.axis[i]),
-            cos: tree.cos_half[i],
-            sin: tree.sin_half[i],
-            sin_half: tree.sin_quarter[i],
+            axis: frame.to_local(tree.axis[c]),
+            cos: tree.cos_half[c],
+            sin: tree.sin_half[c],
+            sin_half: tree.sin_quarter[c],
         };
         let b = if fault == BoundFault::None {
             bound.f_cos_max(&cone, wo)
@@ -206,7 +207,7 @@ fn cut_radiance(
         }
         let top = heap.pop().expect("peeked");
         let i = top.node();
-        let (l, r) = (at(tree.left[i] as usize), at(tree.right[i] as usize));
+        let (l, r) = (at(tree.left(i)), at(tree.right(i)));
         total += l.estimate + r.estimate - top.estimate;
         heap.push(l);
         heap.push(r);

@@ -69,7 +69,7 @@ fn nodes_at(tree: &LightTree, depth: usize) -> Vec<(usize, Vec<usize>)> {
                 if tree.is_leaf(i) {
                     vec![i]
                 } else {
-                    vec![tree.left[i] as usize, tree.right[i] as usize]
+                    vec![tree.left(i), tree.right(i)]
                 }
             })
             .collect();
@@ -83,8 +83,8 @@ fn nodes_at(tree: &LightTree, depth: usize) -> Vec<(usize, Vec<usize>)> {
                 if tree.is_leaf(j) {
                     leaves.push(j);
                 } else {
-                    stack.push(tree.left[j] as usize);
-                    stack.push(tree.right[j] as usize);
+                    stack.push(tree.left(j));
+                    stack.push(tree.right(j));
                 }
             }
             (i, leaves)

@@ -284,14 +284,16 @@ pub struct TileCtx<'a> {
     pub rule: FrameRule,
 }
 
-/// The bounding cone of node `i` of `tree` in the local coordinates of `frame`.
+/// The bounding cone of interior node `i` of `tree` (a leaf has none) in the local
+/// coordinates of `frame`.
 #[inline]
 pub fn node_cone(tree: &crate::env::lightcuts::LightTree, i: usize, frame: &ShadingFrame) -> Cone {
+    let c = tree.cone_slot(i);
     Cone {
-        axis: frame.to_local(tree.axis[i]),
-        cos: tree.cos_half[i],
-        sin: tree.sin_half[i],
-        sin_half: tree.sin_quarter[i],
+        axis: frame.to_local(tree.axis[c]),
+        cos: tree.cos_half[c],
+        sin: tree.sin_half[c],
+        sin_half: tree.sin_quarter[c],
     }
 }
 
@@ -376,8 +378,8 @@ impl Kernel for ShadeCutTile<'_, '_, '_> {
                 let top = sc.heap.pop().expect("peeked");
                 let i = top.node();
                 let (l, r) = (
-                    ctx.cluster(&tf, tree.left[i] as usize),
-                    ctx.cluster(&tf, tree.right[i] as usize),
+                    ctx.cluster(&tf, tree.left(i)),
+                    ctx.cluster(&tf, tree.right(i)),
                 );
                 total += l.estimate + r.estimate - top.estimate;
                 sc.heap.push(l);

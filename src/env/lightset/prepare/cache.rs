@@ -38,8 +38,9 @@ use std::path::{Path, PathBuf};
 /// Bump when the output of `Probe::load` or of any sampler changes (a different light,
 /// irradiance or order for the same inputs), so no cache entry written by older code is read.
 /// 2: negative texels keep the signed integral (their mass moved into nearby positive
-/// texels) instead of being clamped to 0.
-pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 2;
+/// texels) instead of being clamped to 0. 3: Lloyd relaxes a probe wider than
+/// [`crate::env::lightset::samplers::RELAXATION_WIDTH`] on a downsampled copy.
+pub const LIGHT_SET_ALGORITHM_VERSION: u32 = 3;
 
 pub use crate::env::cache_entry::CRATE_VERSION;
 

@@ -5,15 +5,16 @@
 //! Voronoi cells' exact summed RGB power ([`super::voronoi`]), so the total is exact
 //! whatever the number of iterations.
 
+use super::nearest_light_cells;
 use super::voronoi::lights_from_cells;
-use super::{median_cut, nearest_light_cells};
+use super::voronoi::{lights_from_probe_cells, probe_cells};
 use crate::env::probe::ProbeTables;
 use crate::env::{LightSet, Probe};
 use crate::progress::Progress;
 use glam::DVec3;
 
 /// Lloyd relaxation on the sphere: weighted spherical k-means of the texel directions
-/// (weight `luminance x solid angle`), seeded from [`median_cut`]'s lights, `iterations`
+/// (weight `luminance x solid angle`), seeded from [`median_cut`](super::median_cut())'s lights, `iterations`
 /// rounds of (assign each texel to its nearest light; move each light to its cell's
 /// normalised energy centroid), stopping early when no assignment changes. Each light
 /// then carries its final Voronoi cell's summed RGB power (f64), so the total is exact.
@@ -28,21 +29,63 @@ pub fn lloyd(probe: &Probe, n: usize, iterations: usize) -> LightSet {
     lloyd_with_progress(probe, n, iterations, &Progress::hidden())
 }
 
+/// Largest probe width Lloyd's relaxation iterates at: a wider probe is relaxed on its
+/// copy downsampled by an integer factor ([`crate::env::probe::resample::downsample_box`],
+/// power kept exactly), and only the final cells are found, and their powers summed, on
+/// the full probe. Why 512: the shipped probes are 512 x 256, so their light sets keep
+/// their bits; at 512 x 256 each of the default 128 lights' cells still holds about a
+/// thousand texels, so where the lights settle hardly depends on finer texels, while each
+/// round costs texels x lights (a 4096 x 2048 probe: 17 rounds of 8 M x 128 dot products,
+/// 20 s of CPU, against one at the end).
+pub const RELAXATION_WIDTH: usize = 512;
+
 /// [`lloyd()`], counting on `progress` one step for the median-cut seed and its first
-/// assignment, then one per relaxation round; on convergence before `iterations` rounds
-/// the length is cut to the steps done. Counting does not change the light set.
+/// assignment, then one per relaxation round, then one for the full probe's cells when the
+/// rounds ran on a downsampled copy ([`RELAXATION_WIDTH`]); on convergence before
+/// `iterations` rounds the length is cut to the steps done. Counting does not change the
+/// light set.
 pub fn lloyd_with_progress(
     probe: &Probe,
     n: usize,
     iterations: usize,
     progress: &Progress,
 ) -> LightSet {
+    let (w, h) = (probe.width(), probe.height());
+    let f = (2..=w)
+        .find(|&f| w.is_multiple_of(f) && h.is_multiple_of(f) && w / f <= RELAXATION_WIDTH)
+        .filter(|_| w > RELAXATION_WIDTH)
+        .unwrap_or(1);
+    if f == 1 {
+        return match relax(probe, n, iterations, progress) {
+            Some((t, dirs, cells)) => lights_from_cells(&t, &dirs, &cells),
+            None => LightSet::default(),
+        };
+    }
+    let coarse = crate::env::probe::resample::downsample_box(probe, f);
+    let Some((_, dirs, _)) = relax(&coarse, n, iterations, progress) else {
+        return LightSet::default();
+    };
+    progress.set_length(progress.position() + 1);
+    let cells = probe_cells(probe, &dirs);
+    let lights = lights_from_probe_cells(probe, &dirs, &cells);
+    progress.inc(1);
+    lights
+}
+
+/// The rounds of [`lloyd()`] on `probe`: its tables, the final light directions and cells;
+/// `None` for a black probe or `n == 0`.
+fn relax(
+    probe: &Probe,
+    n: usize,
+    iterations: usize,
+    progress: &Progress,
+) -> Option<(ProbeTables, Vec<DVec3>, Vec<u32>)> {
     progress.set_length(iterations as u64 + 1);
     let t = ProbeTables::new(probe);
-    let seed = median_cut(probe, n);
+    let seed = super::median_cut::median_cut_of_tables(probe, &t, n, &Progress::hidden());
     if seed.lights.is_empty() {
         progress.inc(iterations as u64 + 1);
-        return LightSet::default();
+        return None;
     }
     let mut dirs: Vec<DVec3> = (0..seed.lights.len())
         .map(|i| seed.lights.direction(i))
@@ -70,5 +113,5 @@ pub fn lloyd_with_progress(
             break;
         }
     }
-    lights_from_cells(&t, &dirs, &cells)
+    Some((t, dirs, cells))
 }

@@ -182,9 +182,19 @@ pub fn median_cut(probe: &Probe, n: usize) -> MedianCut {
 /// lights. Counting does not change the
 /// result.
 pub fn median_cut_with_progress(probe: &Probe, n: usize, progress: &Progress) -> MedianCut {
+    median_cut_of_tables(probe, &ProbeTables::new(probe), n, progress)
+}
+
+/// [`median_cut_with_progress`] from the probe's tables already built (`t`, of `probe`):
+/// Lloyd's seed, which keeps its tables.
+pub(super) fn median_cut_of_tables(
+    probe: &Probe,
+    t: &ProbeTables,
+    n: usize,
+    progress: &Progress,
+) -> MedianCut {
     let levels = if n == 0 { 0 } else { n.ilog2() as u64 };
     progress.set_length(levels + 1);
-    let t = ProbeTables::new(probe);
     let mut out = MedianCut {
         lights: LightSet::default(),
         regions: Vec::new(),

@@ -71,7 +71,7 @@ pub use config::SamplerConfig;
 pub use distribution2d::Distribution2D;
 pub use full::full_probe;
 pub use importance::{importance, rescale_to_total, ImportanceSampler};
-pub use lloyd::{lloyd, lloyd_with_progress};
+pub use lloyd::{lloyd, lloyd_with_progress, RELAXATION_WIDTH};
 pub use median_cut::{median_cut, median_cut_with_progress, Cut, CutAxis, MedianCut, Region};
 pub use stratified::{importance_stratified, stratified_uniforms};
 pub use uniform::{uniform, uniform_direction, uniform_inverse, uniform_pdf};

@@ -7,6 +7,7 @@
 //! the largest `d.l` computed in f32 with ties to the lowest light index, the same rule as
 //! [`crate::env::LightSet::nearest`] (which agrees up to f32 ties on cell borders).
 
+use crate::conventions::texel_center_f64;
 use crate::env::probe::ProbeTables;
 use crate::env::LightSet;
 use glam::DVec3;
@@ -97,6 +98,59 @@ pub(super) fn lights_from_cells(tables: &ProbeTables, dirs: &[DVec3], cells: &[u
     for (i, &c) in cells.iter().enumerate() {
         if c != u32::MAX {
             power[c as usize] += tables.power[i];
+        }
+    }
+    let mut ls = LightSet::with_capacity(dirs.len());
+    for (d, p) in dirs.iter().zip(&power) {
+        ls.push(*d, *p);
+    }
+    ls
+}
+
+/// [`nearest_light_cells`] on the probe itself, without its tables (4 bytes per texel
+/// instead of 56): each texel's direction is [`ProbeTables`]' own (the same bits), computed
+/// per row; the same cells.
+pub(super) fn probe_cells(probe: &crate::env::Probe, dirs: &[DVec3]) -> Vec<u32> {
+    assert!(dirs.len() <= 1 << 24, "{} lights: at most 2^24", dirs.len());
+    let (w, h) = (probe.width(), probe.height());
+    let lx: Vec<f32> = dirs.iter().map(|d| d.x as f32).collect();
+    let ly: Vec<f32> = dirs.iter().map(|d| d.y as f32).collect();
+    let lz: Vec<f32> = dirs.iter().map(|d| d.z as f32).collect();
+    let cols: Vec<(f64, f64)> = (0..w)
+        .map(|c| (std::f64::consts::TAU * texel_center_f64(c, w)).sin_cos())
+        .collect();
+    let (s, c) = probe.rotation().sin_cos();
+    let mut cells = vec![u32::MAX; w * h];
+    cells.par_chunks_mut(w).enumerate().for_each(|(row, out)| {
+        let omega = probe.solid_angle(row);
+        let (sp, cp) = (std::f64::consts::PI * texel_center_f64(row, h)).sin_cos();
+        for (col, cell) in out.iter_mut().enumerate() {
+            if !(crate::env::luminance(probe.texel(row, col)) * omega > 0.0) || dirs.is_empty() {
+                continue;
+            }
+            let (sa, ca) = cols[col];
+            let d = DVec3::new(-sp * sa, cp, sp * ca);
+            let d = DVec3::new(d.x * c + d.z * s, d.y, -d.x * s + d.z * c);
+            *cell = nearest_light([d.x as f32, d.y as f32, d.z as f32], &lx, &ly, &lz);
+        }
+    });
+    cells
+}
+
+/// [`lights_from_cells`] on the probe itself: each light carries the summed `RGB x solid
+/// angle` of its cell's texels, in texel order (the same bits).
+pub(super) fn lights_from_probe_cells(
+    probe: &crate::env::Probe,
+    dirs: &[DVec3],
+    cells: &[u32],
+) -> LightSet {
+    let w = probe.width();
+    let mut power = vec![DVec3::ZERO; dirs.len()];
+    for (i, &c) in cells.iter().enumerate() {
+        if c != u32::MAX {
+            let t = probe.texels()[i];
+            power[c as usize] +=
+                DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64) * probe.solid_angle(i / w);
         }
     }
     let mut ls = LightSet::with_capacity(dirs.len());
