@@ -6,9 +6,11 @@
 //! ```
 //!
 //! For Blinn-Phong exponents 50, 200 and 500 (the scene format's other defaults) and the
-//! library D-BRDFs `gold-dust-paint` and `magenta-plastic` (or the ones named by `m=`) under
-//! each shipped probe
-//! (or the ones named: `city`, `studio`, `sky`), renders a 256-segment sphere at SIZE x SIZE
+//! library's isotropic D-BRDF `gold-dust-paint` (a Lambert + D-BRDF fit), the SH data set
+//! `magenta-plastic` for contrast (its `auto` method is the transfer table: an SH set
+//! includes the cosine and states no Lambertian term, so its diffuse part stays in the
+//! series), and the anisotropic `lindt-paper` (refused), or the ones named by `m=`, under
+//! each shipped probe (or the ones named: `city`, `studio`, `sky`), renders a 256-segment sphere at SIZE x SIZE
 //! (default 96) with the default reflection table (64 x 64 cells, 13 + 1 slices, 64 exact
 //! lights, residual 256 wide) and with the converged reference
 //! ([`RenderOptions::converged_reference`] on `sampler = "full"`: f64, every texel a light),

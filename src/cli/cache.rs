@@ -1,10 +1,11 @@
-//! `brdfkit cache [show|clean]`: where the three caches are (light sets and transfer
+//! `brdfkit cache [show|clean]`: where the caches are (light sets, transfer and reflection
 //! tables, in one directory, and sweep references), how much they hold, the cap, and a way
 //! to empty them.
 //!
 //! Design rule: `clean` deletes only files whose names the caches write themselves
-//! (`lights-<16 hex>.json` and `transfer-<16 hex>.bin`, the transfer tables of
-//! [`crate::env::transfer::cache`], in the light-set cache, `reference-<16 hex>.exr` and its
+//! (`lights-<16 hex>.json`, `transfer-<16 hex>.bin` and `reflection-<16 hex>.bin`, the
+//! tables of [`crate::env::transfer::cache`] and [`crate::env::reflection::cache`], in the
+//! light-set cache, `reference-<16 hex>.exr` and its
 //! `.exr.xxh3` checksum in the sweep's reference cache; also the `.exr.fnv1a` checksums
 //! that builds before the XXH3 hash wrote), never a directory or any other
 //! file, so pointing `BRDFKIT_CACHE_DIR` at a directory that holds other things is safe.
@@ -59,7 +60,7 @@ pub fn run(a: CacheArgs) -> Result<()> {
     };
     let dirs: Vec<(&str, Option<PathBuf>, String)> = vec![
         (
-            "light sets and transfer tables (brdfkit render, view)",
+            "light sets, transfer and reflection tables (brdfkit render, view)",
             user.path().map(Path::to_path_buf),
             cap,
         ),

@@ -1,8 +1,9 @@
-//! The size cap of the user's cache directory (light sets and transfer tables): least
+//! The size cap of the user's cache directory (light sets, transfer and reflection tables): least
 //! recently used entries are evicted when a new entry would take the directory past the cap.
 //!
 //! Design rule: only the caches' own files count and only they are ever deleted
-//! ([`is_cache_file`]: `lights-<16 hex>.json`, `transfer-<16 hex>.bin`, and the sweep's
+//! ([`is_cache_file`]: `lights-<16 hex>.json`, `transfer-<16 hex>.bin`,
+//! `reflection-<16 hex>.bin`, and the sweep's
 //! `reference-<16 hex>.exr[.xxh3|.fnv1a]`, which `brdfkit cache clean` also removes); "used"
 //! is the file's modification time, which a cache hit refreshes ([`touch`]), so the order
 //! is least recently *used*, not least recently written. Eviction never fails a render: a
@@ -32,6 +33,7 @@ pub fn is_cache_file(name: &str) -> bool {
     }
     if let Some(k) = name
         .strip_prefix("transfer-")
+        .or_else(|| name.strip_prefix("reflection-"))
         .and_then(|r| r.strip_suffix(".bin"))
     {
         return hex16(k);
@@ -122,6 +124,15 @@ mod tests {
     fn only_the_caches_own_file_names_count() {
         assert!(is_cache_file("lights-0123456789abcdef.json"));
         assert!(is_cache_file("transfer-0123456789abcdef.bin"));
+        // The names the table caches write themselves.
+        let dir = Path::new("cache");
+        for written in [
+            crate::env::reflection::cache::table_file_name(dir, 0x0123_4567_89ab_cdef),
+            crate::env::transfer::cache::table_file_name(dir, 0x0123_4567_89ab_cdef),
+        ] {
+            let name = written.file_name().unwrap().to_string_lossy().into_owned();
+            assert!(is_cache_file(&name), "{name}");
+        }
         assert!(is_cache_file("reference-0123456789ABCDEF.exr"));
         assert!(is_cache_file("reference-0123456789abcdef.exr.xxh3"));
         // Written by builds before the XXH3 hash: still cleaned.
@@ -131,6 +142,8 @@ mod tests {
             "transfer-0123.bin",
             "transfer-0123456789abcdef.bin.tmp",
             "transfer-0123456789abcdef.json",
+            "reflection-0123.bin",
+            "reflection-0123456789abcdef.bin.tmp",
             "lights-0123456789abcdef.json.tmp",
             "reference-0123456789abcdeg.exr",
             "notes.txt",
