@@ -246,7 +246,11 @@ fn env_method_flag_and_table_cache() {
     let (_, lights) = render("lights", "d.exr");
     assert!(lights != first);
     let show = cli.run(&["cache"]);
-    assert!(show.stdout.contains("transfer tables"), "{}", show.stdout);
+    assert!(
+        show.stdout.contains("transfer and reflection tables"),
+        "{}",
+        show.stdout
+    );
     let clean = cli.run(&["cache", "clean"]);
     assert!(clean.success(), "{}", clean.stderr);
     assert!(entries().is_empty());
