@@ -12,7 +12,9 @@
 //!    `R_s (1 - m) + m`, so `c F = a (1 - m) + c m` with `a = c R_s` is linear in
 //!    `(c, a_R, a_G, a_B)`. We minimise the squared error of `f cos(polar_i)` over the
 //!    sample set (view texel centres x an [`ErrorGrid`] of light directions) by the normal
-//!    equations, then set `R_s = clamp(a / c, 0, 1)` and refit `c` alone for that `R_s`.
+//!    equations under the bounds `c > 0`, `0 <= R_s <= 1` (`R_s = a / c`; each face of
+//!    the bounds solved when the unconstrained solution is outside them), then refit `c`
+//!    alone for that `R_s`.
 //! 3. **p(h) by least squares on the half-vector table.** With `c` and `R_s` fixed the model
 //!    is linear in each table value: every sample votes for the texel containing its half
 //!    vector (`GL_NEAREST` texel, [`crate::conventions::hemi_nearest_texel`]) with
