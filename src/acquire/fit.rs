@@ -246,8 +246,8 @@ fn constrained_c_rs(s: &CrsSums) -> Option<(f64, DVec3)> {
         let n = 1 + free.len();
         let mut m = vec![0.0f64; n * n];
         let mut r = vec![0.0f64; n];
-        for ch in 0..3 {
-            match b[ch] {
+        for (ch, bound) in b.iter().enumerate() {
+            match bound {
                 RsBound::Free | RsBound::Zero => {
                     m[0] += s.uu;
                     r[0] += s.uy[ch];
@@ -280,8 +280,8 @@ fn constrained_c_rs(s: &CrsSums) -> Option<(f64, DVec3)> {
         }
         let mut a = [0.0f64; 3];
         let mut next_free = 1;
-        for ch in 0..3 {
-            a[ch] = match b[ch] {
+        for (a_ch, bound) in a.iter_mut().zip(b) {
+            *a_ch = match bound {
                 RsBound::Zero => 0.0,
                 RsBound::One => c,
                 RsBound::Free => {
