@@ -167,6 +167,11 @@ fn method_lsq(chosen: Method) -> Method {
     }
 }
 
+/// Relative L2 above which `brdfkit fit-dbrdf` says the fit does not hold its source (the
+/// library's rule: a representation is used where its relative L2 is below 0.1,
+/// `examples/library_fit.rs`). The file is still written: a bad fit is reported, not hidden.
+const FIT_WARN_REL_L2: f64 = 0.1;
+
 pub fn run_fit(a: FitDbrdfArgs) -> Result<()> {
     let (nu, nv) = a.grid;
     crate::image_io::check_output(&a.output, &["exr"], "--output")?;
@@ -203,6 +208,14 @@ pub fn run_fit(a: FitDbrdfArgs) -> Result<()> {
         100.0 * fit.report.worst_min_over_peak,
         100.0 * fit.report.share_below_zero
     );
+    if fit.report.rel_l2 > FIT_WARN_REL_L2 {
+        println!(
+            "warning: the D-BRDF does not hold this source: rel L2 {:.4} is above {FIT_WARN_REL_L2} \
+             (its view dependence at a fixed half vector, c F(k.h) / D, is not the source's; \
+             a Lambert base under the lobe, or SH (`brdfkit acquire {}`), may hold it)",
+            fit.report.rel_l2, a.source
+        );
+    }
     let prov = format!(
         "brdfkit fit-dbrdf: source {}, p(h) {nu}x{nv}, rel L2 {:.4}",
         a.source, fit.report.rel_l2

@@ -127,9 +127,10 @@ fn acquire_and_fit_dbrdf_read_an_rgl_file() {
 
 /// MERL on the same footing: a MERL table fitted to a D-BRDF (thesis 2.3.6) renders under an
 /// environment by the accurate default, light cuts. Against the table itself shaded with
-/// the converged reference the ratio of means is 0.63 (measured): the D-BRDF has no diffuse
-/// term, and this table's Blinn-Phong has one (the fit's rel L2 is 0.56); the bound only
-/// holds the measured number.
+/// the converged reference the ratio of means is 1.0002 (measured; the fit's rel L2 is
+/// 0.13: the D-BRDF has no diffuse term, and this table's Blinn-Phong has one). It was 0.63
+/// while the fit's `(c, R_s)` least squares fell back to `R_s = 0.05` on a lobe without a
+/// Fresnel rise (`src/acquire/fit.rs`), which the bound refuses.
 #[test]
 fn a_merl_table_fitted_to_a_dbrdf_renders_under_an_environment_by_light_cuts() {
     let d = tempfile::tempdir().unwrap();
@@ -164,7 +165,7 @@ fn a_merl_table_fitted_to_a_dbrdf_renders_under_an_environment_by_light_cuts() {
     println!(
         "MERL fitted to a D-BRDF, light cuts / the table's reference: ratio of means {ratio:.4}"
     );
-    assert!((0.55..0.72).contains(&ratio), "ratio of means {ratio}");
+    assert!((0.98..1.02).contains(&ratio), "ratio of means {ratio}");
 }
 
 #[test]
