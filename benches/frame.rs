@@ -1,7 +1,9 @@
 //! Frame time of the default scene at 640x480: rasterization (clip, set-up, binning,
 //! per-tile visibility) and deferred shading measured separately, and the whole frame.
 //! `raster-alone` is the rasterizer without the vertex transform (clip positions computed
-//! once); `raster-1M` is the same on the teapot at `segments = 128` (1,048,576 triangles).
+//! once); `raster-reused` is that with the previous frame's buffers reused
+//! (`raster::rasterize_into`); `raster-1M` is `raster-alone` on the teapot at
+//! `segments = 128` (1,048,576 triangles).
 
 use brdfkit::mesh::teapot::teapot;
 use brdfkit::raster::{self, RasterConfig};
@@ -32,6 +34,21 @@ fn frame(c: &mut Criterion) {
     let clip = render::clip_positions(&scene);
     g.bench_function("raster-alone", |b| {
         b.iter(|| raster::rasterize(&clip, &scene.mesh.triangles, &cfg))
+    });
+    // The same with the buffers kept from the previous frame (the steady state of the
+    // viewer and turntables): no allocation, no first-touch page faults.
+    let mut scratch = raster::RasterScratch::default();
+    let mut reused = raster::VisBuffer::default();
+    g.bench_function("raster-reused", |b| {
+        b.iter(|| {
+            raster::rasterize_into(
+                &clip,
+                &scene.mesh.triangles,
+                &cfg,
+                &mut scratch,
+                &mut reused,
+            )
+        })
     });
     // Built on first use, so a run filtered to the other rows does not build it.
     let dense = std::cell::OnceCell::new();

@@ -3,12 +3,17 @@
 //! Stages (each a submodule, in the order the data flows):
 //! 1. [`clip`]: homogeneous clipping against the near plane and a guard band; triangles
 //!    that cross the camera plane are cut, not dropped.
-//! 2. [`setup`]: snapping to fixed point and integer edge functions with a top-left rule.
+//! 2. [`setup`]: snapping to fixed point (each mesh vertex once) and integer edge
+//!    functions with a top-left rule.
 //! 3. binning (here): each set-up triangle is listed in every tile its pixel bounds touch,
-//!    in source order.
+//!    in source order (one flat list, [`Bins`]).
 //! 4. [`tile`]: tiles resolve visibility in parallel (rayon): per pixel the nearest triangle
 //!    (largest 1/w; ties keep the earlier triangle) and, if asked, how many triangles cover
-//!    it. Tiles with an empty bin are not visited.
+//!    it; a large triangle is walked in blocks classified by their corners. Tiles with an
+//!    empty bin are not visited.
+//!
+//! [`rasterize_into`] reuses a previous frame's [`VisBuffer`] and [`RasterScratch`], so a
+//! caller drawing frame after frame at one size touches no new memory.
 //!
 //! Determinism contract: every per-pixel value depends only on the pixel, the triangles in
 //! source order and exact integer coverage, never on the tile size, the thread count or the

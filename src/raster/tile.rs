@@ -98,13 +98,13 @@ impl<'a> Walk<'a> {
         let e = self.biased_at(x0, y0);
         let (nx, ny) = ((x1 - x0) as i64, (y1 - y0) as i64);
         let mut inside = true;
-        for k in 0..3 {
-            let (dx, dy) = (self.step_x[k] * nx, self.step_y[k] * ny);
-            let hi = e[k] + dx.max(0) + dy.max(0);
+        for ((e, sx), sy) in e.into_iter().zip(self.step_x).zip(self.step_y) {
+            let (dx, dy) = (sx * nx, sy * ny);
+            let hi = e + dx.max(0) + dy.max(0);
             if hi < 0 {
                 return BlockClass::Outside;
             }
-            let lo = e[k] + dx.min(0) + dy.min(0);
+            let lo = e + dx.min(0) + dy.min(0);
             inside &= lo >= 0;
         }
         if inside {
@@ -145,12 +145,12 @@ impl<'a> Walk<'a> {
                         c[i] += 1;
                     }
                 }
-                for k in 0..3 {
-                    e[k] += self.step_x[k];
+                for (e, step) in e.iter_mut().zip(self.step_x) {
+                    *e += step;
                 }
             }
-            for k in 0..3 {
-                row[k] += self.step_y[k];
+            for (r, step) in row.iter_mut().zip(self.step_y) {
+                *r += step;
             }
         }
     }
