@@ -3,12 +3,17 @@
 //! Stages (each a submodule, in the order the data flows):
 //! 1. [`clip`]: homogeneous clipping against the near plane and a guard band; triangles
 //!    that cross the camera plane are cut, not dropped.
-//! 2. [`setup`]: snapping to fixed point and integer edge functions with a top-left rule.
+//! 2. [`setup`]: snapping to fixed point (each mesh vertex once) and integer edge
+//!    functions with a top-left rule.
 //! 3. binning (here): each set-up triangle is listed in every tile its pixel bounds touch,
-//!    in source order.
+//!    in source order (one flat list, [`Bins`]).
 //! 4. [`tile`]: tiles resolve visibility in parallel (rayon): per pixel the nearest triangle
 //!    (largest 1/w; ties keep the earlier triangle) and, if asked, how many triangles cover
-//!    it. Tiles with an empty bin are not visited.
+//!    it; a large triangle is walked in blocks classified by their corners. Tiles with an
+//!    empty bin are not visited.
+//!
+//! [`rasterize_into`] reuses a previous frame's [`VisBuffer`] and [`RasterScratch`], so a
+//! caller drawing frame after frame at one size touches no new memory.
 //!
 //! Determinism contract: every per-pixel value depends only on the pixel, the triangles in
 //! source order and exact integer coverage, never on the tile size, the thread count or the
@@ -19,10 +24,12 @@ pub mod clip;
 pub mod setup;
 pub mod tile;
 
-use clip::{ClipPlanes, ClipVertex};
+use clip::ClipPlanes;
 use glam::Vec4;
 use rayon::prelude::*;
 use setup::SetupTriangle;
+#[doc(hidden)]
+pub use tile::RasterFault;
 
 /// Marks a pixel no triangle covers.
 pub const NO_TRIANGLE: u32 = u32::MAX;
@@ -81,7 +88,8 @@ impl PixelRect {
 
 /// The result of rasterization, stored tile-major: tile `t` owns entries
 /// `t * tile_size^2 .. (t + 1) * tile_size^2`, row-major inside the tile.
-#[derive(Clone, Debug)]
+/// `VisBuffer::default()` is an empty buffer for [`rasterize_into`] to fill.
+#[derive(Clone, Debug, Default)]
 pub struct VisBuffer {
     pub width: u32,
     pub height: u32,
@@ -186,76 +194,252 @@ impl VisBuffer {
     }
 }
 
+/// A mesh vertex as set-up reads it: its clip-plane outcode and, when it is inside every
+/// plane, its snapped fixed-point position ([`setup::snap`]) and clip w.
+#[derive(Clone, Copy, Debug)]
+struct SnappedVertex {
+    x: i64,
+    y: i64,
+    w: f32,
+    code: u32,
+}
+
+/// Triangles per set-up task (and vertices per snapping task, times two).
+const SETUP_CHUNK: usize = 2048;
+
+/// What the rasterizer keeps between frames besides the [`VisBuffer`]: the snapped
+/// vertices, the set-up tasks' triangles and the bins. Passed again to
+/// [`rasterize_into`] with the same buffer, a frame of the same size and a similar mesh
+/// allocates (and first-touches) no memory.
+#[derive(Debug, Default)]
+pub struct RasterScratch {
+    verts: Vec<SnappedVertex>,
+    chunks: Vec<Vec<SetupTriangle>>,
+    bins: Bins,
+}
+
+/// Per tile, the indices of the set-up triangles whose pixel bounds touch it, in
+/// increasing order: tile `t`'s are `items[offsets[t]..offsets[t + 1]]`.
+#[derive(Debug, Default)]
+pub struct Bins {
+    offsets: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Bins {
+    /// The triangles of tile `t`.
+    #[inline]
+    pub fn tile(&self, t: usize) -> &[u32] {
+        &self.items[self.offsets[t] as usize..self.offsets[t + 1] as usize]
+    }
+
+    /// Number of tiles.
+    pub fn tiles(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+}
+
 /// Sets up every triangle (clipping where needed), in source order.
 pub fn setup_triangles(
     clip: &[Vec4],
     triangles: &[[u32; 3]],
     cfg: &RasterConfig,
 ) -> Vec<SetupTriangle> {
+    let mut out = Vec::new();
+    setup_triangles_into(
+        clip,
+        triangles,
+        cfg,
+        &mut RasterScratch::default(),
+        &mut out,
+    );
+    out
+}
+
+/// [`setup_triangles`] into `out` (cleared first), with `scratch`'s buffers. Each vertex is
+/// tested against the clip planes and snapped once (a vertex shared by six triangles is
+/// not snapped six times); a triangle no plane clips is set up from its snapped vertices
+/// ([`setup::setup_snapped`], the same bits as [`setup::setup`]), a clipped one from its
+/// clipped polygon.
+fn setup_triangles_into(
+    clip: &[Vec4],
+    triangles: &[[u32; 3]],
+    cfg: &RasterConfig,
+    scratch: &mut RasterScratch,
+    out: &mut Vec<SetupTriangle>,
+) {
     let planes = ClipPlanes::new(cfg.near, cfg.width, cfg.height);
     let cull_back = cfg.cull == Cull::Back;
-    let chunks: Vec<Vec<SetupTriangle>> = triangles
-        .par_chunks(2048)
+    let (width, height) = (cfg.width, cfg.height);
+    let verts = &mut scratch.verts;
+    clip.par_iter()
+        .with_min_len(2 * SETUP_CHUNK)
+        .map(|&p| {
+            let code = planes.outcode(p);
+            let (x, y) = if code == 0 {
+                setup::snap(p, width, height)
+            } else {
+                (0, 0)
+            };
+            SnappedVertex { x, y, w: p.w, code }
+        })
+        .collect_into_vec(verts);
+    let verts = &*verts;
+    const IDENTITY: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let chunks = &mut scratch.chunks;
+    chunks.resize_with(triangles.len().div_ceil(SETUP_CHUNK), Vec::new);
+    chunks
+        .par_iter_mut()
+        .zip(triangles.par_chunks(SETUP_CHUNK))
         .enumerate()
-        .map(|(ci, chunk)| {
-            let mut out = Vec::with_capacity(chunk.len());
+        .for_each(|(ci, (out, chunk))| {
+            out.clear();
             let mut poly = Vec::new();
             for (k, tri) in chunk.iter().enumerate() {
-                let source = (ci * 2048 + k) as u32;
-                let v = tri.map(|i| clip[i as usize]);
-                let codes = v.map(|p| planes.outcode(p));
+                let source = (ci * SETUP_CHUNK + k) as u32;
+                let sv = tri.map(|i| verts[i as usize]);
+                let codes = sv.map(|v| v.code);
                 if codes[0] & codes[1] & codes[2] != 0 {
                     continue; // wholly outside one plane
                 }
                 if codes[0] | codes[1] | codes[2] == 0 {
-                    let cv: [ClipVertex; 3] = std::array::from_fn(|k| {
-                        let mut bary = [0.0; 3];
-                        bary[k] = 1.0;
-                        ClipVertex { clip: v[k], bary }
-                    });
-                    out.extend(setup::setup(cv, source, cfg.width, cfg.height, cull_back));
+                    out.extend(setup::setup_snapped(
+                        sv.map(|v| (v.x, v.y)),
+                        sv.map(|v| v.w),
+                        IDENTITY,
+                        source,
+                        width,
+                        height,
+                        cull_back,
+                    ));
                     continue;
                 }
+                let v = tri.map(|i| clip[i as usize]);
                 planes.clip_triangle(v, &mut poly);
                 for i in 1..poly.len().saturating_sub(1) {
                     let cv = [poly[0], poly[i], poly[i + 1]];
-                    out.extend(setup::setup(cv, source, cfg.width, cfg.height, cull_back));
+                    out.extend(setup::setup(cv, source, width, height, cull_back));
                 }
             }
-            out
-        })
-        .collect();
-    // One copy per chunk into a vector of the exact length (a flattening iterator would
-    // move the 200-byte triangles one by one).
-    let mut all = Vec::with_capacity(chunks.iter().map(Vec::len).sum());
-    for c in &chunks {
-        all.extend_from_slice(c);
+        });
+    // One copy per chunk (a flattening iterator would move the 200-byte triangles one by
+    // one).
+    out.clear();
+    out.reserve(chunks.iter().map(Vec::len).sum());
+    for c in chunks.iter() {
+        out.extend_from_slice(c);
     }
-    all
 }
 
 /// Lists, per tile, the indices of the set-up triangles whose pixel bounds touch it, in
 /// increasing index order.
-pub fn bin_triangles(
+pub fn bin_triangles(tris: &[SetupTriangle], tiles_x: u32, tiles_y: u32, tile_size: u32) -> Bins {
+    let mut bins = Bins::default();
+    bin_triangles_into(tris, tiles_x, tiles_y, tile_size, &mut bins);
+    bins
+}
+
+/// [`bin_triangles`] into `bins`: one pass counts each tile's triangles, a second lists
+/// them in triangle order.
+fn bin_triangles_into(
     tris: &[SetupTriangle],
     tiles_x: u32,
     tiles_y: u32,
     tile_size: u32,
-) -> Vec<Vec<u32>> {
-    let mut bins = vec![Vec::new(); (tiles_x * tiles_y) as usize];
-    for (i, t) in tris.iter().enumerate() {
-        for ty in t.py_min / tile_size..=t.py_max / tile_size {
-            for tx in t.px_min / tile_size..=t.px_max / tile_size {
-                bins[(ty * tiles_x + tx) as usize].push(i as u32);
+    bins: &mut Bins,
+) {
+    let n = (tiles_x * tiles_y) as usize;
+    let offsets = &mut bins.offsets;
+    offsets.clear();
+    offsets.resize(n + 1, 0);
+    let tiles_of = |t: &SetupTriangle| {
+        (
+            t.px_min / tile_size..=t.px_max / tile_size,
+            t.py_min / tile_size..=t.py_max / tile_size,
+        )
+    };
+    for t in tris {
+        let (xs, ys) = tiles_of(t);
+        for ty in ys {
+            for tx in xs.clone() {
+                offsets[(ty * tiles_x + tx) as usize + 1] += 1;
             }
         }
     }
-    bins
+    for t in 0..n {
+        offsets[t + 1] += offsets[t];
+    }
+    let items = &mut bins.items;
+    items.clear();
+    items.resize(offsets[n] as usize, 0);
+    // Each tile's next free slot, kept in `offsets[t]` while filling and restored after.
+    for (i, t) in tris.iter().enumerate() {
+        let (xs, ys) = tiles_of(t);
+        for ty in ys {
+            for tx in xs.clone() {
+                let slot = &mut offsets[(ty * tiles_x + tx) as usize];
+                items[*slot as usize] = i as u32;
+                *slot += 1;
+            }
+        }
+    }
+    // Slot t now holds the end of tile t, the start of tile t + 1.
+    for t in (1..=n).rev() {
+        offsets[t] = offsets[t - 1];
+    }
+    offsets[0] = 0;
 }
 
 /// Rasterizes `triangles` (indices into `clip`, clip-space positions) into a visibility
 /// buffer. Panics if the config has a zero width, height or tile size.
 pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> VisBuffer {
+    let mut vis = VisBuffer::default();
+    rasterize_into(
+        clip,
+        triangles,
+        cfg,
+        &mut RasterScratch::default(),
+        &mut vis,
+    );
+    vis
+}
+
+/// [`rasterize`] with a fault seeded into the block walk (tests only).
+#[doc(hidden)]
+pub fn rasterize_with_fault(
+    clip: &[Vec4],
+    triangles: &[[u32; 3]],
+    cfg: &RasterConfig,
+    fault: RasterFault,
+) -> VisBuffer {
+    let mut vis = VisBuffer::default();
+    let mut scratch = RasterScratch::default();
+    rasterize_impl(clip, triangles, cfg, &mut scratch, &mut vis, Some(fault));
+    vis
+}
+
+/// [`rasterize`] into `vis`, reusing its buffers and `scratch`'s: the same bits as
+/// [`rasterize`] whatever they held before (every field of `vis` is rewritten; `rays` is
+/// reset to `None`). A caller drawing frame after frame at one size (the viewer, a
+/// turntable, a bench) keeps both and touches no new memory in a steady state.
+pub fn rasterize_into(
+    clip: &[Vec4],
+    triangles: &[[u32; 3]],
+    cfg: &RasterConfig,
+    scratch: &mut RasterScratch,
+    vis: &mut VisBuffer,
+) {
+    rasterize_impl(clip, triangles, cfg, scratch, vis, None);
+}
+
+fn rasterize_impl(
+    clip: &[Vec4],
+    triangles: &[[u32; 3]],
+    cfg: &RasterConfig,
+    scratch: &mut RasterScratch,
+    vis: &mut VisBuffer,
+    fault: Option<RasterFault>,
+) {
     assert!(
         cfg.width > 0 && cfg.height > 0 && cfg.tile_size > 0,
         "empty raster target"
@@ -263,26 +447,39 @@ pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> V
     let ts = cfg.tile_size;
     let tiles_x = cfg.width.div_ceil(ts);
     let tiles_y = cfg.height.div_ceil(ts);
-    let setup = setup_triangles(clip, triangles, cfg);
-    let bins = bin_triangles(&setup, tiles_x, tiles_y, ts);
+    setup_triangles_into(clip, triangles, cfg, scratch, &mut vis.triangles);
+    let setup = &vis.triangles;
+    let bins = &mut scratch.bins;
+    bin_triangles_into(setup, tiles_x, tiles_y, ts, bins);
+    let bins = &*bins;
     let per_tile = (ts * ts) as usize;
     let n = per_tile * (tiles_x * tiles_y) as usize;
-    let mut visible = vec![NO_TRIANGLE; n];
-    let mut depth = vec![0.0f32; n];
-    let mut coverage = cfg.count_coverage.then(|| vec![0u32; n]);
-    let tile_occupied: Vec<bool> = bins.iter().map(|b| !b.is_empty()).collect();
+    vis.visible.clear();
+    vis.visible.resize(n, NO_TRIANGLE);
+    vis.depth.clear();
+    vis.depth.resize(n, 0.0);
+    if cfg.count_coverage {
+        let c = vis.coverage.get_or_insert_with(Vec::new);
+        c.clear();
+        c.resize(n, 0);
+    } else {
+        vis.coverage = None;
+    }
+    vis.tile_occupied.clear();
+    vis.tile_occupied
+        .extend((0..bins.tiles()).map(|t| !bins.tile(t).is_empty()));
     {
-        let cov_chunks: Vec<Option<&mut [u32]>> = match coverage.as_mut() {
+        let cov_chunks: Vec<Option<&mut [u32]>> = match vis.coverage.as_mut() {
             Some(c) => c.chunks_mut(per_tile).map(Some).collect(),
-            None => (0..bins.len()).map(|_| None).collect(),
+            None => (0..bins.tiles()).map(|_| None).collect(),
         };
-        visible
+        vis.visible
             .par_chunks_mut(per_tile)
-            .zip(depth.par_chunks_mut(per_tile))
+            .zip(vis.depth.par_chunks_mut(per_tile))
             .zip(cov_chunks.into_par_iter())
             .enumerate()
-            .filter(|(t, _)| !bins[*t].is_empty())
-            .for_each(|(t, ((vis, dep), cov))| {
+            .filter(|(t, _)| !bins.tile(*t).is_empty())
+            .for_each(|(t, ((visible, depth), coverage))| {
                 let r = PixelRect::tile(t, ts, tiles_x, cfg.width, cfg.height);
                 let tile = tile::TileTarget {
                     x0: r.x0,
@@ -291,21 +488,20 @@ pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> V
                     y1: r.y0 + r.h - 1,
                     stride: ts,
                 };
-                tile::resolve(&tile, &setup, &bins[t], vis, dep, cov);
+                let mut out = tile::TileBuffers {
+                    visible,
+                    depth,
+                    coverage,
+                };
+                tile::resolve(&tile, setup, bins.tile(t), &mut out, fault);
             });
     }
-    VisBuffer {
-        width: cfg.width,
-        height: cfg.height,
-        tile_size: ts,
-        tiles_x,
-        tiles_y,
-        visible,
-        depth,
-        coverage,
-        tile_occupied,
-        tile_row_left: vec![false; tiles_y as usize],
-        triangles: setup,
-        rays: None,
-    }
+    vis.width = cfg.width;
+    vis.height = cfg.height;
+    vis.tile_size = ts;
+    vis.tiles_x = tiles_x;
+    vis.tiles_y = tiles_y;
+    vis.tile_row_left.clear();
+    vis.tile_row_left.resize(tiles_y as usize, false);
+    vis.rays = None;
 }

@@ -103,9 +103,35 @@ pub fn setup(
     height: u32,
     cull_back: bool,
 ) -> Option<SetupTriangle> {
-    let mut p = v.map(|cv| snap(cv.clip, width, height));
-    let mut inv_w = v.map(|cv| 1.0 / cv.clip.w);
-    let mut src_bary = v.map(|cv| cv.bary);
+    let p = v.map(|cv| snap(cv.clip, width, height));
+    setup_snapped(
+        p,
+        v.map(|cv| cv.clip.w),
+        v.map(|cv| cv.bary),
+        source,
+        width,
+        height,
+        cull_back,
+    )
+}
+
+/// [`setup`] of a triangle whose vertices are already snapped ([`snap`]): `p` the
+/// fixed-point positions, `w` the clip w of each vertex, `src_bary` each vertex's
+/// barycentric coordinates in the source triangle. The rasterizer snaps each mesh vertex
+/// once and sets up the triangles no plane clips from those (a vertex's snap is a function
+/// of its clip position alone, so the result is the same bits as [`setup`]'s). The cheap
+/// rejections come first (area, facing, no pixel centre in the bounds: most triangles of a
+/// dense mesh), before the edge functions and 1/w.
+#[inline]
+pub fn setup_snapped(
+    mut p: [(i64, i64); 3],
+    mut w: [f32; 3],
+    mut src_bary: [[f32; 3]; 3],
+    source: u32,
+    width: u32,
+    height: u32,
+    cull_back: bool,
+) -> Option<SetupTriangle> {
     let area2 = edge(p[0].0, p[0].1, p[1].0, p[1].1, p[2].0, p[2].1);
     if area2 == 0 {
         return None;
@@ -116,16 +142,10 @@ pub fn setup(
     if cull_back && !front_facing {
         return None;
     }
-    if area2 < 0 {
-        p.swap(1, 2);
-        inv_w.swap(1, 2);
-        src_bary.swap(1, 2);
-    }
-    let area2 = area2.abs();
     let x = p.map(|q| q.0);
     let y = p.map(|q| q.1);
-    let (xmin, xmax) = (*x.iter().min().unwrap(), *x.iter().max().unwrap());
-    let (ymin, ymax) = (*y.iter().min().unwrap(), *y.iter().max().unwrap());
+    let (xmin, xmax) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
+    let (ymin, ymax) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
     // Pixels whose centre (px*ONE + HALF) lies in [min, max].
     let lo = |m: i64| (m - HALF + ONE - 1).div_euclid(ONE);
     let hi = |m: i64| (m - HALF).div_euclid(ONE);
@@ -134,6 +154,15 @@ pub fn setup(
     if px0 > px1 || py0 > py1 {
         return None;
     }
+    if area2 < 0 {
+        p.swap(1, 2);
+        w.swap(1, 2);
+        src_bary.swap(1, 2);
+    }
+    let inv_w = w.map(|w| 1.0 / w);
+    let area2 = area2.abs();
+    let x = p.map(|q| q.0);
+    let y = p.map(|q| q.1);
     let mut a = [0; 3];
     let mut b = [0; 3];
     let mut c = [0; 3];

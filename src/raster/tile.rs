@@ -3,9 +3,20 @@
 //! Design rule: this loop is plain integer arithmetic (edge functions stepped by exact i64
 //! adds) plus one f64 depth per covered sample; it never looks outside its tile, so tiles
 //! can run on any thread in any order.
+//!
+//! A triangle's pixel rectangle in the tile is walked whole when it fits in one
+//! [`BLOCK`] x [`BLOCK`] block (most triangles of a dense mesh); a larger one is walked
+//! block by block, each block classified first by the exact edge values at its corners
+//! (an edge function is affine, so its extremes over a block are at corners): a block
+//! outside one edge is skipped, a block inside all three is written without per-pixel
+//! tests, the rest are tested per pixel. Every covered pixel's edge values and depth are
+//! the same integers and the same f64 expression as the per-pixel walk's, so the blocks
+//! change nothing but the work done.
 
 use super::setup::{SetupTriangle, ONE};
-use super::NO_TRIANGLE;
+
+/// Edge of the blocks a large triangle is classified by (pixels).
+pub const BLOCK: u32 = 8;
 
 /// The pixel rectangle a tile covers (inclusive) and its row stride in the tile buffers.
 #[derive(Clone, Copy, Debug)]
@@ -17,15 +28,143 @@ pub struct TileTarget {
     pub stride: u32,
 }
 
-/// Resolves visibility for the triangles `bin` (indices into `tris`, increasing) in one tile.
-/// `visible`, `depth` (and `coverage`) are the tile's buffers, row-major with `stride`.
+/// A fault seeded into the block walk, for the test that compares it with the per-pixel
+/// reference (tests/integration/raster_blocks.rs): each must make that test fail.
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RasterFault {
+    /// A block that straddles an edge is written whole, as if inside all three (a trivial
+    /// accept that tests the wrong corner).
+    PartialBlockAccepted,
+    /// The last column of blocks of a large triangle is never visited (a block loop one
+    /// short).
+    LastBlockColumnSkipped,
+}
+
+/// The tile's output buffers, row-major with the tile's stride.
+pub struct TileBuffers<'a> {
+    pub visible: &'a mut [u32],
+    pub depth: &'a mut [f32],
+    pub coverage: Option<&'a mut [u32]>,
+}
+
+/// How a block lies with respect to a triangle.
+enum BlockClass {
+    /// Outside one edge: no pixel covered.
+    Outside,
+    /// Inside all three edges: every pixel covered.
+    Inside,
+    /// Neither: test each pixel.
+    Partial,
+}
+
+/// One triangle as the walk reads it.
+struct Walk<'a> {
+    t: &'a SetupTriangle,
+    ti: u32,
+    inv_area: f64,
+    q: [f64; 3],
+    /// Edge steps per pixel in x and in y.
+    step_x: [i64; 3],
+    step_y: [i64; 3],
+}
+
+impl<'a> Walk<'a> {
+    fn new(t: &'a SetupTriangle, ti: u32) -> Self {
+        Walk {
+            t,
+            ti,
+            inv_area: 1.0 / t.area2 as f64,
+            q: t.inv_w.map(|v| v as f64),
+            step_x: t.a.map(|a| a * ONE),
+            step_y: t.b.map(|b| b * ONE),
+        }
+    }
+
+    /// Biased edge values at the centre of pixel `(px, py)`: a sample is inside when all
+    /// three are >= 0 (inside <=> E + bias > 0 <=> E + bias - 1 >= 0).
+    #[inline]
+    fn biased_at(&self, px: u32, py: u32) -> [i64; 3] {
+        let mut e = self.t.edges_at(px, py);
+        for (e, bias) in e.iter_mut().zip(self.t.bias) {
+            *e += bias - 1;
+        }
+        e
+    }
+
+    /// Classifies the block of pixels `x0..=x1` x `y0..=y1` by its corners.
+    #[inline]
+    fn classify(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> BlockClass {
+        let e = self.biased_at(x0, y0);
+        let (nx, ny) = ((x1 - x0) as i64, (y1 - y0) as i64);
+        let mut inside = true;
+        for ((e, sx), sy) in e.into_iter().zip(self.step_x).zip(self.step_y) {
+            let (dx, dy) = (sx * nx, sy * ny);
+            let hi = e + dx.max(0) + dy.max(0);
+            if hi < 0 {
+                return BlockClass::Outside;
+            }
+            let lo = e + dx.min(0) + dy.min(0);
+            inside &= lo >= 0;
+        }
+        if inside {
+            BlockClass::Inside
+        } else {
+            BlockClass::Partial
+        }
+    }
+
+    /// Writes the covered pixels of `x0..=x1` x `y0..=y1`; with `TEST` false every pixel
+    /// is covered (a block classified inside).
+    #[inline]
+    fn walk<const TEST: bool>(
+        &self,
+        tile: &TileTarget,
+        (x0, y0, x1, y1): (u32, u32, u32, u32),
+        out: &mut TileBuffers,
+    ) {
+        let t = self.t;
+        let mut row = self.biased_at(x0, y0);
+        for py in y0..=y1 {
+            let mut e = row;
+            let base = ((py - tile.y0) * tile.stride) as usize;
+            for px in x0..=x1 {
+                if !TEST || (e[0] | e[1] | e[2]) >= 0 {
+                    let i = base + (px - tile.x0) as usize;
+                    // Undo the bias to get the exact edge values for interpolation.
+                    let w0 = (e[0] - t.bias[0] + 1) as f64;
+                    let w1 = (e[1] - t.bias[1] + 1) as f64;
+                    let w2 = (e[2] - t.bias[2] + 1) as f64;
+                    let q = self.q;
+                    let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
+                    if z > out.depth[i] {
+                        out.depth[i] = z;
+                        out.visible[i] = self.ti;
+                    }
+                    if let Some(c) = out.coverage.as_deref_mut() {
+                        c[i] += 1;
+                    }
+                }
+                for (e, step) in e.iter_mut().zip(self.step_x) {
+                    *e += step;
+                }
+            }
+            for (r, step) in row.iter_mut().zip(self.step_y) {
+                *r += step;
+            }
+        }
+    }
+}
+
+/// Resolves visibility for the triangles `bin` (indices into `tris`, increasing) in one
+/// tile: per pixel the nearest triangle (largest 1/w; ties keep the earlier triangle) and,
+/// when `out.coverage` is given, the number of triangles covering it.
 pub fn resolve(
     tile: &TileTarget,
     tris: &[SetupTriangle],
     bin: &[u32],
-    visible: &mut [u32],
-    depth: &mut [f32],
-    mut coverage: Option<&mut [u32]>,
+    out: &mut TileBuffers,
+    fault: Option<RasterFault>,
 ) {
     for &ti in bin {
         let t = &tris[ti as usize];
@@ -36,42 +175,32 @@ pub fn resolve(
         if x0 > x1 || y0 > y1 {
             continue;
         }
-        let inv_area = 1.0 / t.area2 as f64;
-        let q = t.inv_w.map(|v| v as f64);
-        // Inside <=> E + bias > 0 <=> (E + bias - 1) >= 0 for all three edges.
-        let step_x = t.a.map(|a| a * ONE);
-        let step_y = t.b.map(|b| b * ONE);
-        let mut row = t.edges_at(x0, y0);
-        for (r, bias) in row.iter_mut().zip(t.bias) {
-            *r += bias - 1;
+        let walk = Walk::new(t, ti);
+        if x1 - x0 < BLOCK && y1 - y0 < BLOCK {
+            walk.walk::<true>(tile, (x0, y0, x1, y1), out);
+            continue;
         }
-        for py in y0..=y1 {
-            let mut e = row;
-            let base = ((py - tile.y0) * tile.stride) as usize;
-            for px in x0..=x1 {
-                if (e[0] | e[1] | e[2]) >= 0 {
-                    let i = base + (px - tile.x0) as usize;
-                    // Undo the bias to get the exact edge values for interpolation.
-                    let w0 = (e[0] - t.bias[0] + 1) as f64;
-                    let w1 = (e[1] - t.bias[1] + 1) as f64;
-                    let w2 = (e[2] - t.bias[2] + 1) as f64;
-                    let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * inv_area) as f32;
-                    if z > depth[i] {
-                        depth[i] = z;
-                        visible[i] = ti;
-                    }
-                    if let Some(c) = coverage.as_deref_mut() {
-                        c[i] += 1;
+        let last_bx = x0 + (x1 - x0) / BLOCK * BLOCK;
+        for by in (y0..=y1).step_by(BLOCK as usize) {
+            let by1 = (by + BLOCK - 1).min(y1);
+            for bx in (x0..=x1).step_by(BLOCK as usize) {
+                if fault == Some(RasterFault::LastBlockColumnSkipped) && bx == last_bx {
+                    continue;
+                }
+                let bx1 = (bx + BLOCK - 1).min(x1);
+                let rect = (bx, by, bx1, by1);
+                match walk.classify(bx, by, bx1, by1) {
+                    BlockClass::Outside => {}
+                    BlockClass::Inside => walk.walk::<false>(tile, rect, out),
+                    BlockClass::Partial => {
+                        if fault == Some(RasterFault::PartialBlockAccepted) {
+                            walk.walk::<false>(tile, rect, out);
+                        } else {
+                            walk.walk::<true>(tile, rect, out);
+                        }
                     }
                 }
-                for k in 0..3 {
-                    e[k] += step_x[k];
-                }
-            }
-            for k in 0..3 {
-                row[k] += step_y[k];
             }
         }
     }
-    let _ = NO_TRIANGLE;
 }

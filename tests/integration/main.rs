@@ -54,6 +54,7 @@ mod output_checks;
 mod peer;
 mod peer_rgl;
 mod perturbation;
+mod raster_blocks;
 mod reflection_scene;
 mod render_options;
 mod render_shards;
