@@ -3,6 +3,10 @@
 //! clear error naming the file, never a panic, and must not allocate more than the file's
 //! size justifies.
 //!
+//! (Past 400 lines because it is one concept, the hostile-input suite: every parser's bad
+//! files share the counting allocator, the deadline and the one-error-line check defined
+//! here, and a parser added to brdfkit gets its list of bad files beside the others.)
+//!
 //! Allocation is measured two ways:
 //! - in this process, by a counting global allocator that records the largest single
 //!   allocation request made while a parser runs ([`measure`]); the bound is

@@ -2,6 +2,9 @@
 //! exit 1 whatever happens to the diff image: one that cannot be written is a warning line.
 //! The report (text, or `--json`) is over the covered pixels ([`crate::compare::coverage`]);
 //! a non-finite pixel is reported first and fails, and no measure is printed beside it.
+//!
+//! (Past 400 lines because it is one command: its arguments, the choice of bounds, and the
+//! text and JSON forms of the same report, which must say the same things.)
 
 use crate::compare::{
     self, coverage, AlphaMode, Loaded, Metrics, Pixels, RadiometricBounds, Thresholds,

@@ -1,5 +1,9 @@
 //! The golden-image oracle: reference renders stored in `golden/`, re-rendered and compared.
 //!
+//! (Past 400 lines because it holds the oracle's contract: the entry rendering, the
+//! judgement and the bless that are the only writers of `golden/`, in one place with the
+//! design rule; manifests, bounds, reports and shards are submodules.)
+//!
 //! Design rule: golden files change only through `brdfkit golden bless` (the [`bless`]
 //! function); checking never writes under `golden/`. A failing check leaves, under
 //! `target/golden-failures/`, an `expected | difference | actual` PNG strip and a JSON

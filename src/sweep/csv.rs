@@ -1,6 +1,10 @@
 //! The sweep CSV: the in-memory row ([`Row`]), its text ([`CSV_HEADER`], [`csv_text`],
 //! [`write_csv`]) and reading it back ([`read_csv`]); merging shards is `merge.rs`.
 //!
+//! (Past 400 lines because it is one schema: the record, its writer and its reader must
+//! agree column for column, and the header check and error messages belong to the reader;
+//! the per-column text is already `csv/columns.rs`.)
+//!
 //! Design rule: one schema, the private serde record `Record`, written and read with the
 //! `csv` crate. Columns are matched by header name, so a CSV whose columns are reordered
 //! reads the same; a missing, unknown or repeated column is an error at line 1 naming it,

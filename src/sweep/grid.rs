@@ -1,6 +1,10 @@
 //! The grid of a sweep: its axes ([`Grid`]), one point of it ([`Config`]), the scene's own
 //! point ([`DefaultConfig`]), and the names the CLI, the CSV and the plot give axis values.
 //!
+//! (Past 400 lines because it is one concept, the grid and its enumeration order; the axes'
+//! names, their parsers and the enumeration must change together, and the design rule below
+//! depends on that.)
+//!
 //! Design rule: the enumeration order is fixed (the environment method outermost with its
 //! own parameters, then SH order, lookup, precision innermost) and a [`Config::index`] is
 //! the position in the *whole* grid, so shards ([`crate::shard`]) and merged CSVs agree on

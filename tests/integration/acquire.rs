@@ -1,6 +1,10 @@
 //! Acquisition (SH projection and least squares), error reports, ringing flag, D-BRDF fit,
 //! material library and the scene's material kinds. Grids are small so the file runs in a
 //! few seconds with the opt-level-2 test profile.
+//!
+//! (Past 400 lines because the acquisition tests share their band-limited sources and error
+//! helpers, and one file keeps the SH projection and the D-BRDF fit, both ways of turning a
+//! source into a material, side by side.)
 
 use brdfkit::acquire::fit::{fit_dbrdf, FitOptions};
 use brdfkit::acquire::{

@@ -1,6 +1,9 @@
 //! What `brdfkit compare` measures and reports: statistics over the covered pixels (not the
 //! background), non-finite pixels first, a FAIL line naming each failed bound, GPU-side
 //! bounds files (golden/gpu-bounds.toml), and `--json` for scripts.
+//!
+//! (Past 400 lines because each test drives the one `compare` report end to end and they
+//! share the render, scaling and report-parsing helpers at the top.)
 
 use std::path::{Path, PathBuf};
 

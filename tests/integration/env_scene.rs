@@ -2,6 +2,9 @@
 //! teapot under real probes with every sampler against the full-probe reference, and the
 //! light-set cache (keys, validation on read). Scenes resolve without a cache
 //! ([`Scene::resolve`]); only the cache test uses one, in a temporary directory.
+//!
+//! (Past 400 lines because the cases share the probe, scene and cache fixtures at the top;
+//! they test one thing, an environment as the scene file states it.)
 
 use brdfkit::env::lightset::prepare::{prepare, CacheEntry};
 use brdfkit::env::schema::{EnvSpec, SamplerKind};

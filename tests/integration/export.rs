@@ -5,6 +5,9 @@
 //! entry's export (directional lights, UV spheres, transfer tables, AOVs) renders the
 //! entry's bits as the golden check renders them; a transfer table that does not fit, or
 //! is damaged, is refused in one line.
+//!
+//! (Past 400 lines because every test round-trips the one export through its readers, and
+//! they share the scene, JSON and pixel helpers at the top.)
 
 use brdfkit::golden;
 use brdfkit::scene::{Scene, SceneFile};

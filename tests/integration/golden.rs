@@ -1,5 +1,9 @@
 //! Golden images: every entry of golden/manifest.toml re-renders within its tolerance, and
 //! the check is able to fail (a perturbed reference is caught and leaves its report).
+//!
+//! (Past 400 lines because it is the golden oracle's own test: that every entry re-renders,
+//! that each way it can fail is caught, and that the manifest, its README table and its
+//! bounds agree; split, the perturbation helpers would have to be shared across files.)
 
 use crate::shading_paths;
 

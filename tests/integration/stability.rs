@@ -1,5 +1,9 @@
 //! Numerical stability under stress, through the public API only:
 //!
+//! (Past 400 lines because the stress cases share one random-scene generator, its proptest
+//! configuration and the finiteness checks over every AOV; each case is a short test over
+//! them.)
+//!
 //! - random scenes (camera, mesh, material, lights, scene scale 1e-3 .. 1e4) and random
 //!   normals near +-up and at grazing angles: no NaN or Inf in the image or any AOV, in f32
 //!   and f64;

@@ -1,5 +1,9 @@
 //! The light tree: a binary tree over every probe texel of positive weight, nodes stored as
 //! plain arrays (structure of arrays), root at index 0 (parent module doc, "The tree").
+//!
+//! (Past 400 lines because it is one data structure, the tree, with the build that defines
+//! its layout: the split, the cluster bounds and the weighted median are used only by that
+//! build.)
 
 use crate::conventions::texel_center_f64;
 use crate::env::{luminance, Probe};

@@ -1,6 +1,11 @@
 //! Building a [`TransferTable`] from a probe: the exact sum over every texel (parent
 //! module doc), and the choice of the brightest texels summed exactly beside it.
 //!
+//! (Past 400 lines because it is one computation, the table's sum over the probe: choosing
+//! the exact texels, the residual and its downsampling, the per-row geometry and the FFT
+//! correlation all feed the one loop in `build_table_from_residual` and are not used
+//! elsewhere.)
+//!
 //! # How the sum is organised
 //! Node `(i, j)`'s normal is node `(0, j)`'s turned about +y by the node's azimuth
 //! `2 pi i / nu`, and the shading frame turns with it (it is built from the up vector,
