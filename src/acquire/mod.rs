@@ -160,7 +160,7 @@ impl Method {
     pub fn lambda(&self) -> f64 {
         match self {
             Method::Lsq { lambda } | Method::NonNegative { lambda } => *lambda,
-            _ => DEFAULT_LAMBDA,
+            Method::Zero | Method::Even | Method::Positive => DEFAULT_LAMBDA,
         }
     }
 }
@@ -303,7 +303,7 @@ pub fn acquire_with_progress(
             let l = cholesky(&g, t).ok_or(AcquireError::Singular)?;
             (g, Some(l))
         }
-        _ => (Vec::new(), None),
+        Method::Zero | Method::Even | Method::Positive => (Vec::new(), None),
     };
     let constraints =
         matches!(method, Method::NonNegative { .. }).then(|| nonneg::Constraints::new(t));
@@ -367,7 +367,7 @@ pub fn acquire_with_progress(
     }
     let lambda = match method {
         Method::Lsq { lambda } | Method::NonNegative { lambda } => format!(", lambda {lambda:e}"),
-        _ => String::new(),
+        Method::Zero | Method::Even | Method::Positive => String::new(),
     };
     let provenance = format!(
         "brdfkit acquire: source {}, {bands} bands, method {}{lambda}, view grid {nu}x{nv}, \

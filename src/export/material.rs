@@ -66,7 +66,11 @@ pub(super) fn write_data_file(
         MaterialSpec::ShFile { path, .. } | MaterialSpec::DbrdfFile { path } => {
             Some(base.join(path))
         }
-        _ => None,
+        MaterialSpec::Lambert { .. }
+        | MaterialSpec::BlinnPhong { .. }
+        | MaterialSpec::Library { .. }
+        | MaterialSpec::MerlFile { .. }
+        | MaterialSpec::RglFile { .. } => None,
     };
     let p = dir.join("material.exr");
     if let Some(src) = source_file {
@@ -95,6 +99,11 @@ pub(super) fn write_data_file(
                 .map_err(|e| Error::Message(e.to_string()))?;
             Ok(Some(p))
         }
-        _ => Ok(None),
+        Material::Lambert(_)
+        | Material::Phong(_)
+        | Material::BlinnPhong(_)
+        | Material::AshikhminShirley(_)
+        | Material::Merl(_)
+        | Material::Rgl(_) => Ok(None),
     }
 }

@@ -21,7 +21,12 @@ pub fn summarize(file: &SceneFile, scene: &Scene, aov: Option<Aov>) -> String {
         ),
         None => match &file.material {
             MaterialSpec::Library { .. } => format!(" ({})", scene.material.name()),
-            _ => String::new(),
+            MaterialSpec::Lambert { .. }
+            | MaterialSpec::BlinnPhong { .. }
+            | MaterialSpec::ShFile { .. }
+            | MaterialSpec::DbrdfFile { .. }
+            | MaterialSpec::MerlFile { .. }
+            | MaterialSpec::RglFile { .. } => String::new(),
         },
     };
     let file_name = |p: &Path| {

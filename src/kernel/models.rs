@@ -59,7 +59,9 @@ impl<'a> LaneModel<'a> {
         match *self {
             LaneModel::Scalar(_) => n,
             LaneModel::Lambert { .. } | LaneModel::BlinnPhong { .. } if n == 1 => 1,
-            _ => super::gather::padded(n),
+            LaneModel::Lambert { .. } | LaneModel::BlinnPhong { .. } | LaneModel::DBrdf(_) => {
+                super::gather::padded(n)
+            }
         }
     }
 
