@@ -32,6 +32,7 @@
 //! order inside that task, so the table is the same bits for any thread count. The error's
 //! samples come from a fixed SplitMix64 sequence.
 
+use super::lobe::{Lobe, LobeForm};
 use super::table::{
     chart_frame, chart_is_z, node_direction, slice_angle, value_count, BakeError, ReflectionTable,
     COEFFS, PSI_SAMPLES,
@@ -186,12 +187,12 @@ impl BakeParams {
 /// (`L Omega intensity`, RGB).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Texels {
-    dir: Vec<DVec3>,
-    power: Vec<[f64; 3]>,
+    pub(super) dir: Vec<DVec3>,
+    pub(super) power: Vec<[f64; 3]>,
 }
 
 impl Texels {
-    fn push(&mut self, d: DVec3, p: [f64; 3]) {
+    pub(super) fn push(&mut self, d: DVec3, p: [f64; 3]) {
         self.dir.push(d);
         self.power.push(p);
     }
@@ -240,8 +241,9 @@ fn residual_power(probe: &Probe, exclude: &[usize], intensity: f32) -> Vec<[f64;
 
 /// The exact sum of the module doc at normal `n` and view `v` (unit, probe frame) over
 /// `texels`, in f64, of `f - minus` (`minus`: the Lambertian term the table holds over
-/// normals instead, or zero for the whole BRDF).
-fn radiance_sum(
+/// normals instead, or zero for the whole BRDF), every pair through
+/// [`Material::eval_f64`].
+pub(super) fn radiance_sum(
     material: &Material,
     cosine: bool,
     minus: DVec3,
@@ -268,6 +270,71 @@ fn radiance_sum(
         let f = material.eval_f64(wi, wo) - minus;
         let f = if cosine { f } else { f * z };
         sum += f * DVec3::from_array(*p);
+    }
+    sum
+}
+
+/// The bake's sum at normal `n` and view `v` over `texels` (module doc, "The sum at one
+/// sample"), the integrand `lobe`: its radial table where it has one (Blinn-Phong and
+/// isotropic D-BRDFs, [`super::lobe`]), else [`radiance_sum`]. Texels in index order, f64.
+pub(super) fn lobe_sum(lobe: &Lobe, cosine: bool, n: DVec3, v: DVec3, texels: &Texels) -> DVec3 {
+    let cos_o = n.dot(v).clamp(0.0, 1.0);
+    if cos_o <= 0.0 {
+        return radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels);
+    }
+    // |l + v| and h.z = (l.n + v.n) / |l + v| from dot products in the probe frame.
+    let half = |l: DVec3, z: f64| -> (f64, f64) {
+        let len = (2.0 + 2.0 * l.dot(v)).max(0.0).sqrt();
+        let hz = if len > 0.0 { (z + cos_o) / len } else { 0.0 };
+        (len, (1.0 - hz).max(0.0).sqrt())
+    };
+    let mut sum = DVec3::ZERO;
+    match &lobe.form {
+        LobeForm::BlinnPhong {
+            lambert,
+            scale,
+            table,
+        } => {
+            for (l, p) in texels.dir.iter().zip(&texels.power) {
+                let z = l.dot(n);
+                if z <= 0.0 {
+                    continue;
+                }
+                let (_, u) = half(*l, z);
+                let f = *lambert + *scale * table.at(u);
+                let f = if cosine { f } else { f * z };
+                sum += f * DVec3::from_array(*p);
+            }
+        }
+        LobeForm::Dbrdf {
+            lambert,
+            c,
+            rs,
+            table,
+        } => {
+            let b = cos_o.min(1.0);
+            for (l, p) in texels.dir.iter().zip(&texels.power) {
+                let z = l.dot(n);
+                if z <= 0.0 {
+                    continue;
+                }
+                let (len, u) = half(*l, z);
+                let f = if len <= 1e-6 {
+                    *lambert
+                } else {
+                    let a = z.min(1.0);
+                    let denom = a + b - a * b;
+                    let kh = (0.5 * len).clamp(0.0, 1.0);
+                    let fresnel = *rs + (DVec3::ONE - *rs) * (1.0 - kh).powi(5);
+                    *lambert + (*c * table.at(u) / denom) * fresnel
+                };
+                let f = if cosine { f } else { f * z };
+                sum += f * DVec3::from_array(*p);
+            }
+        }
+        LobeForm::Exact => {
+            return radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels);
+        }
     }
     sum
 }
@@ -313,6 +380,7 @@ pub fn bake_table(
     } else {
         material.lambertian_term().as_dvec3()
     };
+    let lobe = Lobe::new(material, lambertian);
     let g = params.grid;
     let ns = params.slices + 1;
     let nodes = (g + 1) * (g + 1);
@@ -334,7 +402,7 @@ pub fn bake_table(
                 let mut coeffs = [[0.0f64; COEFFS]; 3];
                 if polar == 0.0 {
                     let (n, v) = sample_normal_view(r, 0.0, 0.0, tb);
-                    let l = radiance_sum(material, cosine, lambertian, n, v, &texels);
+                    let l = lobe_sum(&lobe, cosine, n, v, &texels);
                     for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
                         q[0] = lc;
                     }
@@ -342,7 +410,7 @@ pub fn bake_table(
                     for m in 0..PSI_SAMPLES {
                         let psi = std::f64::consts::TAU * m as f64 / PSI_SAMPLES as f64;
                         let (n, v) = sample_normal_view(r, polar, psi, tb);
-                        let l = radiance_sum(material, cosine, lambertian, n, v, &texels);
+                        let l = lobe_sum(&lobe, cosine, n, v, &texels);
                         let (s1, c1) = psi.sin_cos();
                         let (s2, c2) = (2.0 * psi).sin_cos();
                         let basis = [0.5, c1, s1, c2, s2];
