@@ -340,7 +340,12 @@ pub(super) fn lobe_sum(lobe: &Lobe, cosine: bool, n: DVec3, v: DVec3, texels: &T
 }
 
 /// The sample `(r, polar_o, psi)` as a normal and a view (module doc), chart frame `tb`.
-fn sample_normal_view(r: DVec3, polar: f64, psi: f64, (t, b): (DVec3, DVec3)) -> (DVec3, DVec3) {
+pub(super) fn sample_normal_view(
+    r: DVec3,
+    polar: f64,
+    psi: f64,
+    (t, b): (DVec3, DVec3),
+) -> (DVec3, DVec3) {
     let (so, co) = polar.sin_cos();
     let (sp, cp) = psi.sin_cos();
     let n = (co * r + so * (cp * t + sp * b)).normalize();
@@ -381,6 +386,7 @@ pub fn bake_table(
         material.lambertian_term().as_dvec3()
     };
     let lobe = Lobe::new(material, lambertian);
+    let cull = lobe.cull_cos();
     let g = params.grid;
     let ns = params.slices + 1;
     let nodes = (g + 1) * (g + 1);
@@ -394,6 +400,16 @@ pub fn bake_table(
             let top = levels.len() - 1;
             for idx in 0..levels[top].texels.dir.len() {
                 gather(&levels, &cos_cone, r, top, idx, &mut texels);
+            }
+            // Texels whose every pair has a zero integrand (lobe module doc, "Culling").
+            if let Some(c) = cull {
+                let mut kept = Texels::default();
+                for (l, p) in texels.dir.iter().zip(&texels.power) {
+                    if l.dot(r) > c {
+                        kept.push(*l, *p);
+                    }
+                }
+                texels = kept;
             }
             let tb = chart_frame(r, chart_is_z(r));
             let mut out = vec![0.0f32; ns * 3 * COEFFS];

@@ -39,6 +39,10 @@ use glam::{DVec3, Vec3};
 /// Intervals of the radial table over `u = sqrt(1 - cos(polar_h))` in `[0, 1]` (module doc).
 pub const RADIAL_INTERVALS: usize = 4096;
 
+/// Node values below this fraction of a radial table's peak, from the last one above it
+/// outwards, are zero (module doc, "Culling").
+pub const CUT: f64 = 1e-6;
+
 /// Azimuths of `h` a D-BRDF's radial table averages the octahedral lookup over.
 pub const AZIMUTHS: usize = 64;
 
@@ -47,6 +51,8 @@ pub const AZIMUTHS: usize = 64;
 #[derive(Clone, Debug)]
 pub struct RadialTable {
     values: Vec<f64>,
+    /// The table is zero from `u = cut` outwards.
+    cut: f64,
     /// Largest measured interpolation error inside an interval, relative to the largest
     /// node value.
     bound: f64,
@@ -59,10 +65,19 @@ impl RadialTable {
     /// Tabulates `g(u)` (`g` the function, `u` in `[0, 1]`), with its measured bound.
     fn new(g: impl Fn(f64) -> f64, spread: f64) -> Self {
         let n = RADIAL_INTERVALS;
-        let values: Vec<f64> = (0..=n).map(|i| g(i as f64 / n as f64)).collect();
+        let mut values: Vec<f64> = (0..=n).map(|i| g(i as f64 / n as f64)).collect();
         let peak = values.iter().copied().fold(0.0f64, f64::max);
+        // The tail below CUT of the peak, from the last node above it: zero.
+        let last = values
+            .iter()
+            .rposition(|&x| x.abs() >= CUT * peak)
+            .unwrap_or(0);
+        for x in &mut values[last + 1..] {
+            *x = 0.0;
+        }
         let mut table = RadialTable {
             values,
+            cut: ((last + 1) as f64 / n as f64).min(1.0),
             bound: 0.0,
             spread: 0.0,
         };
@@ -88,6 +103,11 @@ impl RadialTable {
         let w = t - i as f64;
         let (a, b) = (self.values[i], self.values[i + 1]);
         a + w * (b - a)
+    }
+
+    /// `u` from which the table is zero.
+    pub fn cut(&self) -> f64 {
+        self.cut
     }
 
     /// The measured interpolation error (module doc), relative to the peak.
@@ -156,6 +176,29 @@ impl<'a> Lobe<'a> {
         }
     }
 
+    /// The cosine of the angle from the reflected direction `r` beyond which every pair of a
+    /// sample about `r` has a zero integrand (module doc, "Culling"), or `None` where the
+    /// integrand has no zero tail (no table, a Lambertian term left in it, a lobe wider
+    /// than the bound reaches).
+    pub fn cull_cos(&self) -> Option<f64> {
+        let (lambert, table) = match &self.form {
+            LobeForm::BlinnPhong { lambert, table, .. }
+            | LobeForm::Dbrdf { lambert, table, .. } => (*lambert, table),
+            LobeForm::Exact => return None,
+        };
+        if lambert != DVec3::ZERO || table.cut >= 1.0 {
+            return None;
+        }
+        // sin(polar_h / 2) at the cut, where cos(polar_h) = 1 - u^2.
+        let half = (table.cut * table.cut / 2.0).sqrt();
+        let sin_alpha = 2.0 * std::f64::consts::SQRT_2 * half;
+        if sin_alpha >= 1.0 {
+            return None;
+        }
+        // cos(alpha) = 1 - 2 sin^2(alpha / 2), less a margin for the rounding of r.
+        Some(1.0 - 2.0 * sin_alpha * sin_alpha - 1e-9)
+    }
+
     /// The radial table, where there is one (read by the tests: its bounds).
     #[cfg(test)]
     pub fn table(&self) -> Option<&RadialTable> {
@@ -172,7 +215,8 @@ impl LobeForm {
         let pi = std::f64::consts::PI;
         let table = RadialTable::new(|u| (1.0 - u * u).max(0.0).powf(s), 0.0);
         LobeForm::BlinnPhong {
-            lambert: m.kd.as_dvec3() / pi - minus,
+            // `k_d / pi` as `lambertian_term` rounds it, so that it cancels `minus` exactly.
+            lambert: (m.kd / std::f32::consts::PI).as_dvec3() - minus,
             scale: m.ks.as_dvec3() * ((s + 8.0) / (8.0 * pi)),
             table,
         }
@@ -200,7 +244,8 @@ impl LobeForm {
             .fold(0.0f64, f64::max);
         let table = RadialTable::new(|u| samples(u).0, spread);
         LobeForm::Dbrdf {
-            lambert: rd.as_dvec3() * std::f64::consts::FRAC_1_PI - minus,
+            // `r_d / pi` as `lambertian_term` rounds it, so that it cancels `minus` exactly.
+            lambert: (rd * std::f32::consts::FRAC_1_PI).as_dvec3() - minus,
             c: m.c as f64,
             rs: m.rs.as_dvec3(),
             table,

@@ -4,8 +4,9 @@
 //! module doc states (with seeded faults that must fail the same check: the table of a 2%
 //! different Blinn-Phong exponent, of a 25% wider D-BRDF lobe, a D-BRDF without Fresnel).
 
-use super::build::{lobe_sum, radiance_sum, Texels};
-use super::lobe::{Lobe, RADIAL_INTERVALS};
+use super::build::{lobe_sum, radiance_sum, sample_normal_view, Texels};
+use super::lobe::{Lobe, CUT, RADIAL_INTERVALS};
+use super::table::{chart_frame, chart_is_z};
 use crate::brdf::{BlinnPhong, Brdf, LambertDbrdf};
 use crate::material::Material;
 use glam::{DVec3, Vec3};
@@ -87,7 +88,8 @@ fn blinn_phong_tables_measure_below_the_closed_form_interpolation_bound() {
         let m = blinn_phong(s);
         let lobe = Lobe::new(&m, DVec3::ZERO);
         let table = lobe.table().expect("Blinn-Phong is tabulated");
-        let closed = delta * delta * s as f64 / 4.0;
+        // Interpolation, plus the tail cut to zero below CUT of the peak.
+        let closed = delta * delta * s as f64 / 4.0 + CUT;
         assert!(
             table.bound() <= closed * 1.001 && table.bound() > 0.0,
             "s = {s}: measured {:e} against delta^2 s / 4 = {closed:e}",
@@ -181,4 +183,62 @@ fn other_materials_keep_the_exact_sum() {
             radiance_sum(&m, false, DVec3::ZERO, n, v, &texels)
         );
     }
+}
+
+/// Texels of `texels` with `l.r > c`, in order.
+fn kept(texels: &Texels, r: DVec3, c: f64) -> Texels {
+    let mut out = Texels::default();
+    for (l, p) in texels.dir.iter().zip(&texels.power) {
+        if l.dot(r) > c {
+            out.push(*l, *p);
+        }
+    }
+    out
+}
+
+#[test]
+fn culled_texels_change_no_sum_and_a_tighter_cull_would() {
+    let texels = texels();
+    let mut tighter_differs = false;
+    for m in [
+        blinn_phong(200.0),
+        blinn_phong(500.0),
+        lambert_dbrdf(300.0, RS),
+    ] {
+        let lobe = Lobe::new(&m, m.lambertian_term().as_dvec3());
+        let c = lobe.cull_cos().expect("a sharp lobe has a zero tail");
+        assert!(c > 0.0 && c < 0.9, "{}: cos {c}", m.name());
+        // The seeded fault: the cut angle taken as the half vector's (no factor 2 sqrt 2).
+        let cut = lobe.table().unwrap().cut();
+        let tight = 1.0 - cut * cut;
+        for k in 0..12 {
+            let a = k as f64 * 2.399_96;
+            let z = 1.0 - 2.0 * (k as f64 + 0.5) / 12.0;
+            let s = (1.0 - z * z).sqrt();
+            let r = DVec3::new(s * a.cos(), z, s * a.sin());
+            let (near, far) = (kept(&texels, r, c), kept(&texels, r, tight));
+            for polar in [0.0f64, 30.0, 70.0, 85.0, 89.9] {
+                for psi in [0.0f64, 2.0, 4.0] {
+                    let (n, v) = sample_normal_view(
+                        r,
+                        polar.to_radians(),
+                        psi,
+                        chart_frame(r, chart_is_z(r)),
+                    );
+                    let all = lobe_sum(&lobe, false, n, v, &texels);
+                    assert_eq!(lobe_sum(&lobe, false, n, v, &near), all, "{}", m.name());
+                    tighter_differs |= lobe_sum(&lobe, false, n, v, &far) != all;
+                }
+            }
+        }
+    }
+    assert!(tighter_differs, "the tighter cull changed no sum");
+    // No cull where the integrand keeps a Lambertian term or the lobe is wide.
+    let m = blinn_phong(200.0);
+    assert!(Lobe::new(&m, DVec3::ZERO).cull_cos().is_none());
+    assert!(
+        Lobe::new(&blinn_phong(20.0), m.lambertian_term().as_dvec3())
+            .cull_cos()
+            .is_none()
+    );
 }
