@@ -18,7 +18,7 @@
 //! pyramid of it ([`CONE_DEG`]): its own texels within 10 degrees of `r` (where a sharp lobe
 //! and, at grazing views, the horizon's cut through it lie), blocks of 2 x 2 of them out to
 //! 30 degrees, of 4 x 4 out to 60 and of 8 x 8 beyond, where the lobe's tail varies slowly
-//! (fewer levels where the residual is too small to halve; [`pyramid`]). A block is kept
+//! (fewer levels where the residual is too small to halve; `pyramid`). A block is kept
 //! whole or opened by its centre's angle to `r`, so the texels a node sums partition the
 //! sphere and every block's power is summed exactly. Against the single 30-degree cone of
 //! full-resolution texels (4 x 4 blocks beyond) it replaced, the bake under studio took

@@ -38,7 +38,7 @@
 //! of `polar_h`'s cut therefore has a zero lobe at *every* sample of the node, and where
 //! the integrand has no Lambertian term (the shipped bake: it is held over normals) its
 //! pairs add exact zeros: the bake drops those texels from the node's list
-//! ([`Lobe::cull_cos`]) and the sums keep their bits. The angle is 62 degrees at
+//! (`Lobe::cull_cos`) and the sums keep their bits. The angle is 62 degrees at
 //! Blinn-Phong 200, 38 at 500; Blinn-Phong 50's lobe reaches past the bound (no cull).
 //!
 //! A per-pair error of `e` times the lobe's peak `F_max` changes a sample's radiance by at
