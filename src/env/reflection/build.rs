@@ -34,7 +34,7 @@
 //! octahedral lookup averaged over azimuth), and the texels where the table's zero tail
 //! holds at every sample of a node are dropped from its list (exact, [`super::lobe`],
 //! "Culling"). Profiles of the bake before (`perf record`, 16 x 16 image,
-//! `examples/reflection_error`): Blinn-Phong 200 under city, glibc `pow` 57%
+//! `examples/reflection_error.rs`): Blinn-Phong 200 under city, glibc `pow` 57%
 //! (`__ieee754_pow_fma` and its entry), the sum's own arithmetic 37%; gold dust paint,
 //! `DBrdf::eval_f64` with its octahedral lookup 66% (`floorf` 9% of it; its `pow` is
 //! `powi(5)` of Schlick's Fresnel, inlined as multiplications: no libm call), the sum 25%.
