@@ -340,7 +340,7 @@ impl DBrdf {
     }
 
     /// [`DBrdf::p`] with the same texels and f32 weights, blended in f64.
-    fn p_f64_blend(&self, h: Vec3) -> f64 {
+    pub(crate) fn p_f64_blend(&self, h: Vec3) -> f64 {
         let (u, v) = hemi_oct_encode(h);
         let n = self.n_oct;
         let (cu, cv) = (hemi_oct_texel_coord(u, n), hemi_oct_texel_coord(v, n));

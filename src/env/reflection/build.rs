@@ -18,20 +18,40 @@
 //! pyramid of it ([`CONE_DEG`]): its own texels within 10 degrees of `r` (where a sharp lobe
 //! and, at grazing views, the horizon's cut through it lie), blocks of 2 x 2 of them out to
 //! 30 degrees, of 4 x 4 out to 60 and of 8 x 8 beyond, where the lobe's tail varies slowly
-//! (fewer levels where the residual is too small to halve; [`pyramid`]). A block is kept
+//! (fewer levels where the residual is too small to halve; `pyramid`). A block is kept
 //! whole or opened by its centre's angle to `r`, so the texels a node sums partition the
 //! sphere and every block's power is summed exactly. Against the single 30-degree cone of
 //! full-resolution texels (4 x 4 blocks beyond) it replaced, the bake under studio took
 //! 31-50 s instead of 55-93 s (Blinn-Phong 50 and 500, gold dust paint; one interleaved run
 //! on a loaded 2-core machine) and the rendered error moved by at most 0.3 points of p99.
-//! What is left is the BRDF itself: `pow` is 55% of the bake's profile (Blinn-Phong 200).
 //! `measure_error` holds the result to the exact sum over every texel of the full probe.
+//!
+//! # The integrand
+//! For Blinn-Phong and the isotropic D-BRDFs the pairs do not call
+//! [`Material::eval_f64`]: the lobe's factor in the half vector's polar angle is a per-bake
+//! radial table ([`super::lobe`]: 4096 intervals in `sqrt(1 - cos(polar_h))`, measured
+//! error at most 7.5e-6 of the peak at Blinn-Phong 500; a D-BRDF's table is its
+//! octahedral lookup averaged over azimuth), and the texels where the table's zero tail
+//! holds at every sample of a node are dropped from its list (exact, [`super::lobe`],
+//! "Culling"). Profiles of the bake before (`perf record`, 16 x 16 image,
+//! `examples/reflection_error.rs`): Blinn-Phong 200 under city, glibc `pow` 57%
+//! (`__ieee754_pow_fma` and its entry), the sum's own arithmetic 37%; gold dust paint,
+//! `DBrdf::eval_f64` with its octahedral lookup 66% (`floorf` 9% of it; its `pow` is
+//! `powi(5)` of Schlick's Fresnel, inlined as multiplications: no libm call), the sum 25%.
+//! After: the tabulated sum is 69-83% of the profile, `measure_error`'s exact
+//! evaluations 10-12%. One interleaved run on the loaded 2-core machine (64 x 64, default
+//! parameters): Blinn-Phong 200 18.6 -> 8.3 s (city), 16.7 -> 8.4 s (studio); gold dust
+//! paint 30.9 -> 10.9 s, 30.0 -> 13.9 s; the error columns moved by at most 0.04 points of
+//! p99 (the bake's own studio p99 of the gold dust paint, 30.09% -> 30.13%). What bounds
+//! the bake now is the number of (sample, texel) pairs: about 105 samples per node times
+//! the node's culled texel list, at two square roots, a division and a table lookup each.
 //!
 //! # Determinism
 //! One rayon task per node of the grid; each node's sums run over its texel list in index
 //! order inside that task, so the table is the same bits for any thread count. The error's
 //! samples come from a fixed SplitMix64 sequence.
 
+use super::lobe::{Lobe, LobeForm};
 use super::table::{
     chart_frame, chart_is_z, node_direction, slice_angle, value_count, BakeError, ReflectionTable,
     COEFFS, PSI_SAMPLES,
@@ -186,12 +206,12 @@ impl BakeParams {
 /// (`L Omega intensity`, RGB).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Texels {
-    dir: Vec<DVec3>,
-    power: Vec<[f64; 3]>,
+    pub(super) dir: Vec<DVec3>,
+    pub(super) power: Vec<[f64; 3]>,
 }
 
 impl Texels {
-    fn push(&mut self, d: DVec3, p: [f64; 3]) {
+    pub(super) fn push(&mut self, d: DVec3, p: [f64; 3]) {
         self.dir.push(d);
         self.power.push(p);
     }
@@ -240,8 +260,9 @@ fn residual_power(probe: &Probe, exclude: &[usize], intensity: f32) -> Vec<[f64;
 
 /// The exact sum of the module doc at normal `n` and view `v` (unit, probe frame) over
 /// `texels`, in f64, of `f - minus` (`minus`: the Lambertian term the table holds over
-/// normals instead, or zero for the whole BRDF).
-fn radiance_sum(
+/// normals instead, or zero for the whole BRDF), every pair through
+/// [`Material::eval_f64`].
+pub(super) fn radiance_sum(
     material: &Material,
     cosine: bool,
     minus: DVec3,
@@ -272,8 +293,78 @@ fn radiance_sum(
     sum
 }
 
+/// The bake's sum at normal `n` and view `v` over `texels` (module doc, "The sum at one
+/// sample"), the integrand `lobe`: its radial table where it has one (Blinn-Phong and
+/// isotropic D-BRDFs, [`super::lobe`]), else [`radiance_sum`]. Texels in index order, f64.
+pub(super) fn lobe_sum(lobe: &Lobe, cosine: bool, n: DVec3, v: DVec3, texels: &Texels) -> DVec3 {
+    let cos_o = n.dot(v).clamp(0.0, 1.0);
+    if cos_o <= 0.0 {
+        return radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels);
+    }
+    // |l + v| and h.z = (l.n + v.n) / |l + v| from dot products in the probe frame.
+    let half = |l: DVec3, z: f64| -> (f64, f64) {
+        let len = (2.0 + 2.0 * l.dot(v)).max(0.0).sqrt();
+        let hz = if len > 0.0 { (z + cos_o) / len } else { 0.0 };
+        (len, (1.0 - hz).max(0.0).sqrt())
+    };
+    let mut sum = DVec3::ZERO;
+    match &lobe.form {
+        LobeForm::BlinnPhong {
+            lambert,
+            scale,
+            table,
+        } => {
+            for (l, p) in texels.dir.iter().zip(&texels.power) {
+                let z = l.dot(n);
+                if z <= 0.0 {
+                    continue;
+                }
+                let (_, u) = half(*l, z);
+                let f = *lambert + *scale * table.at(u);
+                let f = if cosine { f } else { f * z };
+                sum += f * DVec3::from_array(*p);
+            }
+        }
+        LobeForm::Dbrdf {
+            lambert,
+            c,
+            rs,
+            table,
+        } => {
+            let b = cos_o.min(1.0);
+            for (l, p) in texels.dir.iter().zip(&texels.power) {
+                let z = l.dot(n);
+                if z <= 0.0 {
+                    continue;
+                }
+                let (len, u) = half(*l, z);
+                let f = if len <= 1e-6 {
+                    *lambert
+                } else {
+                    let a = z.min(1.0);
+                    let denom = a + b - a * b;
+                    let kh = (0.5 * len).clamp(0.0, 1.0);
+                    let fresnel = *rs + (DVec3::ONE - *rs) * (1.0 - kh).powi(5);
+                    *lambert + (*c * table.at(u) / denom) * fresnel
+                };
+                let f = if cosine { f } else { f * z };
+                sum += f * DVec3::from_array(*p);
+            }
+        }
+        LobeForm::Exact => {
+            return radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels);
+        }
+    }
+    sum
+}
+
 /// The sample `(r, polar_o, psi)` as a normal and a view (module doc), chart frame `tb`.
-fn sample_normal_view(r: DVec3, polar: f64, psi: f64, (t, b): (DVec3, DVec3)) -> (DVec3, DVec3) {
+pub(super) fn sample_normal_view(
+    r: DVec3,
+    polar: f64,
+    psi: f64,
+    (t, b): (DVec3, DVec3),
+) -> (DVec3, DVec3) {
     let (so, co) = polar.sin_cos();
     let (sp, cp) = psi.sin_cos();
     let n = (co * r + so * (cp * t + sp * b)).normalize();
@@ -313,6 +404,8 @@ pub fn bake_table(
     } else {
         material.lambertian_term().as_dvec3()
     };
+    let lobe = Lobe::new(material, lambertian);
+    let cull = lobe.cull_cos();
     let g = params.grid;
     let ns = params.slices + 1;
     let nodes = (g + 1) * (g + 1);
@@ -327,6 +420,16 @@ pub fn bake_table(
             for idx in 0..levels[top].texels.dir.len() {
                 gather(&levels, &cos_cone, r, top, idx, &mut texels);
             }
+            // Texels whose every pair has a zero integrand (lobe module doc, "Culling").
+            if let Some(c) = cull {
+                let mut kept = Texels::default();
+                for (l, p) in texels.dir.iter().zip(&texels.power) {
+                    if l.dot(r) > c {
+                        kept.push(*l, *p);
+                    }
+                }
+                texels = kept;
+            }
             let tb = chart_frame(r, chart_is_z(r));
             let mut out = vec![0.0f32; ns * 3 * COEFFS];
             for s in 0..ns {
@@ -334,7 +437,7 @@ pub fn bake_table(
                 let mut coeffs = [[0.0f64; COEFFS]; 3];
                 if polar == 0.0 {
                     let (n, v) = sample_normal_view(r, 0.0, 0.0, tb);
-                    let l = radiance_sum(material, cosine, lambertian, n, v, &texels);
+                    let l = lobe_sum(&lobe, cosine, n, v, &texels);
                     for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
                         q[0] = lc;
                     }
@@ -342,7 +445,7 @@ pub fn bake_table(
                     for m in 0..PSI_SAMPLES {
                         let psi = std::f64::consts::TAU * m as f64 / PSI_SAMPLES as f64;
                         let (n, v) = sample_normal_view(r, polar, psi, tb);
-                        let l = radiance_sum(material, cosine, lambertian, n, v, &texels);
+                        let l = lobe_sum(&lobe, cosine, n, v, &texels);
                         let (s1, c1) = psi.sin_cos();
                         let (s2, c2) = (2.0 * psi).sin_cos();
                         let basis = [0.5, c1, s1, c2, s2];

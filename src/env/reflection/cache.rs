@@ -35,7 +35,7 @@ use std::path::{Path, PathBuf};
 /// Version of the algorithm that turns a probe, a material and the parameters into a table
 /// ([`super::build::bake_table`]). Part of every key: bump it when a table's values change
 /// for the same inputs.
-pub const REFLECTION_ALGORITHM_VERSION: u32 = 3;
+pub const REFLECTION_ALGORITHM_VERSION: u32 = 4;
 
 /// Format tag of an entry.
 pub const REFLECTION_CACHE_FORMAT: &str = "brdfkit-reflection-cache-v2";

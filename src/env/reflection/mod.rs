@@ -63,6 +63,7 @@
 
 pub mod build;
 pub mod cache;
+pub mod lobe;
 pub mod table;
 
 pub use build::{bake_table, BakeFault, BakeParams};
@@ -149,3 +150,5 @@ pub fn prepare_reflection(
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_lobe;
