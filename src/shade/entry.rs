@@ -10,7 +10,7 @@ use super::f64_path::shade_f64_no_skips;
 use super::lightcuts::{add_lightcuts, CutStats};
 use super::reflection::add_reflection;
 use super::scalar_oracle::shade_scalar_oracle;
-use super::tile::{shade_kernels, ShadeScratch};
+use super::tile::{shade_kernels, Pass, ShadeScratch};
 use super::transfer::{add_transfer, fits};
 use super::{FramePrep, ShadeCounts, ShadeOptions, ShadingPath};
 use crate::conventions::FrameRule;
@@ -84,11 +84,16 @@ pub fn shade_into(
     image: &mut Image,
     scratch: &ShadeScratch,
 ) -> ShadeReport {
-    if (image.width, image.height) != (vis.width, vis.height) {
+    // A new image is allocated black, its pages untouched until written: the lights' pass
+    // clears nothing then. A kept one is cleared band by band as it is shaded.
+    let pass = if (image.width, image.height) != (vis.width, vis.height) {
         *image = Image::new(vis.width, vis.height);
-    }
+        Pass::WritesOnBlack
+    } else {
+        Pass::Writes
+    };
     let rule = opts.frame_rule(scene);
-    let mut report = shade_lights(scene, vis, opts, &rule, image, scratch);
+    let mut report = shade_lights(scene, vis, opts, &rule, image, pass, scratch);
     if let Some(table) = scene.environment.transfer_table() {
         assert!(
             fits(table, &scene.material),
@@ -125,11 +130,12 @@ fn shade_lights(
     opts: &ShadeOptions,
     rule: &FrameRule,
     image: &mut Image,
+    pass: Pass,
     scratch: &ShadeScratch,
 ) -> ShadeReport {
     let path = opts.path_for(scene);
     if path == ShadingPath::F64NoSkips {
-        shade_f64_no_skips(scene, vis, &opts.progress, rule, image);
+        shade_f64_no_skips(scene, vis, &opts.progress, rule, image, pass);
         return ShadeReport {
             path,
             counts: ShadeCounts::default(),
@@ -142,9 +148,11 @@ fn shade_lights(
     }
     let prep = FramePrep::with_options(scene, opts);
     let counts = match path {
-        ShadingPath::Kernels => shade_kernels(&prep, scene, vis, &opts.progress, image, scratch),
+        ShadingPath::Kernels => {
+            shade_kernels(&prep, scene, vis, &opts.progress, image, pass, scratch)
+        }
         _ => {
-            shade_scalar_oracle(&prep, scene, vis, &opts.progress, image);
+            shade_scalar_oracle(&prep, scene, vis, &opts.progress, image, pass);
             ShadeCounts::default()
         }
     };

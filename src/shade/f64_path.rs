@@ -12,7 +12,7 @@
 //! (`tile.rs`).
 
 use super::frame_and_view_f64;
-use super::tile::shade_per_pixel;
+use super::tile::{shade_per_pixel, Pass};
 use crate::conventions::FrameRule;
 use crate::image_io::Image;
 use crate::progress::Progress;
@@ -32,11 +32,12 @@ pub(super) fn shade_f64_no_skips(
     progress: &Progress,
     rule: &FrameRule,
     image: &mut Image,
+    pass: Pass,
 ) {
     let brdf = scene.material.as_brdf();
     let eye = scene.camera.position.as_dvec3();
     let lights = scene.delta_lights();
-    shade_per_pixel(scene, vis, progress, image, |s| {
+    shade_per_pixel(scene, vis, progress, image, pass, |s| {
         let ([t, b, n], wo) = frame_and_view_f64(s, eye, rule);
         let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
         let p = s.position.as_dvec3();

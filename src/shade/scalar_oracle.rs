@@ -6,7 +6,7 @@
 //! per-scene decisions ([`FramePrep::new`]), so the two differ only by the kernel's
 //! arithmetic.
 
-use super::tile::shade_per_pixel;
+use super::tile::{shade_per_pixel, Pass};
 use super::{frame_and_view, FramePrep, Surface};
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::FrameRule;
@@ -55,13 +55,14 @@ pub(super) fn shade_scalar_oracle(
     vis: &VisBuffer,
     progress: &Progress,
     image: &mut Image,
+    pass: Pass,
 ) {
     let brdf: &dyn Brdf = match &prep.sh {
         Some((ds, _)) => ds.as_ref(),
         None => scene.material.as_brdf(),
     };
     let d = &prep.dropped;
-    shade_per_pixel(scene, vis, progress, image, |s| {
+    shade_per_pixel(scene, vis, progress, image, pass, |s| {
         let kept = shade_point(brdf, &d.kept, s, scene.camera.position, &prep.rule);
         if !d.removed.is_empty() && needs_restore(kept, d.restore_below(s.normal)) {
             kept + shade_point(brdf, &d.removed, s, scene.camera.position, &prep.rule)

@@ -13,7 +13,8 @@
 //! the per-pixel path (`pixel.rs`) or, for SH data sets under point lights only, the
 //! pixel-packed one (`packed.rs`).
 
-use super::traverse::{for_each_tile, for_each_visible, tile_surfaces, Pass};
+pub(super) use super::traverse::Pass;
+use super::traverse::{for_each_tile, for_each_visible, tile_surfaces};
 use super::{FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES, MAX_LANES};
@@ -26,13 +27,15 @@ use std::sync::Mutex;
 
 /// The fast path: shades every visible pixel of `vis` through the kernels, as `prep`
 /// decided, into `img` (linear radiance, of `vis`'s size; every pixel rewritten, background
-/// black), the workers' buffers lent by `scratch`; returns the work done.
+/// black; `pass` is [`Pass::Writes`] or, on an image just allocated, [`Pass::WritesOnBlack`]),
+/// the workers' buffers lent by `scratch`; returns the work done.
 pub(super) fn shade_kernels(
     prep: &FramePrep,
     scene: &Scene,
     vis: &VisBuffer,
     progress: &Progress,
     img: &mut Image,
+    pass: Pass,
     scratch: &ShadeScratch,
 ) -> ShadeCounts {
     // Per-pixel lists, or the pixel-packed point-light path's 8 or 16 lanes per light.
@@ -41,7 +44,7 @@ pub(super) fn shade_kernels(
     let shaded = for_each_tile(
         img,
         vis,
-        Pass::Writes,
+        pass,
         Some(progress),
         || scratch.lend(),
         |bufs, rect, band| {
@@ -52,29 +55,29 @@ pub(super) fn shade_kernels(
         },
     );
     let skipped = vis.tile_occupied.iter().filter(|o| !**o).count() as u64;
-    let total = shaded
+    shaded
         + ShadeCounts {
             tiles_skipped: skipped,
             ..ShadeCounts::default()
-        };
-    total
+        }
 }
 
 /// The tile loop of the per-pixel paths (the scalar oracle, the f64 path): `radiance` of
 /// the surface seen through each visible pixel, into `img` (linear radiance, of `vis`'s
-/// size; every pixel rewritten, background black). Which tile a pixel is in changes only
+/// size; every pixel rewritten, background black; `pass` as [`shade_kernels`]'s). Which tile a pixel is in changes only
 /// the order of the work, never a pixel.
 pub(super) fn shade_per_pixel(
     scene: &Scene,
     vis: &VisBuffer,
     progress: &Progress,
     img: &mut Image,
+    pass: Pass,
     radiance: impl Fn(&Surface) -> Vec3 + Sync,
 ) {
     for_each_tile(
         img,
         vis,
-        Pass::Writes,
+        pass,
         Some(progress),
         || (),
         |_, rect, band| {

@@ -115,6 +115,9 @@ pub(super) enum Pass {
     /// cleared to black first, by the task that shades it, so every pixel is rewritten
     /// whatever the image held (a frame context's image, kept from the previous frame).
     Writes,
+    /// The pass that writes the image into one just allocated black: nothing is cleared
+    /// (the pages of the empty tiles' rows are never touched, as before frame contexts).
+    WritesOnBlack,
     /// A pass that adds a term to the image the writing pass left (transfer, reflection,
     /// light cuts).
     Adds,
@@ -142,7 +145,7 @@ where
         let mut sum = R::default();
         match pass {
             Pass::Writes => band.fill(Vec3::ZERO),
-            Pass::Adds => {}
+            Pass::WritesOnBlack | Pass::Adds => {}
         }
         // A row left to another shard: not shaded, not counted.
         if vis.tile_row_left[ty] {
