@@ -3,7 +3,8 @@
 //! `raster-alone` is the rasterizer without the vertex transform (clip positions computed
 //! once); `raster-reused` is that with the previous frame's buffers reused
 //! (`raster::rasterize_into`); `raster-1M` is `raster-alone` on the teapot at
-//! `segments = 128` (1,048,576 triangles).
+//! `segments = 128` (1,048,576 triangles). `frame-reused` is `frame` into a frame context
+//! kept from the previous frame (`render::render_into`).
 
 use brdfkit::mesh::teapot::teapot;
 use brdfkit::raster::{self, RasterConfig};
@@ -69,6 +70,14 @@ fn frame(c: &mut Criterion) {
     });
     let frame = RenderOptions::default();
     g.bench_function("frame", |b| b.iter(|| render::render(&scene, &frame)));
+    // The same with the previous frame's buffers (`render::FrameContext`): the steady
+    // state of the viewer, turntables and the sweep.
+    let mut ctx = render::FrameContext::default();
+    g.bench_function("frame-reused", |b| {
+        b.iter(|| {
+            render::render_into(&scene, &frame, &mut ctx);
+        })
+    });
     g.finish();
 }
 

@@ -63,11 +63,11 @@ fn lightcuts(c: &mut Criterion) {
             // seconds; B: the shared cuts (the default path), timed by criterion.
             let per_pixel = ShadeOptions::default().with_path(ShadingPath::ScalarOracle);
             let t0 = Instant::now();
-            let a = shade::shade(&scene, &vis, &per_pixel).cuts;
+            let a = shade::shade(&scene, &vis, &per_pixel).report.cuts;
             let a_secs = t0.elapsed().as_secs_f64();
             let fast = ShadeOptions::default();
             let t0 = Instant::now();
-            let b = shade::shade(&scene, &vis, &fast).cuts;
+            let b = shade::shade(&scene, &vis, &fast).report.cuts;
             let b_secs = t0.elapsed().as_secs_f64();
             eprintln!(
                 "{probe} {name}: tree build (probe load included) {build:.2} s, {} nodes; \

@@ -8,8 +8,9 @@
 //! ```
 //!
 //! Prepares the scene once (`Scene::resolve`: mesh, material, probe and light set or
-//! transfer table), renders it FRAMES times (default 50) with the default options, and prints
-//! the median frame time. The frame is what `brdfkit render` times as its frame and what
+//! transfer table), renders it FRAMES times (default 50) with the default options into one
+//! frame context (`render::render_into`, as the viewer draws), and prints the median frame
+//! time and the minor page faults of the first frame and of each later one. The frame is what `brdfkit render` times as its frame and what
 //! the `frame-640x480` benches measure (criterion remains the measure of speed; this is a
 //! harness for `perf`).
 
@@ -65,19 +66,39 @@ fn main() {
     if let Some(stats) = counted.stats {
         println!("{stats}");
     }
+    // Every frame into one frame context, as the viewer draws: the first frame sizes its
+    // buffers, the others reuse them.
+    let mut ctx = render::FrameContext::default();
+    let mut faults = Vec::with_capacity(frames);
     let mut times: Vec<f64> = pool.install(|| {
         (0..frames)
             .map(|_| {
+                let f = minor_faults();
                 let t = Instant::now();
-                std::hint::black_box(render::render(&scene, &opts).image);
-                t.elapsed().as_secs_f64() * 1e3
+                std::hint::black_box(render::render_into(&scene, &opts, &mut ctx).image);
+                let ms = t.elapsed().as_secs_f64() * 1e3;
+                faults.push(minor_faults() - f);
+                ms
             })
             .collect()
     });
     times.sort_by(f64::total_cmp);
+    // The first frame sizes the context; the others are the steady state.
+    let steady = &faults[1.min(frames - 1)..];
     println!(
-        "{}: {frames} frames, median {:.2} ms",
+        "{}: {frames} frames, median {:.2} ms; minor page faults: first frame {}, then {:.1} \
+         per frame",
         path.display(),
-        times[frames / 2]
+        times[frames / 2],
+        faults[0],
+        steady.iter().sum::<i64>() as f64 / steady.len() as f64
     );
+}
+
+/// The process's minor page faults so far (`getrusage`), every thread's.
+fn minor_faults() -> i64 {
+    // SAFETY: `getrusage` writes one `rusage` into the zeroed struct it is given.
+    let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+    unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) };
+    u.ru_minflt
 }

@@ -73,7 +73,7 @@ fn main() {
                 );
                 let vis = rasterize(&s, false);
                 let shaded = shade(&s, &vis, &ShadeOptions::default());
-                let c = shaded.cuts;
+                let c = shaded.report.cuts;
                 println!(
                     "| {name} | {probe} | {e} | {:.3}% | {:.2}% | {:.1} | {} | {} |",
                     100.0 * brdfkit::metrics::relative_rmse(&reference, &shaded.image, None),

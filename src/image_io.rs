@@ -32,7 +32,7 @@ use glam::Vec3;
 use std::path::Path;
 
 /// A row-major RGB f32 image (row 0 at the top).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Image {
     pub width: u32,
     pub height: u32,

@@ -51,7 +51,8 @@
 //!    once), [`compare`] (those measures and FLIP for a GPU build's CI).
 //!
 //! [`render`] strings the stages together (one entry point, [`render::render`], its settings
-//! in one struct, [`render::RenderOptions`]); [`cli`] is the command line (including the
+//! in one struct, [`render::RenderOptions`]; [`render::render_into`] is the same into a
+//! [`render::FrameContext`] the caller keeps, whose buffers the next frame reuses); [`cli`] is the command line (including the
 //! `SOURCE` argument of `acquire` and `fit-dbrdf`, [`cli::source`], and the `lights`
 //! command's reports: [`cli::lights_report`], the light set drawn on its probe
 //! [`cli::lights_overlay`], thesis figures 3.6 and 3.8).
@@ -65,8 +66,8 @@
 //! against error, Pareto front); [`turntable`] renders animated sequences; [`shard`] splits
 //! either over machines. [`export`] writes a scene's resolved camera matrices, mesh,
 //! lights and material for a GPU build to draw the same frame. [`view`] is the interactive
-//! viewer (`brdfkit view`: a window, winit + softbuffer, each frame [`render::render`] of a
-//! scene file it can write out).
+//! viewer (`brdfkit view`: a window, winit + softbuffer, each frame [`render::render_into`]
+//! of a scene file it can write out).
 //!
 //! Behind the cargo feature `gpu`: `gpu`, a wgpu renderer of the same resolved scene (WGSL
 //! written from the thesis and [`conventions`], not from the kernels), which `brdfkit render

@@ -14,6 +14,9 @@
 //! - through the `brdfkit` binary, run under `prlimit --as` ([`CLI_AS_LIMIT`]): an
 //!   allocation beyond it aborts the child, which the exit-code check catches.
 //!
+//! The counting allocator also shows that a frame rendered into a frame context kept from
+//! the previous frame allocates no frame buffer ([`a_steady_state_frame_allocates_no_frame_buffer`]).
+//!
 //! Special files (directories, `/dev/zero`, FIFOs) are refused by every reader before it
 //! opens them ([`special_files_are_refused_by_every_reader`]); a hang is a failure, never a
 //! stuck run: library calls run on a thread with a deadline ([`no_hang`]) and the binary
@@ -1467,3 +1470,58 @@ fn fuzz_dbrdf_file_oom_tiled_header_with_huge_tiles() {
         brdfkit::compare::load(&p)
     });
 }
+
+// ---------------------------------------------------------------------------------------
+// Frame buffers kept across frames (the counting allocator's other use)
+
+/// A frame rendered into a frame context kept from a frame of the same size
+/// (`render::render_into`) allocates none of the frame's buffers again: its largest
+/// allocation request is under [`STEADY_FRAME_ALLOC`], while a render with new buffers
+/// (`render::render`, the control that shows the measure sees them) requests at least the
+/// image's bytes at once.
+#[test]
+fn a_steady_state_frame_allocates_no_frame_buffer() {
+    use brdfkit::render::{self, FrameContext, RenderOptions};
+    let g = serial();
+    let mut scene = Scene::default_scene();
+    (scene.render.width, scene.render.height) = (320, 240);
+    let image_bytes = 320 * 240 * std::mem::size_of::<Vec3>();
+    let opts = RenderOptions::default();
+    let (_, fresh) = measure(&g, || render::render(&scene, &opts).image.pixels.len());
+    assert!(
+        fresh >= image_bytes,
+        "a new render's largest request: {fresh} bytes"
+    );
+    // The camera turned about the target: other triangles, other pixels, one size.
+    let turned: Vec<(f32, Scene)> = [0.0f32, 0.3, 0.6]
+        .into_iter()
+        .map(|turn| {
+            let mut s = scene.clone();
+            let c = &mut s.camera;
+            let (sin, cos) = turn.sin_cos();
+            let d = c.position - c.target;
+            c.position = c.target + Vec3::new(cos * d.x + sin * d.z, d.y, -sin * d.x + cos * d.z);
+            (turn, s)
+        })
+        .collect();
+    // One turn round sizes the buffers for the largest of the frames (a view with more
+    // triangles set up grows their list once); the next turn round is the steady state.
+    let mut ctx = FrameContext::default();
+    for (_, s) in &turned {
+        render::render_into(s, &opts, &mut ctx);
+    }
+    for (turn, s) in &turned {
+        let (_, steady) = measure(&g, || {
+            render::render_into(s, &opts, &mut ctx).image.pixels.len()
+        });
+        assert!(
+            steady < STEADY_FRAME_ALLOC,
+            "a steady-state frame (turn {turn}) requested {steady} bytes at once"
+        );
+    }
+}
+
+/// Largest single allocation a steady-state frame may make: the frame's small lists (the
+/// light layout decided per frame, per-band results), far below any frame buffer (the
+/// 320 x 240 image is 921,600 bytes, its visibility 307,200).
+const STEADY_FRAME_ALLOC: usize = 64 << 10;

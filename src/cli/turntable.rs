@@ -69,14 +69,18 @@ pub(super) fn run_turntable(
     let frames: Vec<usize> = (0..n).filter(|&k| shard.contains(k)).collect();
     let pb = Progress::bar(frames.len() as u64, "turntable", "frames");
     let start = std::time::Instant::now();
+    // Every frame has the size of the first: its buffers are reused.
+    let mut frame = render::FrameContext::default();
     for &k in &frames {
         let s = turntable::frame_scene(scene, motion, k, n, cache)?;
-        let img = pool.install(|| render::render(&s, &opts)).image;
+        let img = pool
+            .install(|| render::render_into(&s, &opts, &mut frame))
+            .image;
         let path = turntable::frame_path(&out, k, n);
         match a.common.aov {
-            None => image_io::write_png(&path, &img, s.output.exposure, s.output.tonemap)?,
+            None => image_io::write_png(&path, img, s.output.exposure, s.output.tonemap)?,
             Some(aov) => {
-                image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(&img, aov))?
+                image_io::write_png_bytes(&path, img.width, img.height, aov::png_bytes(img, aov))?
             }
         }
         pb.inc(1);

@@ -418,6 +418,20 @@ pub fn rasterize_with_fault(
     vis
 }
 
+/// [`rasterize_into`] with a fault seeded (tests only; [`RasterFault::PreviousFrameKept`]
+/// is a fault of the reuse).
+#[doc(hidden)]
+pub fn rasterize_into_with_fault(
+    clip: &[Vec4],
+    triangles: &[[u32; 3]],
+    cfg: &RasterConfig,
+    scratch: &mut RasterScratch,
+    vis: &mut VisBuffer,
+    fault: Option<RasterFault>,
+) {
+    rasterize_impl(clip, triangles, cfg, scratch, vis, fault);
+}
+
 /// [`rasterize`] into `vis`, reusing its buffers and `scratch`'s: the same bits as
 /// [`rasterize`] whatever they held before (every field of `vis` is rewritten; `rays` is
 /// reset to `None`). A caller drawing frame after frame at one size (the viewer, a
@@ -454,9 +468,11 @@ fn rasterize_impl(
     let bins = &*bins;
     let per_tile = (ts * ts) as usize;
     let n = per_tile * (tiles_x * tiles_y) as usize;
-    vis.visible.clear();
+    if fault != Some(RasterFault::PreviousFrameKept) {
+        vis.visible.clear();
+        vis.depth.clear();
+    }
     vis.visible.resize(n, NO_TRIANGLE);
-    vis.depth.clear();
     vis.depth.resize(n, 0.0);
     if cfg.count_coverage {
         let c = vis.coverage.get_or_insert_with(Vec::new);

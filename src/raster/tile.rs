@@ -39,6 +39,10 @@ pub enum RasterFault {
     /// The last column of blocks of a large triangle is never visited (a block loop one
     /// short).
     LastBlockColumnSkipped,
+    /// The visibility and depth a reused [`super::VisBuffer`] holds from the previous frame
+    /// are not cleared before this frame is resolved into it
+    /// ([`super::rasterize_into_with_fault`]).
+    PreviousFrameKept,
 }
 
 /// The tile's output buffers, row-major with the tile's stride.

@@ -3,43 +3,81 @@
 //! (`shade`) or a debug output (`aov`).
 //!
 //! One entry point, [`render`], takes the settings in one struct ([`RenderOptions`]) and
-//! returns the image with, when asked, the work done ([`Rendered`]).
+//! returns the image with, when asked, the work done ([`Rendered`]); [`render_into`] is the
+//! same into a [`FrameContext`] the caller keeps, whose buffers the next frame reuses.
 //!
 //! # Layout
 //!
-//! - `mod.rs`: the pipeline ([`clip_positions`], [`rasterize`], [`tile_count`], [`render`]).
+//! - `mod.rs`: the pipeline ([`clip_positions`], [`rasterize`], [`tile_count`], [`render`],
+//!   [`render_into`]).
+//! - `frame.rs`: the buffers kept across frames ([`FrameContext`]).
 //! - `options.rs`: the settings ([`RenderOptions`]).
 //! - `stats.rs`: the work done ([`RenderStats`]).
 
+mod frame;
 mod options;
 mod stats;
 
+pub use frame::{FrameContext, RenderedFrame};
 pub use options::RenderOptions;
 pub use stats::RenderStats;
 
 use crate::aov::{self, Aov};
 use crate::image_io::Image;
-use crate::raster::{self, RasterConfig, VisBuffer};
+use crate::raster::{self, RasterConfig, RasterScratch, VisBuffer};
 use crate::scene::Scene;
 use crate::shade;
 use crate::shard::{RowBands, Shard};
+use frame::FrameBuffers;
 use glam::Vec4;
 
 /// Clip-space positions of the scene's mesh vertices (`clip_from_world` applied).
 pub fn clip_positions(scene: &Scene) -> Vec<Vec4> {
+    let mut clip = Vec::new();
+    clip_positions_into(scene, &mut clip);
+    clip
+}
+
+/// [`clip_positions`] into `clip` (its previous contents replaced, its memory kept).
+fn clip_positions_into(scene: &Scene, clip: &mut Vec<Vec4>) {
     let r = &scene.render;
     let aspect = r.width as f32 / r.height as f32;
     let clip_from_world = scene.camera.clip_from_view(aspect) * scene.camera.view_from_world();
-    scene
-        .mesh
-        .positions
-        .iter()
-        .map(|p| clip_from_world * p.extend(1.0))
-        .collect()
+    clip.clear();
+    clip.extend(
+        scene
+            .mesh
+            .positions
+            .iter()
+            .map(|p| clip_from_world * p.extend(1.0)),
+    );
 }
 
 /// Rasterizes the scene into a visibility buffer.
 pub fn rasterize(scene: &Scene, count_coverage: bool) -> VisBuffer {
+    let mut vis = VisBuffer::default();
+    rasterize_into(
+        scene,
+        count_coverage,
+        &mut Vec::new(),
+        &mut RasterScratch::default(),
+        &mut vis,
+        None,
+    );
+    vis
+}
+
+/// [`rasterize`] into `vis`, with `clip` (the clip-space positions) and `scratch` reused
+/// ([`raster::rasterize_into`]): the same bits whatever they held (unless a test seeds
+/// `fault`).
+fn rasterize_into(
+    scene: &Scene,
+    count_coverage: bool,
+    clip: &mut Vec<Vec4>,
+    scratch: &mut RasterScratch,
+    vis: &mut VisBuffer,
+    fault: Option<raster::RasterFault>,
+) {
     let r = &scene.render;
     let cfg = RasterConfig {
         width: r.width,
@@ -49,7 +87,8 @@ pub fn rasterize(scene: &Scene, count_coverage: bool) -> VisBuffer {
         near: scene.camera.near,
         count_coverage,
     };
-    let mut vis = raster::rasterize(&clip_positions(scene), &scene.mesh.triangles, &cfg);
+    clip_positions_into(scene, clip);
+    raster::rasterize_into_with_fault(clip, &scene.mesh.triangles, &cfg, scratch, vis, fault);
     let view_from_world = scene.camera.view_from_world().as_dmat4();
     let ty = (0.5 * scene.camera.fov_y_deg as f64).to_radians().tan();
     vis.rays = Some(raster::PixelRays {
@@ -60,7 +99,6 @@ pub fn rasterize(scene: &Scene, count_coverage: bool) -> VisBuffer {
         width: r.width,
         height: r.height,
     });
-    vis
 }
 
 /// Tiles of the frame `scene` renders to (its `render.width` x `render.height` in tiles of
@@ -126,20 +164,61 @@ pub struct Rendered {
 /// `opts.threads`, on a dedicated pool of that many threads; the image is the same for any
 /// thread count. With `opts.rows`, only that shard's rows (the others black; an AOV is
 /// computed whole, it is cheap).
+///
+/// [`render_into`] with a new [`FrameContext`]; a caller rendering frame after frame keeps
+/// one and calls that instead.
 pub fn render(scene: &Scene, opts: &RenderOptions) -> Rendered {
-    match opts.threads {
-        None => render_here(scene, opts),
-        Some(threads) => rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("thread pool")
-            .install(|| render_here(scene, opts)),
+    let mut ctx = FrameContext::default();
+    let stats = render_into(scene, opts, &mut ctx).stats;
+    Rendered {
+        image: ctx.take_image(),
+        stats,
     }
 }
 
-/// [`render`] on the current rayon pool.
-fn render_here(scene: &Scene, opts: &RenderOptions) -> Rendered {
-    let mut vis = rasterize(scene, opts.aov.is_some_and(Aov::needs_coverage));
+/// [`render`] into `ctx`: the frame's buffers (clip positions, visibility buffer, raster
+/// scratch, the shading workers' buffers, the image) and the thread pool of
+/// `opts.threads` are `ctx`'s, reused from its previous frame when the size (and thread
+/// count) is the same, so a steady state of frames allocates and first-touches none of
+/// them. The image is the bits [`render`] returns, whatever `ctx` rendered before (another
+/// scene, size, AOV or shard); it stays in `ctx` ([`FrameContext::image`]) until the next
+/// frame.
+pub fn render_into<'c>(
+    scene: &Scene,
+    opts: &RenderOptions,
+    ctx: &'c mut FrameContext,
+) -> RenderedFrame<'c> {
+    let stats = match opts.threads {
+        None => render_here(scene, opts, &mut ctx.buffers),
+        Some(threads) => {
+            let (buffers, pool) = ctx.buffers_and_pool(threads);
+            pool.install(|| render_here(scene, opts, buffers))
+        }
+    };
+    RenderedFrame {
+        image: &ctx.buffers.image,
+        stats: opts.stats.then_some(stats),
+    }
+}
+
+/// [`render_into`] on the current rayon pool; returns the work done.
+fn render_here(scene: &Scene, opts: &RenderOptions, ctx: &mut FrameBuffers) -> RenderStats {
+    let FrameBuffers {
+        clip,
+        raster,
+        vis,
+        shading,
+        image,
+        fault,
+    } = ctx;
+    rasterize_into(
+        scene,
+        opts.aov.is_some_and(Aov::needs_coverage),
+        clip,
+        raster,
+        vis,
+        *fault,
+    );
     if let Some(b) = opts.rows {
         assert_eq!(b.rows % vis.tile_size, 0, "shard bands of whole tiles");
         for ty in 0..vis.tiles_y {
@@ -153,24 +232,20 @@ fn render_here(scene: &Scene, opts: &RenderOptions) -> Rendered {
         coverage_counted: vis.coverage.is_some(),
         ..RenderStats::default()
     };
-    let image = match opts.aov {
+    match opts.aov {
         None => {
-            let shaded = shade::shade(scene, &vis, &opts.shading);
-            stats.shade = shaded.counts;
-            stats.lights = shaded.lights;
-            stats.lights_dropped = shaded.lights_dropped;
-            stats.dropped_fraction = shaded.dropped_fraction;
-            (stats.sh_bands_stored, stats.sh_bands_used) = shaded.sh_bands;
-            shaded.image
+            let report = shade::shade_into(scene, vis, &opts.shading, image, shading);
+            stats.shade = report.counts;
+            stats.lights = report.lights;
+            stats.lights_dropped = report.lights_dropped;
+            stats.dropped_fraction = report.dropped_fraction;
+            (stats.sh_bands_stored, stats.sh_bands_used) = report.sh_bands;
         }
         Some(a) => {
-            let (img, n) = aov::compute_counted(scene, &vis, a);
+            let (img, n) = aov::compute_counted(scene, vis, a);
             stats.aov_pixels = n;
-            img
+            *image = img;
         }
-    };
-    Rendered {
-        image,
-        stats: opts.stats.then_some(stats),
     }
+    stats
 }

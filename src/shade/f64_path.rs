@@ -12,7 +12,7 @@
 //! (`tile.rs`).
 
 use super::frame_and_view_f64;
-use super::tile::shade_per_pixel;
+use super::tile::{shade_per_pixel, Pass};
 use crate::conventions::FrameRule;
 use crate::image_io::Image;
 use crate::progress::Progress;
@@ -23,7 +23,7 @@ use glam::DVec3;
 /// The f64 path with no skips ([`super::ShadingPath::F64NoSkips`]): every light of the
 /// scene (none dropped), every SH band, no culling; the BRDF through
 /// [`crate::brdf::Brdf::eval_f64`], frames, directions and the light sum in f64, the result
-/// rounded to f32 once per pixel; every tile counted into `progress`. On a scene whose light
+/// rounded to f32 once per pixel, into `image` (of `vis`'s size; every pixel rewritten); every tile counted into `progress`. On a scene whose light
 /// set is the full probe this is the converged reference (`brdfkit render --reference`, the
 /// golden bounds, the sweep's error measurements).
 pub(super) fn shade_f64_no_skips(
@@ -31,11 +31,13 @@ pub(super) fn shade_f64_no_skips(
     vis: &VisBuffer,
     progress: &Progress,
     rule: &FrameRule,
-) -> Image {
+    image: &mut Image,
+    pass: Pass,
+) {
     let brdf = scene.material.as_brdf();
     let eye = scene.camera.position.as_dvec3();
     let lights = scene.delta_lights();
-    shade_per_pixel(scene, vis, progress, |s| {
+    shade_per_pixel(scene, vis, progress, image, pass, |s| {
         let ([t, b, n], wo) = frame_and_view_f64(s, eye, rule);
         let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
         let p = s.position.as_dvec3();

@@ -44,10 +44,12 @@
 //! - `pixel_lanes.rs`: the shading frames and view directions of a group of pixels in
 //!   lanes, with the scalar definitions' bits (`PixelLanes`), for the packed paths.
 //! - `options.rs`: what the caller chooses ([`ShadeOptions`], [`ShadingPath`]).
-//! - `entry.rs`: the one entry point ([`shade`]) and its result ([`Shaded`]).
+//! - `entry.rs`: the one entry point ([`shade`]; [`shade_into`], its form into a caller's
+//!   image and buffers) and its result ([`Shaded`], [`ShadeReport`]).
 //! - `prep.rs`: what is decided once per frame ([`FramePrep`]).
-//! - `tile.rs`: the tile loops, counting tiles into [`ShadeOptions::progress`]: the fast
-//!   path's, which per tile runs one of
+//! - `tile.rs`: the tile loops, counting tiles into [`ShadeOptions::progress`], and the
+//!   workers' buffers kept across frames ([`ShadeScratch`]): the fast path's loop, which
+//!   per tile runs one of
 //!   - `pixel.rs`: the per-pixel kernel path ([`FramePrep::shade_surface`]), lights
 //!     across the lanes;
 //!   - `packed.rs`: the pixel-packed path, pixels across the lanes (SH data sets under
@@ -94,13 +96,14 @@ mod view;
 pub use fault::KernelFault;
 pub use {
     counts::ShadeCounts,
-    entry::{shade, Shaded},
+    entry::{shade, shade_into, ShadeReport, Shaded},
     gbuffer::{surface_at, surface_at_index, Surface},
     lightcuts::{tile::CUT_TILE, CutStats},
     options::{effective_frame_rule, FrameCheck, ShadeOptions, ShadingPath},
     packed_analytic::PACKED_MAX_LIGHTS,
     prep::FramePrep,
     scalar_oracle::shade_point,
+    tile::ShadeScratch,
     traverse::{for_each_visible, tile_surfaces, VisiblePixel},
     view::{
         frame_and_view, frame_and_view_f64, lift_above_horizon, lift_above_horizon_f64, local_view,

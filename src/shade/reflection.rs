@@ -11,7 +11,7 @@
 //! value computed from its own surface alone).
 
 use super::frame_and_view;
-use super::traverse::{for_each_tile, for_each_visible};
+use super::traverse::{for_each_tile, for_each_visible, Pass};
 use crate::conventions::FrameRule;
 use crate::env::reflection::ReflectionTable;
 use crate::image_io::Image;
@@ -30,6 +30,7 @@ pub(super) fn add_reflection(
     for_each_tile(
         image,
         vis,
+        Pass::Adds,
         None,
         || (),
         |_, rect, band| {

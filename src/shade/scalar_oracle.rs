@@ -6,7 +6,7 @@
 //! per-scene decisions ([`FramePrep::new`]), so the two differ only by the kernel's
 //! arithmetic.
 
-use super::tile::shade_per_pixel;
+use super::tile::{shade_per_pixel, Pass};
 use super::{frame_and_view, FramePrep, Surface};
 use crate::brdf::{eval_cosine_weighted, Brdf};
 use crate::conventions::FrameRule;
@@ -43,7 +43,7 @@ pub fn shade_point(
 }
 
 /// The scalar oracle ([`super::ShadingPath::ScalarOracle`]): [`shade_point`] at every
-/// visible pixel, no kernel, no culling; every tile counted into `progress`.
+/// visible pixel of `image` (of `vis`'s size; every pixel rewritten), no kernel, no culling; every tile counted into `progress`.
 ///
 /// It shades what the fast path shades: the light set and SH bands that `prep` kept, plus
 /// the dropped lights at the pixels [`needs_restore`] picks (dropping negligible lights and
@@ -54,13 +54,15 @@ pub(super) fn shade_scalar_oracle(
     scene: &Scene,
     vis: &VisBuffer,
     progress: &Progress,
-) -> Image {
+    image: &mut Image,
+    pass: Pass,
+) {
     let brdf: &dyn Brdf = match &prep.sh {
         Some((ds, _)) => ds.as_ref(),
         None => scene.material.as_brdf(),
     };
     let d = &prep.dropped;
-    shade_per_pixel(scene, vis, progress, |s| {
+    shade_per_pixel(scene, vis, progress, image, pass, |s| {
         let kept = shade_point(brdf, &d.kept, s, scene.camera.position, &prep.rule);
         if !d.removed.is_empty() && needs_restore(kept, d.restore_below(s.normal)) {
             kept + shade_point(brdf, &d.removed, s, scene.camera.position, &prep.rule)

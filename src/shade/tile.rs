@@ -13,6 +13,7 @@
 //! the per-pixel path (`pixel.rs`) or, for SH data sets under point lights only, the
 //! pixel-packed one (`packed.rs`).
 
+pub(super) use super::traverse::Pass;
 use super::traverse::{for_each_tile, for_each_visible, tile_surfaces};
 use super::{FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
@@ -22,52 +23,61 @@ use crate::progress::Progress;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
 use glam::Vec3;
+use std::sync::Mutex;
 
 /// The fast path: shades every visible pixel of `vis` through the kernels, as `prep`
-/// decided, into a linear radiance image (background black), with the work done.
+/// decided, into `img` (linear radiance, of `vis`'s size; every pixel rewritten, background
+/// black; `pass` is [`Pass::Writes`] or, on an image just allocated, [`Pass::WritesOnBlack`]),
+/// the workers' buffers lent by `scratch`; returns the work done.
 pub(super) fn shade_kernels(
     prep: &FramePrep,
     scene: &Scene,
     vis: &VisBuffer,
     progress: &Progress,
-) -> (Image, ShadeCounts) {
-    let mut img = Image::new(vis.width, vis.height);
+    img: &mut Image,
+    pass: Pass,
+    scratch: &ShadeScratch,
+) -> ShadeCounts {
     // Per-pixel lists, or the pixel-packed point-light path's 8 or 16 lanes per light.
     let room = prep.dir.len().max(prep.dropped_dir.len()) + MAX_LANES * prep.points.len();
     // Each worker keeps its buffers across the tiles it shades.
     let shaded = for_each_tile(
-        &mut img,
+        img,
         vis,
+        pass,
         Some(progress),
-        TileBuffers::default,
+        || scratch.lend(),
         |bufs, rect, band| {
+            let bufs = &mut bufs.bufs;
             bufs.scratch.reserve(room);
             tile_surfaces(&scene.mesh, vis, rect, &mut bufs.surfaces);
             prep.dispatch.run(ShadeTile { prep, band, bufs })
         },
     );
     let skipped = vis.tile_occupied.iter().filter(|o| !**o).count() as u64;
-    let total = shaded
+    shaded
         + ShadeCounts {
             tiles_skipped: skipped,
             ..ShadeCounts::default()
-        };
-    (img, total)
+        }
 }
 
 /// The tile loop of the per-pixel paths (the scalar oracle, the f64 path): `radiance` of
-/// the surface seen through each visible pixel, into a linear radiance image (background
-/// black). Which tile a pixel is in changes only the order of the work, never a pixel.
+/// the surface seen through each visible pixel, into `img` (linear radiance, of `vis`'s
+/// size; every pixel rewritten, background black; `pass` as [`shade_kernels`]'s). Which tile a pixel is in changes only
+/// the order of the work, never a pixel.
 pub(super) fn shade_per_pixel(
     scene: &Scene,
     vis: &VisBuffer,
     progress: &Progress,
+    img: &mut Image,
+    pass: Pass,
     radiance: impl Fn(&Surface) -> Vec3 + Sync,
-) -> Image {
-    let mut img = Image::new(vis.width, vis.height);
+) {
     for_each_tile(
-        &mut img,
+        img,
         vis,
+        pass,
         Some(progress),
         || (),
         |_, rect, band| {
@@ -76,7 +86,6 @@ pub(super) fn shade_per_pixel(
             });
         },
     );
-    img
 }
 
 /// A worker's buffers, kept across the tiles it shades: the coefficient buffer, the
@@ -86,6 +95,68 @@ struct TileBuffers {
     buf: Vec<f32>,
     scratch: kernel::gather::Scratch,
     surfaces: Vec<(usize, Surface)>,
+}
+
+impl TileBuffers {
+    /// Empties every buffer, keeping its memory: what is read after is what a new
+    /// (`default`) one would hold, zeros where it is grown.
+    fn empty(&mut self) {
+        self.buf.clear();
+        let s = &mut self.scratch;
+        for v in [
+            &mut s.x, &mut s.y, &mut s.z, &mut s.wr, &mut s.wg, &mut s.wb,
+        ] {
+            v.clear();
+        }
+        s.n = 0;
+        self.surfaces.clear();
+    }
+}
+
+/// The fast path's worker buffers kept across frames ([`super::shade_into`]): the
+/// buffers of the workers that finished, lent again to the next ones, so a steady
+/// state of frames of one scene allocates none. A lent set is emptied first
+/// ([`TileBuffers::empty`]): the image does not depend on what an earlier frame, of this
+/// scene or another, left in it.
+#[derive(Default)]
+pub struct ShadeScratch {
+    idle: Mutex<Vec<TileBuffers>>,
+}
+
+impl std::fmt::Debug for ShadeScratch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let idle = self.idle.lock().map_or(0, |v| v.len());
+        write!(f, "ShadeScratch {{ idle worker buffers: {idle} }}")
+    }
+}
+
+impl ShadeScratch {
+    /// A worker's buffers: an idle set, emptied, or a new one; given back when dropped.
+    fn lend(&self) -> Lent<'_> {
+        let mut bufs = self
+            .idle
+            .lock()
+            .ok()
+            .and_then(|mut v| v.pop())
+            .unwrap_or_default();
+        bufs.empty();
+        Lent { bufs, home: self }
+    }
+}
+
+/// Buffers lent by a [`ShadeScratch`], given back to it when dropped.
+struct Lent<'h> {
+    bufs: TileBuffers,
+    home: &'h ShadeScratch,
+}
+
+impl Drop for Lent<'_> {
+    fn drop(&mut self) {
+        // A poisoned lock (a worker panicked): the buffers are dropped instead.
+        if let Ok(mut idle) = self.home.idle.lock() {
+            idle.push(std::mem::take(&mut self.bufs));
+        }
+    }
 }
 
 /// One occupied tile, its surfaces found, as a [`Kernel`] so the whole tile loop is

@@ -20,7 +20,7 @@
 //! on every path (the table is f32).
 
 use super::frame_and_view;
-use super::traverse::{for_each_tile, for_each_visible};
+use super::traverse::{for_each_tile, for_each_visible, Pass};
 use crate::conventions::{hemi_texcoord, local_angles, FrameRule, ShadingFrame};
 use crate::env::transfer::table::Corners;
 use crate::env::transfer::TransferTable;
@@ -52,28 +52,35 @@ pub(super) fn add_transfer(
             [0.0f32; 3 * MAX_BANDS * MAX_BANDS],
         )
     };
-    for_each_tile(image, vis, None, buffers, |(cbuf, tbuf), rect, band| {
-        let c = &mut cbuf[..3 * nt];
-        for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
-            match scene.material.transfer_model() {
-                Some(TransferModel::Sh(ds)) => {
-                    let (frame, wo) = frame_and_view(&p.surface, eye, rule);
-                    let (polar, azimuth) = local_angles(wo);
-                    let (u, v) = hemi_texcoord(polar, azimuth);
-                    ds.lookup_coeffs(u, v, ds.coeff_lookup, c);
-                    if *rule != FrameRule::UP {
-                        to_table_frame(c, ds.bands(), &frame);
+    for_each_tile(
+        image,
+        vis,
+        Pass::Adds,
+        None,
+        buffers,
+        |(cbuf, tbuf), rect, band| {
+            let c = &mut cbuf[..3 * nt];
+            for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
+                match scene.material.transfer_model() {
+                    Some(TransferModel::Sh(ds)) => {
+                        let (frame, wo) = frame_and_view(&p.surface, eye, rule);
+                        let (polar, azimuth) = local_angles(wo);
+                        let (u, v) = hemi_texcoord(polar, azimuth);
+                        ds.lookup_coeffs(u, v, ds.coeff_lookup, c);
+                        if *rule != FrameRule::UP {
+                            to_table_frame(c, ds.bands(), &frame);
+                        }
                     }
+                    Some(TransferModel::Lambert(m)) => {
+                        let k = m.albedo / std::f32::consts::PI;
+                        c.copy_from_slice(&[k.x, k.y, k.z]);
+                    }
+                    None => return,
                 }
-                Some(TransferModel::Lambert(m)) => {
-                    let k = m.albedo / std::f32::consts::PI;
-                    c.copy_from_slice(&[k.x, k.y, k.z]);
-                }
-                None => return,
-            }
-            band[p.at] += table.radiance_with(p.surface.normal, c, tbuf);
-        });
-    });
+                band[p.at] += table.radiance_with(p.surface.normal, c, tbuf);
+            });
+        },
+    );
 }
 
 /// Coefficients `c` (`3 bands^2`, `[R.., G.., B..]`) looked up in the pixel's `frame` (turned

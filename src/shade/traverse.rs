@@ -108,7 +108,23 @@ pub(super) fn bands<W, R: Send>(
         .collect()
 }
 
-/// The tile loop of every shading path: [`bands`] of one row of tiles, and in each its tiles
+/// What a pass of [`for_each_tile`] does to the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Pass {
+    /// The pass that writes the image (the lights' pass of every path): each band is
+    /// cleared to black first, by the task that shades it, so every pixel is rewritten
+    /// whatever the image held (a frame context's image, kept from the previous frame).
+    Writes,
+    /// The pass that writes the image into one just allocated black: nothing is cleared
+    /// (the pages of the empty tiles' rows are never touched, as before frame contexts).
+    WritesOnBlack,
+    /// A pass that adds a term to the image the writing pass left (transfer, reflection,
+    /// light cuts).
+    Adds,
+}
+
+/// The tile loop of every shading path: [`bands`] of one row of tiles, and in each (after
+/// clearing it, on a [`Pass::Writes`]) its tiles
 /// in order: `tile(state, tile's pixels, the band's pixels)` for each tile a triangle
 /// touched (the others are skipped without a look at a pixel), every tile, shaded or
 /// skipped, counted into `progress` once it is done (per tile, never per pixel); a row of
@@ -117,6 +133,7 @@ pub(super) fn bands<W, R: Send>(
 pub(super) fn for_each_tile<W, R>(
     image: &mut Image,
     vis: &VisBuffer,
+    pass: Pass,
     progress: Option<&Progress>,
     init: impl Fn() -> W + Sync + Send,
     tile: impl Fn(&mut W, PixelRect, &mut [Vec3]) -> R + Sync + Send,
@@ -126,6 +143,10 @@ where
 {
     bands(image, vis.tile_size, init, |state, ty, _, band| {
         let mut sum = R::default();
+        match pass {
+            Pass::Writes => band.fill(Vec3::ZERO),
+            Pass::WritesOnBlack | Pass::Adds => {}
+        }
         // A row left to another shard: not shaded, not counted.
         if vis.tile_row_left[ty] {
             return sum;

@@ -292,6 +292,9 @@ impl Sweep {
     pub fn run(&self, configs: &[Config], mut progress: impl FnMut(&Row)) -> Result<Vec<Row>> {
         let mut rows = Vec::with_capacity(configs.len());
         let mut cached: Option<((MethodAxis, usize), Environment, f64)> = None;
+        // Every row's frames have one size: their buffers are reused from row to row,
+        // so a frame's time has no allocation or first-touch page fault in it.
+        let mut frame = crate::render::FrameContext::default();
         for c in configs {
             let order = match c.method {
                 MethodAxis::Lights { .. } | MethodAxis::Lightcuts { .. } => 0,
@@ -308,11 +311,12 @@ impl Sweep {
             let mut image = None;
             for _ in 0..self.frames {
                 let start = Instant::now();
-                let img = self.pool.install(|| {
-                    crate::render::render(&scene, &crate::render::RenderOptions::default()).image
+                self.pool.install(|| {
+                    let opts = crate::render::RenderOptions::default();
+                    crate::render::render_into(&scene, &opts, &mut frame);
                 });
                 times.push(start.elapsed().as_secs_f64() * 1e3);
-                image.get_or_insert(img);
+                image.get_or_insert_with(|| frame.image().clone());
             }
             times.sort_by(f64::total_cmp);
             // Kept at the CSV's precision (1 us), so the Pareto front computed here is the

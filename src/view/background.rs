@@ -6,8 +6,8 @@
 use crate::env::schema::EnvSpec;
 use crate::env::{LoadOptions, Probe};
 use crate::image_io::display::display_u8;
-use crate::raster::NO_TRIANGLE;
-use crate::scene::{OutputSpec, Scene};
+use crate::raster::{VisBuffer, NO_TRIANGLE};
+use crate::scene::OutputSpec;
 use std::path::PathBuf;
 
 /// A loaded probe, kept while its file and rotation stay.
@@ -43,10 +43,10 @@ impl Background {
         Ok(kept.as_ref().expect("set above"))
     }
 
-    /// Paints the uncovered pixels of `pixels` (0x00RRGGBB, `scene`'s frame size) with the
-    /// probe's radiance times `intensity`, encoded as `output` says.
-    pub fn paint(&self, scene: &Scene, intensity: f32, output: &OutputSpec, pixels: &mut [u32]) {
-        let vis = crate::render::rasterize(scene, false);
+    /// Paints the uncovered pixels of `pixels` (0x00RRGGBB, `vis`'s frame size) with the
+    /// probe's radiance times `intensity`, encoded as `output` says. `vis` is the frame's
+    /// visibility buffer as [`crate::render::render_into`] leaves it (its camera rays set).
+    pub fn paint(&self, vis: &VisBuffer, intensity: f32, output: &OutputSpec, pixels: &mut [u32]) {
         let Some(rays) = vis.rays else {
             return;
         };

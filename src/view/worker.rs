@@ -2,8 +2,9 @@
 //!
 //! Each worker takes the newest [`Job`] waiting (older ones are dropped unrendered),
 //! resolves the scene file into a [`Scene`] (kept while only the camera, the frame size or
-//! the environment's rotation change), renders it with [`crate::render::render`] — the
-//! renderer of `brdfkit render` — on its own thread pool, and encodes it for display with
+//! the environment's rotation change), renders it with [`crate::render::render_into`] — the
+//! renderer of `brdfkit render`, into the worker's [`FrameContext`], whose buffers the
+//! next job reuses — on its own thread pool, and encodes it for display with
 //! the one display encoding [`crate::image_io::display`] (the PNG's).
 //!
 //! A *preview* job of a delta-light environment (no transfer table, no light cuts: those
@@ -17,7 +18,7 @@ use crate::aov::Aov;
 use crate::env::lightset::prepare::CacheDir;
 use crate::image_io::display::display_u8;
 use crate::image_io::Image;
-use crate::render::{self, RenderOptions};
+use crate::render::{self, FrameContext, RenderOptions};
 use crate::scene::{resolve_camera, Scene, SceneFile};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -58,7 +59,7 @@ pub struct Frame {
     pub pixels: Vec<u32>,
     /// Time to resolve (when needed), render and encode, milliseconds.
     pub frame_ms: f64,
-    /// Time in `render::render` alone, milliseconds.
+    /// Time in `render::render_into` alone, milliseconds.
     pub render_ms: f64,
     /// Lights shaded per pixel at most (explicit plus the environment's).
     pub lights: usize,
@@ -119,8 +120,12 @@ pub fn spawn(
                 .expect("thread pool");
             let mut kept: Option<Kept> = None;
             let mut probe: Option<Background> = None;
+            // The frame's buffers, kept from one job to the next.
+            let mut frame = FrameContext::default();
             while let Some(job) = newest(&rx) {
-                let reply = match pool.install(|| run_job(&job, &cache, &mut kept, &mut probe)) {
+                let reply = match pool
+                    .install(|| run_job(&job, &cache, &mut kept, &mut probe, &mut frame))
+                {
                     Ok(frame) => Reply::Frame(Box::new(frame)),
                     Err(message) => Reply::Failed {
                         generation: job.generation,
@@ -184,6 +189,7 @@ fn run_job(
     cache: &CacheDir,
     kept: &mut Option<Kept>,
     probe: &mut Option<Background>,
+    frame: &mut FrameContext,
 ) -> std::result::Result<Frame, String> {
     let start = Instant::now();
     let key = scene_key(&job.file);
@@ -228,12 +234,19 @@ fn run_job(
         ..RenderOptions::default()
     };
     let t = Instant::now();
-    let image = render::render(&scene, &opts).image;
+    render::render_into(&scene, &opts, frame);
     let render_ms = t.elapsed().as_secs_f64() * 1e3;
-    let mut pixels = display_pixels(&image, job.aov, &job.file);
+    let mut pixels = display_pixels(frame.image(), job.aov, &job.file);
     if let (true, None, Some(env)) = (job.background, job.aov, &job.file.env) {
-        Background::of(probe, env)?.paint(&scene, env.intensity, &job.file.output, &mut pixels);
+        Background::of(probe, env)?.paint(
+            frame.vis(),
+            env.intensity,
+            &job.file.output,
+            &mut pixels,
+        );
     }
+    // The image goes to the window with the frame; the next job's is a new one.
+    let image = frame.take_image();
     Ok(Frame {
         generation: job.generation,
         step: job.step,

@@ -31,7 +31,7 @@ const LINDT: &str = "kind = \"library\"\nname = \"lindt-paper\"";
 fn cut_render(s: &Scene) -> (Image, CutStats) {
     let vis = rasterize(s, false);
     let shaded = shade(s, &vis, &ShadeOptions::default());
-    (shaded.image, shaded.cuts)
+    (shaded.image, shaded.report.cuts)
 }
 
 fn reference(probe: &str, material: &str) -> Image {
@@ -120,7 +120,7 @@ fn shared_cuts_match_the_reference_and_the_per_pixel_cuts() {
             let e = brdfkit::metrics::relative_rmse(&r, &shared.image, None);
             let e_pp = brdfkit::metrics::relative_rmse(&r, &per_pixel.image, None);
             let d = brdfkit::metrics::relative_rmse(&per_pixel.image, &shared.image, None);
-            let c = shared.cuts;
+            let c = shared.report.cuts;
             eprintln!(
                 "patch {probe} {name}: shared rel RMSE {e:.5} p99 {:.5}, per-pixel rel RMSE \
                  {e_pp:.5} p99 {:.5}, shared vs per-pixel {d:.5}; shared: {} pixels, {} cuts \
@@ -134,7 +134,7 @@ fn shared_cuts_match_the_reference_and_the_per_pixel_cuts() {
                 c.mean(),
                 c.largest,
                 c.capped,
-                per_pixel.cuts.mean()
+                per_pixel.report.cuts.mean()
             );
             assert!(c.pixels > 300, "{probe} {name}: {} pixels", c.pixels);
             assert!(

@@ -34,6 +34,7 @@ mod env_scene;
 mod exact_sphere;
 mod export;
 mod file_formats;
+mod frame_context;
 mod frame_invariance;
 mod golden;
 mod golden_cameras;

@@ -270,7 +270,7 @@ fn counters_show_empty_tiles_and_unasked_aovs_skipped() {
         cull_lights: false,
         ..ShadeOptions::default()
     };
-    let c = shade::shade(&s, &vis, &no_culling).counts;
+    let c = shade::shade(&s, &vis, &no_culling).report.counts;
     let dropped = prep.dropped.dropped as u64;
     assert!(c.pixels_restored <= px);
     assert_eq!(

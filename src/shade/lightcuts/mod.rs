@@ -18,7 +18,7 @@
 //! only on the sequence of pushes and pops.
 
 use super::frame_and_view;
-use super::traverse::{bands, for_each_tile, for_each_visible, TileSum};
+use super::traverse::{bands, for_each_tile, for_each_visible, Pass, TileSum};
 use crate::conventions::{FrameRule, ShadingFrame};
 use crate::env::lightcuts::{LightCuts, LightTree};
 use crate::env::LUMINANCE_WEIGHTS;
@@ -303,7 +303,7 @@ fn add_per_pixel_cuts(
     let bound = ConeBound::new(&scene.material).expect("resolve checked the material");
     let eye = scene.camera.position;
     let heap = || BinaryHeap::with_capacity(cuts.cut_max + 1);
-    for_each_tile(image, vis, None, heap, |heap, rect, band| {
+    for_each_tile(image, vis, Pass::Adds, None, heap, |heap, rect, band| {
         let mut stats = CutStats::default();
         for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
             let (frame, wo) = frame_and_view(&p.surface, eye, rule);
