@@ -116,7 +116,7 @@ impl TileBuffers {
 /// The fast path's worker buffers kept across frames ([`super::shade_into`]): the
 /// buffers of the workers that finished, lent again to the next ones, so a steady
 /// state of frames of one scene allocates none. A lent set is emptied first
-/// ([`TileBuffers::empty`]): the image does not depend on what an earlier frame, of this
+/// (`TileBuffers::empty`): the image does not depend on what an earlier frame, of this
 /// scene or another, left in it.
 #[derive(Default)]
 pub struct ShadeScratch {
