@@ -1,5 +1,10 @@
 //! Rasterization: clip-space triangles in, a visibility buffer out.
 //!
+//! (Past 400 lines because it is the stage that ties the others together: the visibility
+//! buffer and scratch types, binning and the entry points with their fault hooks share one
+//! determinism contract, stated here; clipping, setup and the tile walk are files of their
+//! own.)
+//!
 //! Stages (each a submodule, in the order the data flows):
 //! 1. [`clip`]: homogeneous clipping against the near plane and a guard band; triangles
 //!    that cross the camera plane are cut, not dropped.

@@ -3,6 +3,10 @@
 //! own error measured against exact sums over the full-resolution residual
 //! (`measure_error`).
 //!
+//! (Past 400 lines because it is one computation, the bake: the residual pyramid, the
+//! culled sums, the Fourier projection and the error measurement all serve the one loop
+//! over nodes and are not used elsewhere; the lobe's radial table is `lobe.rs`.)
+//!
 //! # The sum at one sample
 //! A sample `(r, polar_o, psi)` is the normal `n = cos(polar_o) r + sin(polar_o) (cos psi t +
 //! sin psi b)` (`(t, b)` the node's chart frame, [`chart_frame`]) and the view
