@@ -9,7 +9,7 @@
 use brdfkit::image_io::Image;
 use brdfkit::raster::RasterFault;
 use brdfkit::render::{self, FrameContext, RenderOptions};
-use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
+use brdfkit::scene::{Scene, SceneFile};
 use brdfkit::shade::ShadingPath;
 use brdfkit::shard::Shard;
 use std::path::Path;
@@ -30,13 +30,7 @@ fn teapot(width: u32, height: u32, tile_size: u32, distance: f32) -> Scene {
 fn sphere(material: &str) -> Scene {
     let lights = "[[light]]\nkind = \"directional\"\nto_light = [0.3, 0.8, 0.5]\nintensity = 4.0\n\
          [[light]]\nkind = \"directional\"\nto_light = [-0.6, 0.4, 0.7]\nintensity = 0.5\n";
-    let mut f = SceneFile::parse(lights).unwrap();
-    f.render.width = 72;
-    f.render.height = 40;
-    f.render.tile_size = 16;
-    f.mesh.source = "sphere".into();
-    f.material = MaterialSpec::from_cli(material).unwrap();
-    Scene::resolve(&f, Path::new("/")).unwrap()
+    super::render_options::sphere_under(lights, material)
 }
 
 /// A 24 x 24 sphere of lindt-paper under the sky probe's light cuts (`[env] method =

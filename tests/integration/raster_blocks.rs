@@ -18,8 +18,7 @@ use glam::{Vec2, Vec4};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
-const W: u32 = 96;
-const H: u32 = 80;
+use super::watertight::{clip_of_screen, H, W};
 
 fn cfg(tile: u32, cull: Cull) -> RasterConfig {
     RasterConfig {
@@ -30,14 +29,6 @@ fn cfg(tile: u32, cull: Cull) -> RasterConfig {
         near: 0.01,
         count_coverage: true,
     }
-}
-
-/// Clip-space point for a screen position (pixels, y down) at view depth `w` (negative:
-/// behind the camera).
-fn clip_of_screen(p: Vec2, w: f32) -> Vec4 {
-    let ndc_x = p.x / W as f32 * 2.0 - 1.0;
-    let ndc_y = 1.0 - p.y / H as f32 * 2.0;
-    Vec4::new(ndc_x * w, ndc_y * w, 0.01, w)
 }
 
 /// The reference's output, row-major: set-up triangles, per pixel the visible one (index

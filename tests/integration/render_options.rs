@@ -34,7 +34,13 @@ fn scene(material: &str) -> Scene {
             0.004 * (i + 1) as f32
         );
     }
-    let mut f = SceneFile::parse(&lights).unwrap();
+    sphere_under(&lights, material)
+}
+
+/// A sphere of `material` in a 72 x 40 frame of 16-pixel tiles under `lights` (`[[light]]`
+/// tables); the frame-context tests use it too.
+pub(crate) fn sphere_under(lights: &str, material: &str) -> Scene {
+    let mut f = SceneFile::parse(lights).unwrap();
     f.render.width = 72;
     f.render.height = 40;
     f.render.tile_size = 16;

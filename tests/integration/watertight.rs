@@ -12,8 +12,9 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
-const W: u32 = 96;
-const H: u32 = 80;
+/// The frame of these tests and of `raster_blocks.rs`, in pixels.
+pub(crate) const W: u32 = 96;
+pub(crate) const H: u32 = 80;
 
 fn cfg(count: bool, tile: u32) -> RasterConfig {
     RasterConfig {
@@ -26,8 +27,9 @@ fn cfg(count: bool, tile: u32) -> RasterConfig {
     }
 }
 
-/// Clip-space point for a screen position (pixels, y down) at view depth `w`.
-fn clip_of_screen(p: Vec2, w: f32) -> Vec4 {
+/// Clip-space point for a screen position (pixels, y down) at view depth `w` (negative:
+/// behind the camera), in the `W x H` frame of these tests and of `raster_blocks.rs`.
+pub(crate) fn clip_of_screen(p: Vec2, w: f32) -> Vec4 {
     let ndc_x = p.x / W as f32 * 2.0 - 1.0;
     let ndc_y = 1.0 - p.y / H as f32 * 2.0;
     Vec4::new(ndc_x * w, ndc_y * w, 0.01, w)
