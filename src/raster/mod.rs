@@ -419,7 +419,7 @@ pub fn rasterize_with_fault(
 ) -> VisBuffer {
     let mut vis = VisBuffer::default();
     let mut scratch = RasterScratch::default();
-    rasterize_impl(clip, triangles, cfg, &mut scratch, &mut vis, Some(fault));
+    rasterize_into_with_fault(clip, triangles, cfg, &mut scratch, &mut vis, Some(fault));
     vis
 }
 
@@ -427,31 +427,6 @@ pub fn rasterize_with_fault(
 /// is a fault of the reuse).
 #[doc(hidden)]
 pub fn rasterize_into_with_fault(
-    clip: &[Vec4],
-    triangles: &[[u32; 3]],
-    cfg: &RasterConfig,
-    scratch: &mut RasterScratch,
-    vis: &mut VisBuffer,
-    fault: Option<RasterFault>,
-) {
-    rasterize_impl(clip, triangles, cfg, scratch, vis, fault);
-}
-
-/// [`rasterize`] into `vis`, reusing its buffers and `scratch`'s: the same bits as
-/// [`rasterize`] whatever they held before (every field of `vis` is rewritten; `rays` is
-/// reset to `None`). A caller drawing frame after frame at one size (the viewer, a
-/// turntable, a bench) keeps both and touches no new memory in a steady state.
-pub fn rasterize_into(
-    clip: &[Vec4],
-    triangles: &[[u32; 3]],
-    cfg: &RasterConfig,
-    scratch: &mut RasterScratch,
-    vis: &mut VisBuffer,
-) {
-    rasterize_impl(clip, triangles, cfg, scratch, vis, None);
-}
-
-fn rasterize_impl(
     clip: &[Vec4],
     triangles: &[[u32; 3]],
     cfg: &RasterConfig,
@@ -525,4 +500,18 @@ fn rasterize_impl(
     vis.tile_row_left.clear();
     vis.tile_row_left.resize(tiles_y as usize, false);
     vis.rays = None;
+}
+
+/// [`rasterize`] into `vis`, reusing its buffers and `scratch`'s: the same bits as
+/// [`rasterize`] whatever they held before (every field of `vis` is rewritten; `rays` is
+/// reset to `None`). A caller drawing frame after frame at one size (the viewer, a
+/// turntable, a bench) keeps both and touches no new memory in a steady state.
+pub fn rasterize_into(
+    clip: &[Vec4],
+    triangles: &[[u32; 3]],
+    cfg: &RasterConfig,
+    scratch: &mut RasterScratch,
+    vis: &mut VisBuffer,
+) {
+    rasterize_into_with_fault(clip, triangles, cfg, scratch, vis, None);
 }
