@@ -276,29 +276,30 @@ fn a_still_view_refines_to_the_frame_render_gives_for_its_last_step() {
     assert!(viewed != unrefined, "refinement changed no pixel");
 }
 
-#[test]
-fn under_method_auto_the_moving_frame_is_the_delta_light_set() {
-    let Some(exe) = xvfb_path() else {
-        common::cannot_run(
-            "tests/viewer.rs: the auto-method test",
-            "Xvfb is not installed (Debian package xvfb)",
-        );
-        return;
-    };
-    let x = start_xvfb(&exe);
+/// `brdfkit view` with no refinement step under `[env] method = "auto"`: the frame shown
+/// is the one shown while the view moves; returns the scene file it wrote, its screenshot
+/// and `brdfkit render` of that file (the same cache).
+fn moving_frame(args: &[&str]) -> (brdfkit::scene::SceneFile, image::RgbImage, image::RgbImage) {
+    let x = start_xvfb(&xvfb_path().unwrap());
     let tmp = tempfile::tempdir().unwrap();
     let cache = tmp.path().join("cache");
     let script = tmp.path().join("script.txt");
     std::fs::write(&script, "0 drag 10 0\n").unwrap();
-    let scene = tmp.path().join("shot.toml");
-    // The default material (Blinn-Phong) under a probe with no method: `auto`, which is
-    // light cuts (seconds per frame at window sizes) when still. With no refinement step
-    // the frame shown is the one shown while the view moves.
+    let (shot, scene) = (tmp.path().join("shot.png"), tmp.path().join("shot.toml"));
     let o = Command::new(BIN)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(["view", "--width", "64", "--height", "48"])
-        .args(["--refine-steps", "0", "--env", "assets/probes/city.exr"])
+        .args([
+            "view",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--refine-steps",
+            "0",
+        ])
+        .args(args)
         .args(["--script".as_ref(), script.as_os_str()])
+        .args(["--screenshot".as_ref(), shot.as_os_str()])
         .args(["--write-scene".as_ref(), scene.as_os_str()])
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
@@ -309,10 +310,55 @@ fn under_method_auto_the_moving_frame_is_the_delta_light_set() {
     assert!(o.status.success(), "view failed: {err}");
     let text = std::fs::read_to_string(&scene).unwrap();
     let file = brdfkit::scene::SceneFile::parse(&text).unwrap();
+    let rendered = render(&scene, &tmp.path().join("render.png"), &cache);
+    (file, rgb(&shot), rendered)
+}
+
+#[test]
+fn under_method_auto_the_moving_frame_is_the_reflection_table_or_the_light_set() {
+    if xvfb_path().is_none() {
+        common::cannot_run(
+            "tests/viewer.rs: the auto-method test",
+            "Xvfb is not installed (Debian package xvfb)",
+        );
+        return;
+    }
+    use brdfkit::env::schema::EnvMethod;
+    // The default material (Blinn-Phong): `auto` is the reflection table (a small one, so
+    // the bake takes a fraction of a second), shown while the view moves.
+    let dir = tempfile::tempdir().unwrap();
+    let doc = dir.path().join("bp.toml");
+    let probe = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr");
+    std::fs::write(
+        &doc,
+        format!(
+            "[env]\nfile = {:?}\nmethod = \"auto\"\nreflection_grid = 8\nreflection_slices = 3\nreflection_residual = 64\n",
+            probe.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let (file, shown, rendered) = moving_frame(&[doc.to_str().unwrap()]);
     assert_eq!(
         file.env.as_ref().unwrap().method,
-        brdfkit::env::schema::EnvMethod::Lights,
-        "the moving frame was not the delta light set:\n{text}"
+        EnvMethod::Reflection,
+        "the moving frame was not the reflection table"
+    );
+    assert!(
+        shown == rendered,
+        "the moving frame differs from `brdfkit render`"
+    );
+    // A D-BRDF: `auto` is light cuts (seconds per frame at window sizes) when still; while
+    // the view moves, the document's delta light set.
+    let (file, _, _) = moving_frame(&[
+        "--env",
+        "assets/probes/city.exr",
+        "--material",
+        "lindt-paper",
+    ]);
+    assert_eq!(
+        file.env.as_ref().unwrap().method,
+        EnvMethod::Lights,
+        "the moving frame was not the delta light set"
     );
 }
 

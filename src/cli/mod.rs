@@ -98,24 +98,27 @@ the fastest configuration within 1% marked). Prints the fastest configuration on
 at <= 1% relative RMSE.\n\n\
 Methods ([env] method): lights (sampler x light count), transfer (table grid azimuth x polar x \
 exact lights; SH data sets and Lambert only, left out for other materials), lightcuts (cut error x \
-largest cut; left out for SH data sets, MERL and RGL tables).\n\n\
+largest cut; left out for SH data sets, MERL and RGL tables), reflection (reflection-table grid \
+x exact lights; isotropic materials that are not SH data sets).\n\n\
 Default scene: the teapot in blue-silk (library SH material, 8 bands) under assets/probes/city.exr, \
 160x120. --class diffuse|sh-glossy|glossy: a sphere in Lambert, teal-paint (SH, 8 bands) or \
 Blinn-Phong exponent 200 under the same probe, 128x96, with SH orders 2, 4, 6, 8 and the bilinear \
-lookup only (the flags below replace that). Default grid: methods lights, transfer, lightcuts; \
+lookup only (the flags below replace that). Default grid: methods lights, transfer, lightcuts, \
+reflection; \
 samplers uniform, importance, stratified, median-cut, lloyd x counts 1, 2, 4, ..., 1024; transfer \
 grids 32x17, 64x33, 128x65 x exact lights 0, 16, 64; cut errors 0.005, 0.01, 0.02, 0.05 x largest \
-cut 1000; x orders 1..8 x lookups nearest, bilinear x \
+cut 1000; reflection grids 32, 64 x the same exact lights; x orders 1..8 x lookups nearest, bilinear x \
 precision f32: 1024 rows for an 8-band SH material.\n\n\
 CSV columns: index, method, sampler, lights, transfer_azimuth, transfer_polar, exact_lights, \
-cut_error, cut_max (the method's parameters, - where not the row's method's), order, lookup, \
+cut_error, cut_max, reflection_grid (the method's parameters, - where not the row's method's), \
+order, lookup, \
 precision, rel_rmse (relative RMSE over covered pixels), p99_rel (99th percentile of the \
 per-pixel relative error over covered pixels), max_err (largest absolute channel error, \
 linear radiance), flip_mean (FLIP of the tone-mapped images), default (1 for the scene's own \
 configuration): deterministic, the same on every machine; then prep_ms (the method's preparation: \
 light set or transfer table), frame_ms (median frame time), pareto (1 if no other row is both \
 faster and more accurate, over frame_ms and rel_rmse): measured, they vary run to run. A CSV \
-written before the method or the p99_rel column is refused (regenerate it).\n\n\
+written before the method, the p99_rel or the reflection_grid column is refused (regenerate it).\n\n\
 The reference is rendered once (minutes for the default scene) and cached as EXR in --cache, keyed \
 by a hash of the scene, its input files, the brdfkit version and the reference algorithm version, \
 and checked on read (size, finite pixels, a checksum file beside it); --no-cache \
@@ -182,7 +185,7 @@ pub struct SweepArgs {
     /// The probe lighting the swept scene instead of its own: a shipped probe by name (city, sky, studio) or an HDR file (lat-long EXR). The reference and every method use it.
     #[arg(long, value_name = "NAME|FILE")]
     pub probe: Option<String>,
-    /// Environment methods, comma-separated: lights, transfer, lightcuts. Default all three (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets, MERL and RGL tables).
+    /// Environment methods, comma-separated: lights, transfer, lightcuts, reflection. Default all four (transfer only for SH data sets and Lambert; lightcuts for every material but SH data sets, MERL and RGL tables; reflection for isotropic materials but SH data sets).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub methods: Vec<crate::sweep::MethodKind>,
     /// Lightcuts: cut error bounds (relative to the pixel), comma-separated. Default 0.005,0.01,0.02,0.05.
@@ -194,9 +197,12 @@ pub struct SweepArgs {
     /// Transfer-table grids AZIMUTHxPOLAR (azimuth nodes dividing the probe's width), comma-separated. Default 32x17,64x33,128x65.
     #[arg(long, value_delimiter = ',', value_name = "AxP")]
     pub transfer_grids: Vec<String>,
-    /// Transfer: numbers of brightest texels summed exactly beside the table, comma-separated. Default 0,16,64.
+    /// Transfer and reflection: numbers of brightest texels summed exactly beside the table, comma-separated. Default 0,16,64.
     #[arg(long, value_delimiter = ',')]
     pub exact_lights: Vec<usize>,
+    /// Reflection: table grids (cells per side of the octahedral grid of reflected directions, 2 to 1024), comma-separated. Default 32,64.
+    #[arg(long, value_delimiter = ',', value_name = "CELLS")]
+    pub reflection_grids: Vec<usize>,
     /// Lights: samplers, comma-separated. Default: uniform,importance,stratified,median-cut,lloyd.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub samplers: Vec<crate::env::schema::SamplerKind>,

@@ -173,6 +173,9 @@ pub fn run(a: SweepArgs) -> Result<bool> {
     if !a.exact_lights.is_empty() {
         grid.exact_lights = a.exact_lights.clone();
     }
+    if !a.reflection_grids.is_empty() {
+        grid.reflection_grids = a.reflection_grids.clone();
+    }
     if !a.samplers.is_empty() {
         grid.samplers = a.samplers.clone();
     }

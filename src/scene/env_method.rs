@@ -11,21 +11,31 @@
 //! - Lambert and SH data sets: `transfer` (a table over normals from the full probe plus
 //!   the [`DEFAULT_EXACT_LIGHTS`](crate::env::schema::DEFAULT_EXACT_LIGHTS) brightest
 //!   texels summed exactly): the per-pixel cost does not grow with the probe.
-//! - Analytic lobes (Blinn-Phong) and D-BRDFs: `lightcuts` at the default `cut_error`
+//! - Blinn-Phong: `reflection`, the material's outgoing radiance tabulated over the
+//!   reflected direction ([`crate::env::reflection`]) at its defaults: within both bounds
+//!   for exponents 50, 200 and 500 under every shipped probe (docs/rendering.md,
+//!   "Reflection tables: error against the converged reference"), a lookup per pixel (tens of milliseconds at 640x480 where
+//!   light cuts take seconds), baked once per material and probe (seconds; cached).
+//! - D-BRDFs: `lightcuts` at the default `cut_error`
 //!   ([`DEFAULT_CUT_ERROR`](crate::env::schema::DEFAULT_CUT_ERROR)). A delta light set
 //!   that meets 1% RMSE for a narrow lobe (Lloyd, 1024 lights) is faster, but its 99th
 //!   percentile is tens of percent: the highlight shows the lights as spots. The cuts bound
-//!   every pixel's error instead.
-//! - MERL tables: `lights` (delta lights; neither a transfer table nor a cone bound for
-//!   light cuts exists for a measured table).
+//!   every pixel's error instead. The reflection table does not hold every library D-BRDF
+//!   within the bounds (the anisotropic ones not at all; `gold-dust-paint` under the studio
+//!   probe is at 11% at the 99th percentile), so `auto` keeps the cuts for the class.
+//! - MERL tables and RGL files: `lights` (delta lights; no cone bound for light cuts exists
+//!   for a measured table, and the reflection table of a MERL table written from a
+//!   Blinn-Phong of exponent 80 was over both bounds under the studio probe, 1.1% relative
+//!   RMSE and 62% at the 99th percentile, with a bake of minutes).
 //!
 //! A table that states `sampler` or `count` and no `method` asks for a delta light set:
 //! its method is then `lights` ([`super::SceneFile::parse`]; a stated `method = "auto"`
 //! stays auto); so do `--sampler` and `--lights` on the command line.
 //!
 //! On the GPU renderer (`brdfkit render --device gpu`, `crate::gpu`), which runs light sets
-//! and transfer tables but not light cuts, `auto` keeps `transfer` and gives the materials
-//! whose CPU choice is `lightcuts` the best light set of that sweep instead:
+//! and transfer tables but neither light cuts nor reflection tables, `auto` keeps
+//! `transfer` and gives the materials whose CPU choice is `lightcuts` or `reflection` the
+//! best light set of that sweep instead:
 //! [`GPU_AUTO_LIGHTS`] lights by Lloyd (the rendering default sampler), the only light set
 //! of the table under the RMSE bound for every glossy row; its 99th percentile is over
 //! the bound (highlights show the lights as spots), which the line [`choose`] returns
@@ -196,13 +206,33 @@ pub const GPU_AUTO_LIGHTS: usize = 1024;
 pub fn auto_method(material: &MaterialSpec) -> EnvMethod {
     match material {
         MaterialSpec::Lambert { .. } | MaterialSpec::ShFile { .. } => EnvMethod::Transfer,
-        MaterialSpec::BlinnPhong { .. } | MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
+        MaterialSpec::BlinnPhong { .. } => EnvMethod::Reflection,
+        MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
         MaterialSpec::MerlFile { .. } | MaterialSpec::RglFile { .. } => EnvMethod::Lights,
         MaterialSpec::Library { name, .. } => match library::find(name).map(|e| e.representation) {
             Some(Representation::Sh { .. }) => EnvMethod::Transfer,
             Some(Representation::Dbrdf) => EnvMethod::Lightcuts,
             // An unknown name is reported when the material is resolved.
             None => EnvMethod::Lights,
+        },
+    }
+}
+
+/// The method the viewer's still frames refine towards where `[env] method = "auto"`
+/// (`crate::view::refine`): light cuts for the materials light cuts bound (Blinn-Phong and
+/// D-BRDFs: 0.10-0.31% relative RMSE and at most 1.1% at the 99th percentile under the
+/// shipped probes, docs/sweeps.md, against the reflection table's 1% and 10% bounds; up to
+/// seconds per frame, so only once the view is still), else [`auto_method`]'s own choice.
+pub fn auto_still_method(material: &MaterialSpec) -> EnvMethod {
+    match material {
+        MaterialSpec::BlinnPhong { .. } | MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
+        MaterialSpec::Lambert { .. }
+        | MaterialSpec::ShFile { .. }
+        | MaterialSpec::MerlFile { .. }
+        | MaterialSpec::RglFile { .. } => auto_method(material),
+        MaterialSpec::Library { name, .. } => match library::find(name).map(|e| e.representation) {
+            Some(Representation::Dbrdf) => EnvMethod::Lightcuts,
+            Some(Representation::Sh { .. }) | None => auto_method(material),
         },
     }
 }
@@ -242,9 +272,10 @@ pub fn choose(
     chosen.sampler = SamplerKind::Lloyd;
     chosen.count = GPU_AUTO_LIGHTS;
     let note = format!(
-        "auto: light cuts are CPU only; the GPU renders {GPU_AUTO_LIGHTS} Lloyd lights \
+        "auto: method \"{}\" is CPU only; the GPU renders {GPU_AUTO_LIGHTS} Lloyd lights \
          (under 1% relative RMSE on glossy lobes, but highlights may show them as spots: \
-         docs/sweeps.md; set [env] method or --env-method to choose)"
+         docs/sweeps.md; set [env] method or --env-method to choose)",
+        concrete_method(env, material).name()
     );
     (chosen, Some(note))
 }
@@ -272,7 +303,11 @@ mod tests {
                 "kind = \"library\"\nname = \"lindt-paper\"",
                 EnvMethod::Lightcuts,
             ),
-            ("kind = \"blinn-phong\"", EnvMethod::Lightcuts),
+            ("kind = \"blinn-phong\"", EnvMethod::Reflection),
+            (
+                "kind = \"merl-file\"\npath = \"m.binary\"",
+                EnvMethod::Lights,
+            ),
             ("kind = \"sh-file\"\npath = \"m.exr\"", EnvMethod::Transfer),
             (
                 "kind = \"dbrdf-file\"\npath = \"m.exr\"",
@@ -283,7 +318,7 @@ mod tests {
             assert_eq!(method_of(&text), want, "{material}");
         }
         // No [material]: the default Blinn-Phong.
-        assert_eq!(method_of(env), EnvMethod::Lightcuts);
+        assert_eq!(method_of(env), EnvMethod::Reflection);
     }
 
     #[test]
@@ -302,28 +337,34 @@ mod tests {
         );
         // A stated `auto` stays auto (a written-out scene file states every field).
         let text = "[env]\nfile = \"p.exr\"\nmethod = \"auto\"\ncount = 64\n";
-        assert_eq!(method_of(text), EnvMethod::Lightcuts);
+        assert_eq!(method_of(text), EnvMethod::Reflection);
         // A light set file is delta lights.
         let text = "[material]\nkind = \"lambert\"\n[env]\nlights = \"set.json\"\n";
         assert_eq!(method_of(text), EnvMethod::Lights);
     }
 
     #[test]
-    fn auto_on_the_gpu_replaces_light_cuts_by_lloyd_lights_and_says_so() {
+    fn auto_on_the_gpu_replaces_cpu_only_methods_by_lloyd_lights_and_says_so() {
         let choice = |toml: &str, renderer| {
             let f = SceneFile::parse(toml).unwrap();
             choose(f.env.as_ref().unwrap(), &f.material, renderer)
         };
         let env = "[env]\nfile = \"p.exr\"\n";
-        for material in [
-            "kind = \"blinn-phong\"",
-            "kind = \"library\"\nname = \"lindt-paper\"",
-            "kind = \"dbrdf-file\"\npath = \"m.exr\"",
+        for (material, on_cpu) in [
+            ("kind = \"blinn-phong\"", EnvMethod::Reflection),
+            (
+                "kind = \"library\"\nname = \"lindt-paper\"",
+                EnvMethod::Lightcuts,
+            ),
+            (
+                "kind = \"dbrdf-file\"\npath = \"m.exr\"",
+                EnvMethod::Lightcuts,
+            ),
         ] {
             let text = format!("[material]\n{material}\n{env}");
-            // The CPU's choice is light cuts, said by no extra line.
+            // The CPU's choice (light cuts or the reflection table), said by no extra line.
             let (cpu, note) = choice(&text, Renderer::Cpu);
-            assert_eq!(cpu.method, EnvMethod::Lightcuts, "{material}");
+            assert_eq!(cpu.method, on_cpu, "{material}");
             assert_eq!(note, None, "{material}");
             // The GPU's: the Lloyd light set, and one line naming it and why.
             let (gpu, note) = choice(&text, Renderer::Gpu);
@@ -332,7 +373,7 @@ mod tests {
             assert_eq!(gpu.count, GPU_AUTO_LIGHTS, "{material}");
             let note = note.expect("the GPU's choice is said");
             assert!(
-                note.starts_with("auto: light cuts are CPU only")
+                note.starts_with(&format!("auto: method \"{}\" is CPU only", on_cpu.name()))
                     && note.contains(&format!("{GPU_AUTO_LIGHTS} Lloyd lights"))
                     && !note.contains('\n'),
                 "{note}"

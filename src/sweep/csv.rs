@@ -28,8 +28,8 @@ use std::path::Path;
 /// The CSV header: deterministic columns first (the configuration: `method` and its
 /// parameters, `-` where a parameter is not the row's method's; then the errors and the
 /// default flag), then measured ones. `cut_error` and `cut_max` are the parameters of
-/// `lightcuts`.
-pub const CSV_HEADER: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,p99_rel,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
+/// `lightcuts`; `reflection_grid` and `exact_lights` those of `reflection`.
+pub const CSV_HEADER: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,reflection_grid,order,lookup,precision,rel_rmse,p99_rel,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
 
 /// The header of sweep CSVs written before the method axis (no `method` column), recognised
 /// only to say so when one is read.
@@ -39,11 +39,15 @@ const HEADER_BEFORE_METHODS: &str =
 /// The header of sweep CSVs written before the `p99_rel` column, recognised only to say so.
 const HEADER_BEFORE_P99: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
 
+/// The header of sweep CSVs written before the `reflection` method (no `reflection_grid`
+/// column), recognised only to say so.
+const HEADER_BEFORE_REFLECTION: &str = "index,method,sampler,lights,transfer_azimuth,transfer_polar,exact_lights,cut_error,cut_max,order,lookup,precision,rel_rmse,p99_rel,max_err,flip_mean,default,prep_ms,frame_ms,pareto";
+
 /// Number of deterministic leading columns of [`CSV_HEADER`] (`index` .. `default`).
-pub const DETERMINISTIC_COLUMNS: usize = 17;
+pub const DETERMINISTIC_COLUMNS: usize = 18;
 
 /// The column names of [`CSV_HEADER`], in order (the field names of `Record`).
-const COLUMNS: [&str; 20] = [
+const COLUMNS: [&str; 21] = [
     "index",
     "method",
     "sampler",
@@ -53,6 +57,7 @@ const COLUMNS: [&str; 20] = [
     "exact_lights",
     "cut_error",
     "cut_max",
+    "reflection_grid",
     "order",
     "lookup",
     "precision",
@@ -130,6 +135,11 @@ struct Record {
         deserialize_with = "columns::dash::cut_max"
     )]
     cut_max: Option<usize>,
+    #[serde(
+        serialize_with = "columns::dash::serialize",
+        deserialize_with = "columns::dash::reflection_grid"
+    )]
+    reflection_grid: Option<usize>,
     order: usize,
     #[serde(with = "columns::lookup")]
     lookup: Option<Lookup>,
@@ -172,6 +182,7 @@ impl From<&Row> for Record {
             exact_lights: None,
             cut_error: None,
             cut_max: None,
+            reflection_grid: None,
             order: c.order,
             lookup: c.lookup,
             precision: c.precision,
@@ -202,6 +213,10 @@ impl From<&Row> for Record {
                 rec.cut_error = Some(cut_error);
                 rec.cut_max = Some(cut_max);
             }
+            MethodAxis::Reflection { grid, exact_lights } => {
+                rec.reflection_grid = Some(grid);
+                rec.exact_lights = Some(exact_lights);
+            }
         }
         rec
     }
@@ -213,34 +228,37 @@ impl Record {
     fn into_row(self) -> std::result::Result<Row, String> {
         let method = self.method;
         let name = method.name();
-        let params: [(&str, bool, MethodKind); 7] = [
-            ("sampler", self.sampler.is_some(), MethodKind::Lights),
-            ("lights", self.lights.is_some(), MethodKind::Lights),
+        use MethodKind::{Lightcuts, Lights, Reflection, Transfer};
+        let params: [(&str, bool, &[MethodKind]); 8] = [
+            ("sampler", self.sampler.is_some(), &[Lights]),
+            ("lights", self.lights.is_some(), &[Lights]),
             (
                 "transfer_azimuth",
                 self.transfer_azimuth.is_some(),
-                MethodKind::Transfer,
+                &[Transfer],
             ),
-            (
-                "transfer_polar",
-                self.transfer_polar.is_some(),
-                MethodKind::Transfer,
-            ),
+            ("transfer_polar", self.transfer_polar.is_some(), &[Transfer]),
             (
                 "exact_lights",
                 self.exact_lights.is_some(),
-                MethodKind::Transfer,
+                &[Transfer, Reflection],
             ),
-            ("cut_error", self.cut_error.is_some(), MethodKind::Lightcuts),
-            ("cut_max", self.cut_max.is_some(), MethodKind::Lightcuts),
+            ("cut_error", self.cut_error.is_some(), &[Lightcuts]),
+            ("cut_max", self.cut_max.is_some(), &[Lightcuts]),
+            (
+                "reflection_grid",
+                self.reflection_grid.is_some(),
+                &[Reflection],
+            ),
         ];
         for (column, given, of) in params {
-            if given && of != method {
+            let belongs = of.contains(&method);
+            if given && !belongs {
                 return Err(format!(
                     "column {column}: a {name} row has no {column} (write -)"
                 ));
             }
-            if !given && of == method {
+            if !given && belongs {
                 return Err(format!(
                     "column {column}: a {name} row needs a {column}, not -"
                 ));
@@ -259,6 +277,10 @@ impl Record {
             MethodKind::Lightcuts => MethodAxis::Lightcuts {
                 cut_error: self.cut_error.expect("checked above"),
                 cut_max: self.cut_max.expect("checked above"),
+            },
+            MethodKind::Reflection => MethodAxis::Reflection {
+                grid: self.reflection_grid.expect("checked above"),
+                exact_lights: self.exact_lights.expect("checked above"),
             },
         };
         Ok(Row {
@@ -350,6 +372,14 @@ fn check_header(headers: &::csv::StringRecord) -> std::result::Result<(), String
         return Err(
             "a sweep CSV from before the p99_rel column: regenerate it with this build \
              (`brdfkit sweep`, see `brdfkit sweep --help`)"
+                .into(),
+        );
+    }
+    if headers.iter().collect::<Vec<_>>().join(",") == HEADER_BEFORE_REFLECTION {
+        return Err(
+            "a sweep CSV from before the reflection method (no reflection_grid column): \
+             regenerate it with this build (`brdfkit sweep`, see `brdfkit sweep --help`), or \
+             add the column after cut_max with - on every row"
                 .into(),
         );
     }

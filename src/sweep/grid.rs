@@ -17,7 +17,8 @@
 //! [`MethodAxis`] one value of the axis: a method with its parameters. `lights` comes
 //! first (sampler x light count, as before methods were swept, so a lights-only grid has
 //! the same row indices as then), then `transfer` (table grid `azimuth x polar` pairs x
-//! `exact_lights`), then `lightcuts` (`cut_error` x `cut_max`).
+//! `exact_lights`), then `lightcuts` (`cut_error` x `cut_max`), then `reflection`
+//! (`reflection_grid` x `exact_lights`; the other bake parameters at the scene's values).
 //!
 //! Adding a method: a variant in [`MethodKind`] and in [`MethodAxis`] with its parameters,
 //! its parameter lists in [`Grid`], and then the arms the compiler asks for (every `match`
@@ -60,6 +61,12 @@ pub fn default_exact_lights() -> Vec<usize> {
     vec![0, 16, 64]
 }
 
+/// Default reflection-table grids (`[env] reflection_grid`, cells per side of the octahedral
+/// grid of reflected directions): 32 and 64 (the `[env]` default).
+pub fn default_reflection_grids() -> Vec<usize> {
+    vec![32, 64]
+}
+
 /// Default light-cut error bounds (`[env] cut_error`): 0.005, 0.01 (the `[env]` default),
 /// 0.02 and 0.05.
 pub fn default_cut_errors() -> Vec<f32> {
@@ -83,14 +90,20 @@ pub enum MethodKind {
     /// Adaptive light cuts through a tree of every texel (`[env] method = "lightcuts"`):
     /// cut error x largest cut. Every material with a cone bound (not SH, not MERL).
     Lightcuts,
+    /// Reflection-space radiance table plus the brightest texels (`[env] method =
+    /// "reflection"`): table grid x exact lights. Isotropic materials that are not SH data
+    /// sets (an SH set's bake evaluates the set per sample: minutes; its method is the
+    /// transfer table).
+    Reflection,
 }
 
 impl MethodKind {
     /// Every method, in the grid's order.
-    pub const ALL: [MethodKind; 3] = [
+    pub const ALL: [MethodKind; 4] = [
         MethodKind::Lights,
         MethodKind::Transfer,
         MethodKind::Lightcuts,
+        MethodKind::Reflection,
     ];
 
     /// The `[env] method` this is.
@@ -99,11 +112,12 @@ impl MethodKind {
             MethodKind::Lights => EnvMethod::Lights,
             MethodKind::Transfer => EnvMethod::Transfer,
             MethodKind::Lightcuts => EnvMethod::Lightcuts,
+            MethodKind::Reflection => EnvMethod::Reflection,
         }
     }
 
     /// The sweep's method that is `method`, `None` for a method the sweep does not run
-    /// (`auto`, `reflection`): the inverse of [`MethodKind::env_method`], so a new `[env]`
+    /// (`auto`): the inverse of [`MethodKind::env_method`], so a new `[env]`
     /// method is swept only once a variant here names it.
     pub fn of(method: EnvMethod) -> Option<MethodKind> {
         MethodKind::ALL
@@ -141,6 +155,9 @@ pub enum MethodAxis {
     /// Light cuts refined to `cut_error` of the pixel, at most `cut_max` clusters
     /// (`[env] cut_error`, `cut_max`).
     Lightcuts { cut_error: f32, cut_max: usize },
+    /// A reflection table of `grid x grid` cells (`[env] reflection_grid`) and the
+    /// `exact_lights` brightest texels as lights.
+    Reflection { grid: usize, exact_lights: usize },
 }
 
 impl MethodAxis {
@@ -150,6 +167,7 @@ impl MethodAxis {
             MethodAxis::Lights { .. } => MethodKind::Lights,
             MethodAxis::Transfer { .. } => MethodKind::Transfer,
             MethodAxis::Lightcuts { .. } => MethodKind::Lightcuts,
+            MethodAxis::Reflection { .. } => MethodKind::Reflection,
         }
     }
 
@@ -171,6 +189,10 @@ impl MethodAxis {
                 cut_error: spec.cut_error,
                 cut_max: spec.cut_max,
             },
+            MethodKind::Reflection => MethodAxis::Reflection {
+                grid: spec.reflection_grid,
+                exact_lights: spec.exact_lights,
+            },
         })
     }
 
@@ -185,6 +207,9 @@ impl MethodAxis {
             } => format!("transfer {azimuth}x{polar} k{exact_lights}"),
             MethodAxis::Lightcuts { cut_error, cut_max } => {
                 format!("lightcuts e{cut_error} m{cut_max}")
+            }
+            MethodAxis::Reflection { grid, exact_lights } => {
+                format!("reflection {grid} k{exact_lights}")
             }
         }
     }
@@ -205,6 +230,9 @@ pub fn describe(c: &Config) -> String {
         } => format!("transfer {azimuth}x{polar} exact {exact_lights}"),
         MethodAxis::Lightcuts { cut_error, cut_max } => {
             format!("lightcuts error {cut_error} max {cut_max}")
+        }
+        MethodAxis::Reflection { grid, exact_lights } => {
+            format!("reflection {grid}x{grid} exact {exact_lights}")
         }
     };
     let sh = match c.lookup {
@@ -266,12 +294,14 @@ pub struct Grid {
     pub counts: Vec<usize>,
     /// `transfer`: table grids, `(azimuth, polar)` nodes.
     pub transfer_grids: Vec<(usize, usize)>,
-    /// `transfer`: brightest texels summed exactly.
+    /// `transfer` and `reflection`: brightest texels summed exactly.
     pub exact_lights: Vec<usize>,
     /// `lightcuts`: cut error bounds (relative to the pixel).
     pub cut_errors: Vec<f32>,
     /// `lightcuts`: largest cuts.
     pub cut_maxes: Vec<usize>,
+    /// `reflection`: table grids (cells per side).
+    pub reflection_grids: Vec<usize>,
     /// SH orders (bands kept, `l < order`); `[0]` for a material that is not SH.
     pub orders: Vec<usize>,
     /// Coefficient-table lookups; `[None]` for a material that is not SH.
@@ -289,6 +319,7 @@ impl Default for Grid {
             exact_lights: default_exact_lights(),
             cut_errors: default_cut_errors(),
             cut_maxes: default_cut_maxes(),
+            reflection_grids: default_reflection_grids(),
             orders: (1..=8).collect(),
             lookups: vec![Some(Lookup::Nearest), Some(Lookup::Bilinear)],
             precisions: vec![Precision::F32],
@@ -337,6 +368,13 @@ impl Grid {
                     for &cut_error in &self.cut_errors {
                         for &cut_max in &self.cut_maxes {
                             out.push(MethodAxis::Lightcuts { cut_error, cut_max });
+                        }
+                    }
+                }
+                MethodKind::Reflection => {
+                    for &grid in &self.reflection_grids {
+                        for &exact_lights in &self.exact_lights {
+                            out.push(MethodAxis::Reflection { grid, exact_lights });
                         }
                     }
                 }

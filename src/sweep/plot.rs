@@ -47,6 +47,7 @@ enum Series {
     Lights(SamplerKind),
     Transfer,
     Lightcuts,
+    Reflection,
 }
 
 impl Series {
@@ -55,6 +56,7 @@ impl Series {
             MethodAxis::Lights { sampler, .. } => Series::Lights(sampler),
             MethodAxis::Transfer { .. } => Series::Transfer,
             MethodAxis::Lightcuts { .. } => Series::Lightcuts,
+            MethodAxis::Reflection { .. } => Series::Reflection,
         }
     }
 
@@ -63,6 +65,7 @@ impl Series {
             Series::Lights(s) => sampler_color(s),
             Series::Transfer => RGBColor(200, 0, 40),
             Series::Lightcuts => RGBColor(110, 40, 170),
+            Series::Reflection => RGBColor(0, 150, 160),
         }
     }
 
@@ -71,6 +74,7 @@ impl Series {
             Series::Lights(s) => format!("lights, {}", sampler_name(s)),
             Series::Transfer => format!("{} (squares)", MethodKind::Transfer.name()),
             Series::Lightcuts => format!("{} (triangles)", MethodKind::Lightcuts.name()),
+            Series::Reflection => format!("{} (crosses)", MethodKind::Reflection.name()),
         }
     }
 }
@@ -179,9 +183,20 @@ pub fn write_plot(path: &Path, rows: &[Row], title: &str) -> Result<()> {
             let f32s = pts.clone().filter(|r| r.config.precision == Precision::F32);
             let f64s = pts.filter(|r| r.config.precision == Precision::F64);
             let at = |r: &Row| (r.frame_ms, r.rel_rmse);
-            // Circles for lights, squares for transfer, triangles for lightcuts (filled: f32,
-            // open: f64).
+            // Circles for lights, squares for transfer, triangles for lightcuts, crosses for
+            // reflection (filled or thick: f32, open or thin: f64).
             let annotation = match se {
+                Series::Reflection => {
+                    let a = chart
+                        .draw_series(f32s.map(|r| Cross::new(at(r), 4, c.stroke_width(2))))
+                        .map_err(plot_err(path))?;
+                    a.label(se.label())
+                        .legend(move |(x, y)| Cross::new((x + 10, y), 5, c.stroke_width(2)));
+                    chart
+                        .draw_series(f64s.map(|r| Cross::new(at(r), 5, c.stroke_width(1))))
+                        .map_err(plot_err(path))?;
+                    continue;
+                }
                 Series::Lightcuts => {
                     let a = chart
                         .draw_series(

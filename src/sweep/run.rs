@@ -22,12 +22,35 @@ use crate::env::transfer::TransferBasis;
 use crate::env::Probe;
 use crate::error::{Error, Result};
 use crate::image_io::Image;
+use crate::material::Material;
 use crate::progress::Progress;
 use crate::scene::{build_environment, Environment, Precision, ProbeSource, Scene, SceneFile};
 use crate::sh::dataset::ShDataset;
 use crate::shard::Shard;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// Why the sweep leaves `method` out for `material` (`None` when it sweeps it): a transfer
+/// table shades SH data sets and Lambert only, light cuts every material with a cone bound,
+/// a reflection table isotropic materials, and not SH data sets (their bake evaluates the set
+/// per sample: minutes; their method is the transfer table).
+pub fn not_swept(method: super::MethodKind, material: &Material) -> Option<String> {
+    match method {
+        super::MethodKind::Lights => None,
+        super::MethodKind::Transfer => TransferBasis::for_material(material)
+            .is_none()
+            .then(|| "it shades SH data sets and Lambert only".to_string()),
+        super::MethodKind::Lightcuts => crate::material::cone_bound::ConeBound::new(material).err(),
+        super::MethodKind::Reflection => match material {
+            Material::Sh(_) => Some(
+                "an SH data set's table is the transfer table (a reflection bake evaluates \
+                 the set per sample: minutes)"
+                    .to_string(),
+            ),
+            m => crate::env::reflection::unsupported(m),
+        },
+    }
+}
 
 /// What a prepared sweep holds: the scene template, the probe, the reference.
 pub struct Sweep {
@@ -88,14 +111,8 @@ impl Sweep {
         // cache; collapsing a probe into one light per texel is cheaper than reading one).
         let full = Scene::resolve(&file, base)?;
         let sh = full.material.as_sh().cloned();
-        let mut notes = grid.fit_material(sh.as_ref().map(ShDataset::bands), |m| match m {
-            super::MethodKind::Lights => None,
-            super::MethodKind::Transfer => TransferBasis::for_material(&full.material)
-                .is_none()
-                .then(|| "it shades SH data sets and Lambert only".to_string()),
-            super::MethodKind::Lightcuts => {
-                crate::material::cone_bound::ConeBound::new(&full.material).err()
-            }
+        let mut notes = grid.fit_material(sh.as_ref().map(ShDataset::bands), |m| {
+            not_swept(m, &full.material)
         })?;
         if grid.is_empty() {
             return Err(Error::field(
@@ -130,6 +147,14 @@ impl Sweep {
                         "{k} is out of range (0 to {})",
                         crate::env::schema::MAX_LIGHTS
                     ),
+                ));
+            }
+        }
+        for &g in &grid.reflection_grids {
+            if !(2..=1024).contains(&g) {
+                return Err(Error::field(
+                    "--reflection-grids",
+                    format!("{g} is out of range (2 to 1024 cells per side)"),
                 ));
             }
         }
@@ -266,6 +291,11 @@ impl Sweep {
                 (spec.cut_error, spec.cut_max) = (cut_error, cut_max);
                 self.template.material.clone()
             }
+            MethodAxis::Reflection { grid, exact_lights } => {
+                spec.method = EnvMethod::Reflection;
+                (spec.reflection_grid, spec.exact_lights) = (grid, exact_lights);
+                self.template.material.clone()
+            }
         };
         let (env, _) = build_environment(&spec, &material, ProbeSource::Decoded(&self.probe))?;
         Ok((env, start.elapsed().as_secs_f64() * 1e3))
@@ -297,7 +327,9 @@ impl Sweep {
         let mut frame = crate::render::FrameContext::default();
         for c in configs {
             let order = match c.method {
-                MethodAxis::Lights { .. } | MethodAxis::Lightcuts { .. } => 0,
+                MethodAxis::Lights { .. }
+                | MethodAxis::Lightcuts { .. }
+                | MethodAxis::Reflection { .. } => 0,
                 MethodAxis::Transfer { .. } => c.order,
             };
             let key = (c.method, order);

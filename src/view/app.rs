@@ -109,8 +109,9 @@ impl App {
     }
 
     /// A new view: the next generation, rendered by the fast worker as refinement step 0
-    /// ([`super::refine::step_file`]: under `[env] method = "auto"` the document's delta
-    /// light set, not the seconds-per-frame light cuts `auto` stands for when still).
+    /// ([`super::refine::step_file`]: under `[env] method = "auto"` its method where a frame
+    /// takes milliseconds, a reflection or transfer table; the document's delta light set
+    /// where it would be seconds-per-frame light cuts).
     fn changed(&mut self) {
         self.generation += 1;
         self.last_change = Instant::now();

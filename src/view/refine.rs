@@ -1,10 +1,14 @@
 //! Progressive refinement: while the view is still, the image is re-rendered in steps
 //! towards the converged reference, each step a scene file `brdfkit render` renders too.
 //!
-//! Step 0 is the document itself (the fast configuration shown while the view changes;
-//! where `[env] method = "auto"` stands for light cuts, which take up to seconds per frame,
-//! the document's delta light set instead, then light cuts from step 1, refined from step 2
-//! as below; where it stands for a transfer table, the table at every step). Step `k` of `steps` (1 <= k <= steps) shades the environment with `count * 4^k` lights
+//! Step 0 is the document itself, the fast configuration shown while the view changes.
+//! Where `[env] method = "auto"`, the moving frame is `auto`'s choice
+//! ([`env_method::concrete_method`]: a reflection table for Blinn-Phong,
+//! within 1% relative RMSE and 10% at the 99th percentile of the converged reference; a
+//! transfer table for Lambert and SH data sets), or the document's delta light set where
+//! that choice takes up to seconds per frame (light cuts, for D-BRDFs); the still steps
+//! refine towards [`env_method::auto_still_method`] (light cuts wherever they bound the
+//! material: shown at the document's parameters from step 1, refined from step 2 as below). Step `k` of `steps` (1 <= k <= steps) shades the environment with `count * 4^k` lights
 //! (at most [`MAX_REFINED_LIGHTS`]) of the same sampler — median cut for Lloyd, whose
 //! relaxation costs texels x lights per iteration (4096 lights from a 512 x 256 probe: 15 s
 //! on this project's 2-core machine, median cut 0.1 s) — a transfer table with 4^k times the
@@ -16,7 +20,7 @@
 //! configuration.
 
 use crate::env::schema::EnvMethod;
-use crate::scene::SceneFile;
+use crate::scene::{env_method, SceneFile};
 
 /// Largest light count a refinement step asks for.
 pub const MAX_REFINED_LIGHTS: usize = 4096;
@@ -27,27 +31,39 @@ pub const DEFAULT_STEPS: usize = 3;
 /// The scene file of refinement step `k` of `steps` for document `file` (module doc).
 pub fn step_file(file: &SceneFile, k: usize, steps: usize) -> SceneFile {
     let mut f = file.clone();
-    // `[env] method = "auto"` where it stands for light cuts (Blinn-Phong, D-BRDFs: up to
-    // seconds per frame): while the view changes, the document's delta light set (its
-    // sampler and count: milliseconds per frame); when still, light cuts from step 1,
-    // refined from step 2 on. Where it stands for a transfer table (Lambert, SH data sets:
-    // as fast as the light set and more accurate), every step is the table.
-    let auto_cuts = f.env.as_ref().is_some_and(|e| {
-        e.method == EnvMethod::Auto
-            && crate::scene::env_method::concrete_method(e, &f.material).frame_takes_seconds()
-    });
-    if k == 0 {
-        match f.env.as_mut() {
-            Some(env) if auto_cuts => env.method = EnvMethod::Lights,
-            _ => f.resolve_env_method(),
+    let (moving, still) = match f.env.as_ref() {
+        Some(e) if e.method == EnvMethod::Auto => {
+            let chosen = env_method::concrete_method(e, &f.material);
+            // A light tree per pixel takes up to seconds: the document's delta light set
+            // (its sampler and count: milliseconds per frame) while the view changes.
+            let moving = if chosen.frame_takes_seconds() {
+                EnvMethod::Lights
+            } else {
+                chosen
+            };
+            let still = if e.lights.is_some() {
+                chosen
+            } else {
+                env_method::auto_still_method(&f.material)
+            };
+            (moving, still)
         }
+        Some(e) => (e.method, e.method),
+        None => return f,
+    };
+    let Some(env) = f.env.as_mut() else {
+        return f;
+    };
+    if k == 0 {
+        env.method = moving;
         return f;
     }
-    f.resolve_env_method();
-    let factor = 4usize.saturating_pow(if auto_cuts { k - 1 } else { k } as u32);
-    if let Some(env) = f.env.as_mut() {
-        env.method.refine(env, factor, MAX_REFINED_LIGHTS);
-    }
+    env.method = still;
+    // The first still step is `still` at the document's parameters when it differs from
+    // the moving frame's method; refinement starts from the next.
+    let first = if still == moving { 0 } else { 1 };
+    let factor = 4usize.saturating_pow((k - first) as u32);
+    still.refine(env, factor, MAX_REFINED_LIGHTS);
     if k >= steps {
         f.render.drop_lights = 0.0;
         f.render.band_skip = false;
@@ -61,19 +77,41 @@ mod tests {
     use crate::env::schema::{EnvSpec, SamplerKind};
 
     #[test]
-    fn under_auto_the_moving_frame_is_the_light_set_and_the_still_ones_the_auto_method() {
-        // The default material (Blinn-Phong): `auto` is light cuts.
+    fn under_auto_the_moving_frame_is_the_reflection_table_and_the_still_ones_light_cuts() {
+        // The default material (Blinn-Phong): `auto` is the reflection table.
         let f = SceneFile {
             env: Some(EnvSpec::new("p.exr".into())),
             ..SceneFile::default()
         };
         let method = |k| step_file(&f, k, 3).env.unwrap().method;
-        assert_eq!(method(0), EnvMethod::Lights);
+        assert_eq!(method(0), EnvMethod::Reflection);
         assert_eq!(method(1), EnvMethod::Lightcuts);
         let cut = |k| step_file(&f, k, 3).env.unwrap().cut_error;
         assert_eq!(cut(1), crate::env::schema::DEFAULT_CUT_ERROR);
         assert_eq!(cut(2), crate::env::schema::DEFAULT_CUT_ERROR / 4.0);
+    }
+
+    #[test]
+    fn under_auto_for_a_dbrdf_the_moving_frame_is_the_light_set() {
+        // A library D-BRDF: `auto` is light cuts, seconds per frame.
+        let f = SceneFile::parse(
+            "[material]\nkind = \"library\"\nname = \"lindt-paper\"\n[env]\nfile = \"p.exr\"\n",
+        )
+        .unwrap();
+        let method = |k| step_file(&f, k, 3).env.unwrap().method;
+        assert_eq!(method(0), EnvMethod::Lights);
         assert_eq!(step_file(&f, 0, 3).env.unwrap().count, 128);
+        assert_eq!(method(1), EnvMethod::Lightcuts);
+        let cut = |k| step_file(&f, k, 3).env.unwrap().cut_error;
+        assert_eq!(cut(1), crate::env::schema::DEFAULT_CUT_ERROR);
+        // A MERL table: its light set at every step (no cone bound for light cuts).
+        let f = SceneFile::parse(
+            "[material]\nkind = \"merl-file\"\npath = \"m.binary\"\n[env]\nfile = \"p.exr\"\n",
+        )
+        .unwrap();
+        for k in 0..=3 {
+            assert_eq!(step_file(&f, k, 3).env.unwrap().method, EnvMethod::Lights);
+        }
     }
 
     #[test]

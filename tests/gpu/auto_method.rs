@@ -41,7 +41,7 @@ fn auto_on_the_gpu_renders_lloyd_lights_and_says_why() {
         .collect();
     assert_eq!(auto.len(), 1, "{}", r.stderr);
     assert!(
-        auto[0].starts_with("auto: light cuts are CPU only")
+        auto[0].starts_with("auto: method \"lightcuts\" is CPU only")
             && auto[0].contains(&format!("{GPU_AUTO_LIGHTS} Lloyd lights")),
         "{}",
         auto[0]

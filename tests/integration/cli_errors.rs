@@ -343,9 +343,9 @@ fn bad_shard_specs() {
 fn unreadable_sweep_csv_in_merge() {
     let header = brdfkit::sweep::CSV_HEADER;
     let good = format!(
-        "{header}\n0,lights,median-cut,1,-,-,-,-,-,8,bilinear,f32,0.5,0.6,1,0.1,0,1.000,2.000,1\n"
+        "{header}\n0,lights,median-cut,1,-,-,-,-,-,-,8,bilinear,f32,0.5,0.6,1,0.1,0,1.000,2.000,1\n"
     );
-    let bad = format!("{header}\n1,lights,median-cut,2,-,-,-,-,-,8,bilinear,f32,0.4,0.5,1,0.1,0,1.000,2.000,1\n2,transfer,-,-,32,17,0,-,-,8,bilinear,f32,zero,0.5,1,0.1,0,1.000,2.000,1\n");
+    let bad = format!("{header}\n1,lights,median-cut,2,-,-,-,-,-,-,8,bilinear,f32,0.4,0.5,1,0.1,0,1.000,2.000,1\n2,transfer,-,-,32,17,0,-,-,-,8,bilinear,f32,zero,0.5,1,0.1,0,1.000,2.000,1\n");
     // A shard written before the method axis.
     let old = "index,sampler,lights,order,lookup,precision,rel_rmse,max_err,flip_mean,default,prep_ms,frame_ms,pareto\n1,median-cut,2,8,bilinear,f32,0.4,1,0.1,0,1.000,2.000,1\n";
     let d = dir_with(&[

@@ -281,19 +281,13 @@ fn numbers_the_readme_states_are_the_codes() {
     // The default sweep's rows: the default grid fitted to the default scene's material,
     // as `brdfkit sweep` fits it (methods the material cannot take are left out).
     let configurations = {
-        use brdfkit::env::transfer::TransferBasis;
-        use brdfkit::material::cone_bound::ConeBound;
-        use brdfkit::sweep::grid::{Grid, MethodKind};
+        use brdfkit::sweep::grid::Grid;
         let file = brdfkit::sweep::default_scene::default_scene_file().unwrap();
         let scene = brdfkit::scene::Scene::resolve(&file, &root).unwrap();
         let bands = scene.material.as_sh().map(|ds| ds.bands());
         let mut grid = Grid::default();
-        grid.fit_material(bands, |m| match m {
-            MethodKind::Lights => None,
-            MethodKind::Transfer => TransferBasis::for_material(&scene.material)
-                .is_none()
-                .then(|| "not SH or Lambert".to_string()),
-            MethodKind::Lightcuts => ConeBound::new(&scene.material).err(),
+        grid.fit_material(bands, |m| {
+            brdfkit::sweep::run::not_swept(m, &scene.material)
         })
         .unwrap();
         grid.len()

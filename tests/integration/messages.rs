@@ -157,9 +157,17 @@ fn a_light_aov_the_environment_method_does_not_produce_is_refused() {
     let d = dir_with(&[("t.toml", &transfer)]);
     let size = ["--width", "16", "--height", "12"];
     for (args, method) in [
-        // The default Blinn-Phong: `auto` is light cuts.
+        // A library D-BRDF: `auto` is light cuts.
         (
-            vec!["render", "--env", probe.as_str(), "--aov", "light-polar"],
+            vec![
+                "render",
+                "--env",
+                probe.as_str(),
+                "--material",
+                "lindt-paper",
+                "--aov",
+                "light-polar",
+            ],
             "lightcuts",
         ),
         (

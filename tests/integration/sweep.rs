@@ -100,15 +100,15 @@ fn shards_merge_into_the_single_run() {
     // light counts x 2 orders).
     assert_eq!(all.len(), 16);
     assert!(
-        all[11].starts_with("11,lights,importance,16,-,-,-,-,-,8,"),
+        all[11].starts_with("11,lights,importance,16,-,-,-,-,-,-,8,"),
         "{all:?}"
     );
     assert!(
-        all[12].starts_with("12,transfer,-,-,8,5,0,-,-,2,"),
+        all[12].starts_with("12,transfer,-,-,8,5,0,-,-,-,2,"),
         "{all:?}"
     );
     assert!(
-        all[15].starts_with("15,transfer,-,-,8,5,2,-,-,8,"),
+        all[15].starts_with("15,transfer,-,-,8,5,2,-,-,-,8,"),
         "{all:?}"
     );
     // Exactly one default row: the scene's lloyd (default sampler), 4 lights, 8 bands,
@@ -116,7 +116,7 @@ fn shards_merge_into_the_single_run() {
     let defaults: Vec<&String> = all.iter().filter(|l| l.ends_with(",1")).collect();
     assert_eq!(defaults.len(), 1, "{all:?}");
     assert!(
-        defaults[0].contains(",lights,lloyd,4,-,-,-,-,-,8,bilinear,f32,"),
+        defaults[0].contains(",lights,lloyd,4,-,-,-,-,-,-,8,bilinear,f32,"),
         "{defaults:?}"
     );
     // The last transfer row (8x5 table, 2 exact lights, 8 bands) against `brdfkit render`
@@ -136,7 +136,7 @@ fn shards_merge_into_the_single_run() {
     let reference = brdfkit::image_io::read_exr(&reference[0]).unwrap();
     let rendered = brdfkit::image_io::read_exr(&dir.join("transfer.exr")).unwrap();
     let want = brdfkit::metrics::relative_rmse(&reference, &rendered, None);
-    let stored: f64 = all[15].split(',').nth(12).unwrap().parse().unwrap();
+    let stored: f64 = all[15].split(',').nth(13).unwrap().parse().unwrap();
     assert!(
         want > 0.0 && (stored - want).abs() <= 1e-12 * want,
         "sweep {stored}, render {want}"
@@ -144,7 +144,7 @@ fn shards_merge_into_the_single_run() {
     // Seeded faults: a sweep that built another table for that row (no exact lights, row
     // 13; 2 bands, row 14) would fail this comparison.
     for wrong in [13, 14] {
-        let e: f64 = all[wrong].split(',').nth(12).unwrap().parse().unwrap();
+        let e: f64 = all[wrong].split(',').nth(13).unwrap().parse().unwrap();
         assert!((e - want).abs() > 1e-6 * want, "row {wrong}: {e} vs {want}");
     }
 
@@ -235,7 +235,7 @@ fn shards_merge_into_the_single_run() {
     );
     // Errors fall as the light count grows on the largest order (Lloyd is a deterministic
     // sampler; 16 lights beat 1 light by far under this probe).
-    let rmse = |l: &str| l.split(',').nth(12).unwrap().parse::<f64>().unwrap();
+    let rmse = |l: &str| l.split(',').nth(13).unwrap().parse::<f64>().unwrap();
     let mc: Vec<&String> = all
         .iter()
         .filter(|l| l.contains(",lloyd,") && l.contains(",8,bilinear,"))

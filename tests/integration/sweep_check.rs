@@ -88,18 +88,18 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
         ok.stderr
     );
 
-    // Measured columns (prep_ms 17, frame_ms 18, pareto 19) are not compared.
+    // Measured columns (prep_ms 18, frame_ms 19, pareto 20) are not compared.
     let timed = edit(
-        &edit(&edit(&stored, 2, 17, "999.000"), 2, 18, "0.001"),
+        &edit(&edit(&stored, 2, 18, "999.000"), 2, 19, "0.001"),
         2,
-        19,
+        20,
         "0",
     );
     std::fs::write(dir.join("timed.csv"), timed).unwrap();
     let r = sweep(dir, &["--check", "timed.csv"]);
     assert_eq!(r.code, Some(0), "{}{}", r.stdout, r.stderr);
 
-    // Seeded faults: one deterministic value edited (rel_rmse of row 5 by one ulp; flip_mean (column 15) of row 8, a transfer row), each found and named; a shard checks
+    // Seeded faults: one deterministic value edited (rel_rmse of row 5 by one ulp; flip_mean (column 16) of row 8, a transfer row), each found and named; a shard checks
     // only its rows.
     // One ulp up, written shortest (as the checker prints what it read): editing the last
     // decimal digit instead can give a string that reads back as a value printed otherwise
@@ -109,12 +109,12 @@ fn check_passes_on_a_fresh_csv_and_names_each_edited_deterministic_value() {
         .nth(6)
         .unwrap()
         .split(',')
-        .nth(12)
+        .nth(13)
         .unwrap()
         .parse()
         .unwrap();
     let bumped = f64::from_bits(rel.to_bits() + 1).to_string();
-    let edited = edit(&edit(&stored, 5, 12, &bumped), 8, 15, "0.5");
+    let edited = edit(&edit(&stored, 5, 13, &bumped), 8, 16, "0.5");
     std::fs::write(dir.join("edited.csv"), edited).unwrap();
     let r = sweep(dir, &["--check", "edited.csv"]);
     assert_eq!(r.code, Some(1), "{}{}", r.stdout, r.stderr);

@@ -48,7 +48,8 @@ const METHODS: [(&str, &str); 5] = [
     ),
     (
         "auto",
-        "transfer_azimuth = 32\ntransfer_polar = 17\nexact_lights = 8\ncut_error = 0.02",
+        "transfer_azimuth = 32\ntransfer_polar = 17\nexact_lights = 8\ncut_error = 0.02\n\
+         reflection_grid = 16\nreflection_slices = 4\nreflection_residual = 64",
     ),
 ];
 
@@ -185,14 +186,20 @@ fn a_turntable_env_frame_is_the_static_render_at_its_rotation_for_every_method()
 }
 
 /// The command line: frame 2 of a 4-frame `--turntable-env` against `render` of the scene
-/// at `rotation = 180`, under `auto` (light cuts for Blinn-Phong, the transfer table for
-/// Lambert: the two methods whose frames once did not turn).
+/// at `rotation = 180`, under `auto` (light cuts for a D-BRDF and the transfer table for
+/// Lambert: the two methods whose frames once did not turn; the reflection table for
+/// Blinn-Phong).
 #[test]
 fn the_command_line_frames_turn_as_the_scene_file_rotation_does() {
     let dir = tempfile::tempdir().unwrap();
     let probe = common::city_probe();
     for (name, material, env) in [
-        ("cuts", CLASSES[2].1, "cut_error = 0.02"),
+        ("cuts", CLASSES[3].1, "cut_error = 0.02"),
+        (
+            "reflection",
+            CLASSES[2].1,
+            "reflection_grid = 8\nreflection_slices = 3\nreflection_residual = 64",
+        ),
         (
             "table",
             CLASSES[0].1,

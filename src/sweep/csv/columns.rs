@@ -154,6 +154,11 @@ pub mod dash {
     ) -> std::result::Result<Option<usize>, D::Error> {
         parse("cut_max", d)
     }
+    pub fn reflection_grid<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> std::result::Result<Option<usize>, D::Error> {
+        parse("reflection_grid", d)
+    }
 }
 
 /// The `lookup` column: [`lookup_name`] / [`parse_lookup`].

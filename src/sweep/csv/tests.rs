@@ -64,7 +64,7 @@ fn csv_round_trip() {
     let line = text.lines().nth(1).unwrap();
     assert_eq!(
         line,
-        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1,1.234,83.000,1"
+        "7,lights,median-cut,64,-,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1,1.234,83.000,1"
     );
     let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
     assert_eq!(back.len(), 1);
@@ -72,7 +72,7 @@ fn csv_round_trip() {
     assert_eq!(back[0].csv_line(), line);
     assert_eq!(
         back[0].deterministic_part(),
-        "7,lights,median-cut,64,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1"
+        "7,lights,median-cut,64,-,-,-,-,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1"
     );
     // A transfer row: its parameters, `-` for the sampler's.
     let transfer = Row {
@@ -91,11 +91,31 @@ fn csv_round_trip() {
     let line = text.lines().nth(1).unwrap();
     assert_eq!(
         line,
-        "900,transfer,-,-,64,33,16,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1,1.234,83.000,1"
+        "900,transfer,-,-,64,33,16,-,-,-,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1,1.234,83.000,1"
     );
     let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
     assert_eq!(back[0].config, transfer.config);
     assert_eq!(back[0].csv_line(), line);
+    // A reflection row: its grid and exact lights.
+    let reflection = Row {
+        config: Config {
+            index: 1100,
+            method: MethodAxis::Reflection {
+                grid: 64,
+                exact_lights: 16,
+            },
+            ..row.config
+        },
+        ..row.clone()
+    };
+    let text = csv_text(std::slice::from_ref(&reflection));
+    let line = text.lines().nth(1).unwrap();
+    assert_eq!(
+        line,
+        "1100,reflection,-,-,-,-,16,-,-,64,5,bilinear,f64,0.012345678901234,0.031,0.0015,0.0291,1,1.234,83.000,1"
+    );
+    let back = parse_csv(Path::new("t.csv"), text.as_bytes()).unwrap();
+    assert_eq!(back[0].config, reflection.config);
     // Small and large errors keep Rust's positional form (no exponent), as `{}` writes.
     let tiny = Row {
         rel_rmse: 1e-9,
@@ -108,7 +128,7 @@ fn csv_round_trip() {
     };
     assert_eq!(
         tiny.csv_line(),
-        "7,lights,median-cut,64,-,-,-,-,-,5,-,f64,0.000000001,0.031,1000000000000000000000,0.0291,1,1.234,83.000,1"
+        "7,lights,median-cut,64,-,-,-,-,-,-,5,-,f64,0.000000001,0.031,1000000000000000000000,0.0291,1,1.234,83.000,1"
     );
     // No rows: the header alone.
     assert_eq!(csv_text(&[]), format!("{CSV_HEADER}\n"));
@@ -120,52 +140,65 @@ fn method_parameters_belong_to_their_method() {
     let line = |fields: &str| format!("{CSV_HEADER}\n{fields},0.5,0.6,0.1,0.01,0,1.000,2.000,0\n");
     // Good rows, for reference.
     for ok in [
-        "0,lights,lloyd,128,-,-,-,-,-,8,bilinear,f32",
-        "1,transfer,-,-,128,65,16,-,-,8,bilinear,f32",
-        "2,transfer,-,-,32,17,0,-,-,0,-,f32",
-        "3,lightcuts,-,-,-,-,-,0.01,1000,0,-,f32",
+        "0,lights,lloyd,128,-,-,-,-,-,-,8,bilinear,f32",
+        "1,transfer,-,-,128,65,16,-,-,-,8,bilinear,f32",
+        "2,transfer,-,-,32,17,0,-,-,-,0,-,f32",
+        "3,lightcuts,-,-,-,-,-,0.01,1000,-,0,-,f32",
+        "4,reflection,-,-,-,-,64,-,-,64,0,-,f32",
     ] {
         parse_csv(Path::new("ok.csv"), line(ok).as_bytes()).unwrap();
     }
     for (fields, says) in [
         (
-            "0,lights,-,128,-,-,-,-,-,8,bilinear,f32",
+            "0,lights,-,128,-,-,-,-,-,-,8,bilinear,f32",
             "column sampler: a lights row needs a sampler",
         ),
         (
-            "0,lights,lloyd,-,-,-,-,-,-,8,bilinear,f32",
+            "0,lights,lloyd,-,-,-,-,-,-,-,8,bilinear,f32",
             "column lights: a lights row needs a lights",
         ),
         (
-            "0,lights,lloyd,128,64,-,-,-,-,8,bilinear,f32",
+            "0,lights,lloyd,128,64,-,-,-,-,-,8,bilinear,f32",
             "column transfer_azimuth: a lights row has no transfer_azimuth",
         ),
         (
-            "1,transfer,lloyd,-,128,65,16,-,-,8,bilinear,f32",
+            "1,transfer,lloyd,-,128,65,16,-,-,-,8,bilinear,f32",
             "column sampler: a transfer row has no sampler",
         ),
         (
-            "1,transfer,-,-,128,-,16,-,-,8,bilinear,f32",
+            "1,transfer,-,-,128,-,16,-,-,-,8,bilinear,f32",
             "column transfer_polar: a transfer row needs a transfer_polar",
         ),
         (
-            "1,transfer,-,-,128,65,16,0.01,-,8,bilinear,f32",
+            "1,transfer,-,-,128,65,16,0.01,-,-,8,bilinear,f32",
             "column cut_error: a transfer row has no cut_error",
         ),
         (
-            "0,lights,lloyd,128,-,-,-,-,64,8,bilinear,f32",
+            "0,lights,lloyd,128,-,-,-,-,64,-,8,bilinear,f32",
             "column cut_max: a lights row has no cut_max",
         ),
         (
-            "0,lightcuts,-,-,-,-,-,-,64,0,-,f32",
+            "0,lightcuts,-,-,-,-,-,-,64,-,0,-,f32",
             "column cut_error: a lightcuts row needs a cut_error",
         ),
         (
-            "0,lightcuts,lloyd,-,-,-,-,0.01,64,0,-,f32",
+            "0,lightcuts,lloyd,-,-,-,-,0.01,64,-,0,-,f32",
             "column sampler: a lightcuts row has no sampler",
         ),
         (
-            "1,transfer,-,-,12x,65,16,-,-,8,bilinear,f32",
+            "4,reflection,-,-,-,-,64,-,-,-,0,-,f32",
+            "column reflection_grid: a reflection row needs a reflection_grid",
+        ),
+        (
+            "4,reflection,-,-,128,-,64,-,-,64,0,-,f32",
+            "column transfer_azimuth: a reflection row has no transfer_azimuth",
+        ),
+        (
+            "3,lightcuts,-,-,-,-,-,0.01,1000,64,0,-,f32",
+            "column reflection_grid: a lightcuts row has no reflection_grid",
+        ),
+        (
+            "1,transfer,-,-,12x,65,16,-,-,-,8,bilinear,f32",
             "is not a number or -",
         ),
     ] {
@@ -190,6 +223,22 @@ fn a_csv_from_before_the_method_axis_is_refused_saying_so() {
             "line 1",
             "from before the method axis",
             "no method column",
+            "regenerate it",
+        ],
+    );
+}
+
+/// A CSV written before the reflection method (no `reflection_grid` column) is refused,
+/// saying what it is and what to do.
+#[test]
+fn a_csv_from_before_the_reflection_method_is_refused_saying_so() {
+    let old = format!("{}\n", CSV_HEADER.replace(",reflection_grid", ""));
+    assert_mentions(
+        &parse_error(&old),
+        &[
+            "shard-7.csv",
+            "line 1",
+            "before the reflection method",
             "regenerate it",
         ],
     );
@@ -232,11 +281,11 @@ fn reordered_columns_read_the_same() {
     let text = readme_csv();
     let rows = parse_csv(
         Path::new("a.csv"),
-        reorder(&text, 40, &(0..20).collect::<Vec<_>>()).as_bytes(),
+        reorder(&text, 40, &(0..21).collect::<Vec<_>>()).as_bytes(),
     )
     .unwrap();
     assert_eq!(rows.len(), 39);
-    let reversed: Vec<usize> = (0..20).rev().collect();
+    let reversed: Vec<usize> = (0..21).rev().collect();
     let moved = reorder(&text, 40, &reversed);
     assert!(moved.starts_with("pareto,frame_ms,"));
     let back = parse_csv(Path::new("b.csv"), moved.as_bytes()).unwrap();
@@ -244,18 +293,18 @@ fn reordered_columns_read_the_same() {
     // Written back in the fixed column order.
     assert_eq!(
         csv_text(&back),
-        reorder(&text, 40, &(0..20).collect::<Vec<_>>())
+        reorder(&text, 40, &(0..21).collect::<Vec<_>>())
     );
 }
 
 #[test]
 fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
     let text = readme_csv();
-    let all: Vec<usize> = (0..20).collect();
+    let all: Vec<usize> = (0..21).collect();
     let without = |k: usize| -> Vec<usize> { all.iter().copied().filter(|&i| i != k).collect() };
     // A missing column (pareto dropped from every line).
     assert_mentions(
-        &parse_error(&reorder(&text, 3, &without(19))),
+        &parse_error(&reorder(&text, 3, &without(20))),
         &[
             "shard-7.csv",
             "line 1",
@@ -270,14 +319,16 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
         &["shard-7.csv", "line 1", "unknown column \"max_error\""],
     );
     let mut twice = all.clone();
-    twice.push(14);
+    twice.push(15);
     assert_mentions(
         &parse_error(&reorder(&text, 3, &twice)),
         &["shard-7.csv", "line 1", "\"max_err\" appears twice"],
     );
     assert_mentions(&parse_error(""), &["shard-7.csv", "line 1", "empty file"]);
     // A CSV from before the p99_rel column is named as such.
-    let no_p99 = reorder(&text, 3, &without(13));
+    // (Which had no reflection_grid column either.)
+    let no_p99: Vec<usize> = all.iter().copied().filter(|&i| i != 9 && i != 14).collect();
+    let no_p99 = reorder(&text, 3, &no_p99);
     assert_mentions(
         &parse_error(&no_p99),
         &[
@@ -288,7 +339,7 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
         ],
     );
     // Bad values, in a CSV with its columns reversed: the column is named by header.
-    let reversed: Vec<usize> = (0..20).rev().collect();
+    let reversed: Vec<usize> = (0..21).rev().collect();
     let moved = reorder(&text, 4, &reversed);
     let mut lines: Vec<String> = moved.lines().map(str::to_string).collect();
     let set = |lines: &[String], line: usize, column: &str, value: &str| -> String {
@@ -326,6 +377,6 @@ fn bad_columns_and_values_name_the_file_the_line_and_the_column() {
     lines[2] = lines[2].rsplit_once(',').unwrap().0.to_string();
     assert_mentions(
         &parse_error(&(lines.join("\n") + "\n")),
-        &["shard-7.csv", "line 3:", "19 fields, expected 20"],
+        &["shard-7.csv", "line 3:", "20 fields, expected 21"],
     );
 }

@@ -5,8 +5,9 @@ use super::*;
 fn grid_order_and_size() {
     let g = Grid::default();
     // lights: 5 samplers x 11 counts; transfer: 3 grids x 3 exact counts; lightcuts: 4 cut
-    // errors x 1 largest cut; x 8 x 2 (before the grid is fitted to a material).
-    assert_eq!(g.len(), (55 + 9 + 4) * 16);
+    // errors x 1 largest cut; reflection: 2 grids x 3 exact counts; x 8 x 2 (before the
+    // grid is fitted to a material).
+    assert_eq!(g.len(), (55 + 9 + 4 + 6) * 16);
     let c = g.configs();
     assert_eq!(c.len(), g.len());
     assert!(c.iter().enumerate().all(|(i, c)| c.index == i));
@@ -36,7 +37,13 @@ fn grid_order_and_size() {
         cut_max: m,
     };
     assert_eq!(c[1024].method, cuts(0.005, 1000));
-    assert_eq!(c.last().unwrap().method, cuts(0.05, 1000));
+    assert_eq!(c[1024 + 63].method, cuts(0.05, 1000));
+    let reflection = |grid, k| MethodAxis::Reflection {
+        grid,
+        exact_lights: k,
+    };
+    assert_eq!(c[1024 + 64].method, reflection(32, 0));
+    assert_eq!(c.last().unwrap().method, reflection(64, 64));
     let only = Grid {
         methods: vec![MethodKind::Transfer],
         ..Grid::default()
@@ -67,7 +74,14 @@ fn fit_material_drops_orders_and_methods() {
     // it was the only method.
     let mut g = Grid::default();
     let notes = g.fit_material(None, no_transfer).unwrap();
-    assert_eq!(g.methods, vec![MethodKind::Lights, MethodKind::Lightcuts]);
+    assert_eq!(
+        g.methods,
+        vec![
+            MethodKind::Lights,
+            MethodKind::Lightcuts,
+            MethodKind::Reflection
+        ]
+    );
     assert!(notes[0].contains("transfer"), "{notes:?}");
     let mut g = Grid {
         methods: vec![MethodKind::Transfer],
@@ -104,6 +118,17 @@ fn method_names_are_the_env_method_names() {
         Some(MethodAxis::Transfer {
             azimuth: 128,
             polar: 65,
+            exact_lights: 64
+        })
+    );
+    let spec = EnvSpec {
+        method: EnvMethod::Reflection,
+        ..spec
+    };
+    assert_eq!(
+        MethodAxis::of_spec(&spec),
+        Some(MethodAxis::Reflection {
+            grid: 64,
             exact_lights: 64
         })
     );
