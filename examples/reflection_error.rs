@@ -37,8 +37,8 @@ use brdfkit::aov::{self, Aov};
 use brdfkit::env::reflection::ReflectionTerm;
 use brdfkit::render::{rasterize, render, RenderOptions};
 use brdfkit::scene::{Environment, Scene, SceneFile};
-use std::sync::Arc;
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 fn scene(material: &str, probe: &str, env: &str, size: u32) -> Scene {
@@ -68,7 +68,9 @@ fn main() {
     let counts: Vec<usize> = args
         .iter()
         .find_map(|a| a.strip_prefix("n="))
-        .map_or(vec![64], |l| l.split(',').map(|x| x.parse().unwrap()).collect());
+        .map_or(vec![64], |l| {
+            l.split(',').map(|x| x.parse().unwrap()).collect()
+        });
     let bias: Option<f32> = args
         .iter()
         .find_map(|a| a.strip_prefix("bias="))

@@ -16,9 +16,9 @@
 //! an anisotropic model) and the lifted local view, as the lights' kernels do.
 
 use super::frame_and_view;
+use super::options::effective_frame_rule;
 use super::traverse::{for_each_tile, for_each_visible, Pass};
 use crate::conventions::FrameRule;
-use super::options::effective_frame_rule;
 use crate::env::reflection::ReflectionTerm;
 use crate::image_io::Image;
 use crate::raster::VisBuffer;
@@ -26,7 +26,12 @@ use crate::scene::Scene;
 
 /// Adds the term of `term` to every visible pixel of `image` (rendered from `scene` and
 /// `vis`), in a pass of its own, parallel over bands of one tile row.
-pub(super) fn add_reflection(scene: &Scene, vis: &VisBuffer, term: &ReflectionTerm, image: &mut Image) {
+pub(super) fn add_reflection(
+    scene: &Scene,
+    vis: &VisBuffer,
+    term: &ReflectionTerm,
+    image: &mut Image,
+) {
     let eye = scene.camera.position;
     let table = match term {
         ReflectionTerm::Table(t) => t,

@@ -223,7 +223,12 @@ impl Texels {
 
 /// Power per texel of a `w x h` equirectangular image (row-major), summed `f x f` to a
 /// `w/f x h/f` one, with each coarse texel's centre direction.
-pub(super) fn downsample(power: &[[f64; 3]], w: usize, h: usize, f: usize) -> (Vec<[f64; 3]>, Texels) {
+pub(super) fn downsample(
+    power: &[[f64; 3]],
+    w: usize,
+    h: usize,
+    f: usize,
+) -> (Vec<[f64; 3]>, Texels) {
     let (cw, ch) = (w / f, h / f);
     let mut out = vec![[0.0f64; 3]; cw * ch];
     for row in 0..h {

@@ -43,7 +43,9 @@ impl RadiancePyramid {
     /// 2 x 2 block sums while both sides halve evenly (module doc, "Solid-angle weighting").
     pub fn from_power(power: &[[f64; 3]], w: usize, h: usize) -> RadiancePyramid {
         assert_eq!(power.len(), w * h, "pyramid from a {w} x {h} image");
-        let mut omega: Vec<f64> = (0..h).map(|row| probe_texel_solid_angle(row, w, h)).collect();
+        let mut omega: Vec<f64> = (0..h)
+            .map(|row| probe_texel_solid_angle(row, w, h))
+            .collect();
         let mut pw = power.to_vec();
         let (mut cw, mut ch) = (w, h);
         let mut levels = Vec::new();
@@ -74,7 +76,9 @@ impl RadiancePyramid {
                     }
                 }
             }
-            omega = (0..nh).map(|r| omega[2 * r] * 2.0 + omega[2 * r + 1] * 2.0).collect();
+            omega = (0..nh)
+                .map(|r| omega[2 * r] * 2.0 + omega[2 * r + 1] * 2.0)
+                .collect();
             (pw, cw, ch) = (next, nw, nh);
         }
         RadiancePyramid { levels }

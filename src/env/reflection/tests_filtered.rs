@@ -93,8 +93,8 @@ fn constant_probe_error(fault: PdfFault, samples: usize) -> f64 {
             (p.sin() * a.sin()) as f32,
             p.cos() as f32,
         );
-        let want = (lobe_albedo(&m.lobe, p, a) + m.rd.as_dvec3())
-            * DVec3::from_array(l.map(|x| x as f64));
+        let want =
+            (lobe_albedo(&m.lobe, p, a) + m.rd.as_dvec3()) * DVec3::from_array(l.map(|x| x as f64));
         let got = f.radiance(&frame, wo).as_dvec3();
         let rel = ((got - want).abs() / want).max_element();
         eprintln!("polar {polar} azimuth {azimuth}: {got} vs {want} ({rel:.4})");
@@ -159,7 +159,13 @@ fn the_same_bits_for_any_thread_count() {
     let probe = {
         let (w, h) = (64, 32);
         let texels = (0..w * h)
-            .map(|i| [1.0 + (i % 13) as f32, 0.5 + (i % 5) as f32, (i / w) as f32 * 0.1])
+            .map(|i| {
+                [
+                    1.0 + (i % 13) as f32,
+                    0.5 + (i % 5) as f32,
+                    (i / w) as f32 * 0.1,
+                ]
+            })
             .collect();
         Probe::from_texels("varied", w, h, texels, &LoadOptions::default())
             .unwrap()
