@@ -71,7 +71,12 @@ fn the_samplers_pdf_integrates_the_table_and_follows_the_lobe() {
     assert!((norm - 1.0).abs() < 0.01, "E[p cos / pdf] = {norm}");
     // Where the lobe is above a tenth of its peak, the pdf is p (h.n) to the difference
     // between the bilinear table and its piecewise-constant texels.
-    let peak = m.lobe.octahedral_table().iter().copied().fold(0.0f32, f32::max);
+    let peak = m
+        .lobe
+        .octahedral_table()
+        .iter()
+        .copied()
+        .fold(0.0f32, f32::max);
     for x in &s {
         let want = m.lobe.p(x.h) * x.h.z;
         if m.lobe.p(x.h) > 0.1 * peak {
