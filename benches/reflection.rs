@@ -2,7 +2,7 @@
 //! "reflection"` (the default table: 64 x 64 cells, 13 + 1 slices, 64 exact lights), beside
 //! the same frame under 128 Lloyd lights, for the library D-BRDF `gold-dust-paint` and
 //! Blinn-Phong 200 (isotropic: a table), and the anisotropic library D-BRDF `lindt-paper`
-//! (filtered importance sampling, the default 64 half vectors per pixel and 64 exact
+//! (filtered importance sampling, the default 128 half vectors per pixel and 64 exact
 //! lights; its preparation is printed in place of a bake); the table's target is >= 30
 //! frames/s. The table's bake time (a
 //! 512 x 256 probe) and size are measured once per row and printed beside it (a bake runs
