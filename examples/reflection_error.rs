@@ -2,14 +2,17 @@
 //! table, one row per material and probe, over all pixels and over the grazing band.
 //!
 //! ```sh
-//! cargo run --release --example reflection_error -- [SIZE] [m=MATERIAL ...] [PROBE...]
+//! cargo run --release --example reflection_error -- [SIZE] [m=MATERIAL ...] [n=N,N...] \
+//!     [bias=B] [png=DIR] [PROBE...]
 //! ```
 //!
 //! For Blinn-Phong exponents 50, 200 and 500 (the scene format's other defaults) and the
 //! library's isotropic D-BRDF `gold-dust-paint` (a Lambert + D-BRDF fit), the SH data set
 //! `magenta-plastic` for contrast (its `auto` method is the transfer table: an SH set
 //! includes the cosine and states no Lambertian term, so its diffuse part stays in the
-//! series), and the anisotropic `lindt-paper` (refused), or the ones named by `m=`, under
+//! series), and the anisotropic `lindt-paper` (the library's one anisotropic D-BRDF:
+//! filtered importance sampling, one row per `reflection_samples` of `n=`, default 64, the
+//! lookups' level bias `bias=` instead of the default), or the ones named by `m=`, under
 //! each shipped probe (or the ones named: `city`, `studio`, `sky`), renders a 256-segment sphere at SIZE x SIZE
 //! (default 96) with the default reflection table (64 x 64 cells, 13 + 1 slices, 64 exact
 //! lights, residual 256 wide) and with the converged reference
@@ -21,12 +24,21 @@
 //! - the same over the pixels whose view polar angle is above 70 degrees (the grazing band,
 //!   from the `view-polar` AOV) and their share of the covered pixels;
 //! - the bake's own measured error (camera-weighted samples; [`ReflectionTable::error`]), the
-//!   bake time and the table's size.
+//!   bake time and the table's size; for filtered importance sampling instead the relative
+//!   RMSE of the N-sample image against the 2N-sample one (an estimate of the sampling
+//!   error that needs no reference), the preparation time and the size held.
+//!
+//! With `png=DIR`, each row's image and its reference are written to
+//! `DIR/NAME-PROBE[-N].png` and `DIR/NAME-PROBE-reference.png` (ACES, exposure 1).
+//!
+//! [`ReflectionTable::error`]: brdfkit::env::reflection::ReflectionTable::error
 
 use brdfkit::aov::{self, Aov};
+use brdfkit::env::reflection::ReflectionTerm;
 use brdfkit::render::{rasterize, render, RenderOptions};
-use brdfkit::scene::{Scene, SceneFile};
+use brdfkit::scene::{Environment, Scene, SceneFile};
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 fn scene(material: &str, probe: &str, env: &str, size: u32) -> Scene {
@@ -53,6 +65,17 @@ fn main() {
         .map(|s| s.as_str())
         .collect();
     let only: Vec<&str> = args.iter().filter_map(|a| a.strip_prefix("m=")).collect();
+    let counts: Vec<usize> = args
+        .iter()
+        .find_map(|a| a.strip_prefix("n="))
+        .map_or(vec![64], |l| {
+            l.split(',').map(|x| x.parse().unwrap()).collect()
+        });
+    let bias: Option<f32> = args
+        .iter()
+        .find_map(|a| a.strip_prefix("bias="))
+        .map(|b| b.parse().unwrap());
+    let png: Option<&str> = args.iter().find_map(|a| a.strip_prefix("png="));
     if probes.is_empty() {
         probes = vec!["city", "studio", "sky"];
     }
@@ -68,7 +91,7 @@ fn main() {
             "magenta-plastic",
             "kind = \"library\"\nname = \"magenta-plastic\"",
         ),
-        // Anisotropic (exponents 30 and 90): refused, a row says so.
+        // Anisotropic (exponents 30 and 90): filtered importance sampling.
         ("lindt-paper", "kind = \"library\"\nname = \"lindt-paper\""),
     ];
     println!(
@@ -81,64 +104,116 @@ fn main() {
             if !only.is_empty() && !only.contains(&name) {
                 continue;
             }
-            let t0 = Instant::now();
-            let s = match try_scene(material, probe, "method = \"reflection\"", size) {
-                Ok(s) => s,
-                Err(e) => {
-                    println!("| {name} | {probe} | refused: {e} |");
-                    continue;
-                }
-            };
-            let bake = t0.elapsed().as_secs_f64();
             let reference = render(
                 &scene(material, probe, "sampler = \"full\"", size),
                 &RenderOptions::converged_reference(),
             )
             .image;
-            let got = render(&s, &RenderOptions::default()).image;
-            let vis = rasterize(&s, false);
-            let polar = aov::compute(&s, &vis, Aov::ViewPolar);
-            let covered: Vec<bool> = reference.pixels.iter().map(|p| p.length() > 0.0).collect();
-            let grazing: Vec<bool> = polar
-                .pixels
-                .iter()
-                .zip(&covered)
-                .map(|(p, &c)| c && p.x > 70.0 / 90.0)
-                .collect();
-            let all = brdfkit::metrics::relative_rmse(&reference, &got, None);
-            let p99 = brdfkit::metrics::relative_error_quantile(&reference, &got, 0.99, |_| true);
-            let g = brdfkit::metrics::relative_rmse(&reference, &got, Some(&grazing));
-            // The grazing band's p99: the same quantile over the band's pixels alone.
-            let mask = |img: &brdfkit::image_io::Image| {
-                let mut m = img.clone();
-                for (p, &k) in m.pixels.iter_mut().zip(&grazing) {
-                    if !k {
-                        *p = glam::Vec3::ZERO;
+            if let Some(dir) = png {
+                let path = Path::new(dir).join(format!("{name}-{probe}-reference.png"));
+                brdfkit::image_io::write_png(&path, &reference, 1.0, Default::default()).unwrap();
+            }
+            for &n in &counts {
+                let t0 = Instant::now();
+                let env = format!("method = \"reflection\"\nreflection_samples = {n}");
+                let mut s = match try_scene(material, probe, &env, size) {
+                    Ok(s) => s,
+                    Err(e) => {
+                        println!("| {name} | {probe} | refused: {e} |");
+                        break;
                     }
+                };
+                let bake = t0.elapsed().as_secs_f64();
+                with_bias(&mut s, bias);
+                let term = s.environment.reflection_table().unwrap().clone();
+                let got = render(&s, &RenderOptions::default()).image;
+                let row = match &*term {
+                    ReflectionTerm::Table(_) => name.to_string(),
+                    ReflectionTerm::Filtered(_) => format!("{name} N={n}"),
+                };
+                if let Some(dir) = png {
+                    let path = Path::new(dir).join(format!("{name}-{probe}-{n}.png"));
+                    brdfkit::image_io::write_png(&path, &got, 1.0, Default::default()).unwrap();
                 }
-                m
+                let e = errors(&s, &reference, &got);
+                let last = match &*term {
+                    ReflectionTerm::Table(t) => {
+                        let b = t.error();
+                        format!("{:.3}% / {:.2}%", 100.0 * b.rel_rmse, 100.0 * b.p99)
+                    }
+                    ReflectionTerm::Filtered(_) => {
+                        // The same scene at 2N: the sampling error's estimate.
+                        let env2 =
+                            format!("method = \"reflection\"\nreflection_samples = {}", 2 * n);
+                        let mut s2 = scene(material, probe, &env2, size);
+                        with_bias(&mut s2, bias);
+                        let twice = render(&s2, &RenderOptions::default()).image;
+                        let d = brdfkit::metrics::relative_rmse(&twice, &got, None);
+                        format!("vs 2N: {:.3}%", 100.0 * d)
+                    }
+                };
+                println!(
+                    "| {row} | {probe} | {:.3}% | {:.2}% | {:.3}% | {:.2}% | {:.1}% | {last} | {bake:.1} | {:.1} |",
+                    100.0 * e[0],
+                    100.0 * e[1],
+                    100.0 * e[2],
+                    100.0 * e[3],
+                    100.0 * e[4],
+                    term.bytes() as f64 / 1e6
+                );
+                if matches!(&*term, ReflectionTerm::Table(_)) {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// Relative RMSE, p99, the same two over the grazing band (view polar above 70 degrees),
+/// and the band's share of the covered pixels, of `got` against `reference` (module doc).
+fn errors(
+    s: &Scene,
+    reference: &brdfkit::image_io::Image,
+    got: &brdfkit::image_io::Image,
+) -> [f64; 5] {
+    let vis = rasterize(s, false);
+    let polar = aov::compute(s, &vis, Aov::ViewPolar);
+    let covered: Vec<bool> = reference.pixels.iter().map(|p| p.length() > 0.0).collect();
+    let grazing: Vec<bool> = polar
+        .pixels
+        .iter()
+        .zip(&covered)
+        .map(|(p, &c)| c && p.x > 70.0 / 90.0)
+        .collect();
+    let all = brdfkit::metrics::relative_rmse(reference, got, None);
+    let p99 = brdfkit::metrics::relative_error_quantile(reference, got, 0.99, |_| true);
+    let g = brdfkit::metrics::relative_rmse(reference, got, Some(&grazing));
+    // The grazing band's p99: the same quantile over the band's pixels alone.
+    let mask = |img: &brdfkit::image_io::Image| {
+        let mut m = img.clone();
+        for (p, &k) in m.pixels.iter_mut().zip(&grazing) {
+            if !k {
+                *p = glam::Vec3::ZERO;
+            }
+        }
+        m
+    };
+    let gp99 =
+        brdfkit::metrics::relative_error_quantile(&mask(reference), &mask(got), 0.99, |_| true);
+    let share = grazing.iter().filter(|&&k| k).count() as f64
+        / covered.iter().filter(|&&k| k).count().max(1) as f64;
+    [all, p99, g, gp99, share]
+}
+
+/// The scene's filtered sampler with the lookups' level bias `bias`, when given.
+fn with_bias(s: &mut Scene, bias: Option<f32>) {
+    let Some(b) = bias else { return };
+    if let Environment::Reflection { table, exact } = &s.environment {
+        if let ReflectionTerm::Filtered(f) = &**table {
+            s.environment = Environment::Reflection {
+                table: Arc::new(ReflectionTerm::Filtered(f.clone().with_lod_bias(b))),
+                exact: exact.clone(),
             };
-            let gp99 = brdfkit::metrics::relative_error_quantile(
-                &mask(&reference),
-                &mask(&got),
-                0.99,
-                |_| true,
-            );
-            let share = grazing.iter().filter(|&&k| k).count() as f64
-                / covered.iter().filter(|&&k| k).count().max(1) as f64;
-            let t = s.environment.reflection_table().unwrap();
-            let e = t.error();
-            println!(
-                "| {name} | {probe} | {:.3}% | {:.2}% | {:.3}% | {:.2}% | {:.1}% | {:.3}% / {:.2}% | {bake:.1} | {:.1} |",
-                100.0 * all,
-                100.0 * p99,
-                100.0 * g,
-                100.0 * gp99,
-                100.0 * share,
-                100.0 * e.rel_rmse,
-                100.0 * e.p99,
-                t.bytes() as f64 / 1e6
-            );
         }
     }
 }

@@ -21,7 +21,7 @@ use crate::conventions::rotate_about_up;
 use crate::env::lightcuts::{prepare_lightcuts, LightCuts, LightTree, TileFault};
 use crate::env::lightset::prepare::{self, CacheDir};
 use crate::env::lightset::to_scene_lights;
-use crate::env::reflection::{self, prepare_reflection, ReflectionTable};
+use crate::env::reflection::{self, prepare_reflection, ReflectionTerm};
 use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
 use crate::env::transfer::{self, prepare_transfer, PreparedTable, TransferBasis, TransferTable};
 use crate::env::Probe;
@@ -79,11 +79,12 @@ pub enum Environment {
     /// `[env] method = "lightcuts"` ([`crate::env::lightcuts`]): every texel a light in a
     /// light tree, with the cut's parameters; shading cuts it per pixel.
     LightCuts(Arc<LightCuts>),
-    /// `[env] method = "reflection"` ([`crate::env::reflection`]): the reflection-space
-    /// radiance table of the material under every texel but the brightest, and those
-    /// brightest texels as directional lights (`exact`).
+    /// `[env] method = "reflection"` ([`crate::env::reflection`]): the term of the
+    /// material under every texel but the brightest (a reflection-space radiance table for
+    /// an isotropic material, a filtered importance sampler for an anisotropic D-BRDF:
+    /// [`ReflectionTerm`]), and those brightest texels as directional lights (`exact`).
     Reflection {
-        table: Arc<ReflectionTable>,
+        table: Arc<ReflectionTerm>,
         exact: Vec<Light>,
     },
 }
@@ -111,9 +112,9 @@ impl Environment {
         }
     }
 
-    /// The reflection-space table whose term shading adds to every pixel, if the method
-    /// has one.
-    pub fn reflection_table(&self) -> Option<&Arc<ReflectionTable>> {
+    /// The reflection term (a table or a filtered sampler, [`ReflectionTerm`]) shading adds
+    /// to every pixel, if the method has one.
+    pub fn reflection_table(&self) -> Option<&Arc<ReflectionTerm>> {
         match self {
             Environment::Reflection { table, .. } => Some(table),
             Environment::None
@@ -193,16 +194,31 @@ impl Environment {
                     table.grid().1,
                 ),
             ),
-            Environment::Reflection { table, .. } => (
-                "reflection-table",
-                format!(
-                    "a reflection table ({g} x {g} cells, {s} + 1 slices, {mb:.1} MB) and \
-                     {lights} exact lights",
-                    g = table.grid(),
-                    s = table.slices(),
-                    mb = table.bytes() as f64 / 1e6,
+            Environment::Reflection { table, .. } => match &**table {
+                ReflectionTerm::Table(table) => (
+                    "reflection-table",
+                    format!(
+                        "a reflection table ({g} x {g} cells, {s} + 1 slices, {mb:.1} MB) and \
+                         {lights} exact lights",
+                        g = table.grid(),
+                        s = table.slices(),
+                        mb = table.bytes() as f64 / 1e6,
+                    ),
                 ),
-            ),
+                ReflectionTerm::Filtered(f) => (
+                    "reflection-table",
+                    format!(
+                        "filtered importance sampling of an anisotropic D-BRDF ({n} half \
+                         vectors per pixel, a {w} x {h} pyramid of {k} levels, {mb:.1} MB; \
+                         not cached) and {lights} exact lights",
+                        n = f.sample_count(),
+                        w = f.pyramid().size().0,
+                        h = f.pyramid().size().1,
+                        k = f.pyramid().levels(),
+                        mb = f.bytes() as f64 / 1e6,
+                    ),
+                ),
+            },
             Environment::LightCuts(_) => (
                 "light-set",
                 format!("light cuts through a tree of {lights} texels"),
@@ -231,11 +247,17 @@ impl Environment {
             Environment::LightCuts(c) => {
                 format!("lightcuts cut_error {} ({lights} texels)", c.cut_error)
             }
-            Environment::Reflection { table, .. } => format!(
-                "reflection {g}x{g}x{s} + {lights} exact",
-                g = table.grid(),
-                s = table.slices()
-            ),
+            Environment::Reflection { table, .. } => match &**table {
+                ReflectionTerm::Table(table) => format!(
+                    "reflection {g}x{g}x{s} + {lights} exact",
+                    g = table.grid(),
+                    s = table.slices()
+                ),
+                ReflectionTerm::Filtered(f) => format!(
+                    "reflection filtered-is {n} + {lights} exact",
+                    n = f.sample_count()
+                ),
+            },
             Environment::None => "none".into(),
         }
     }
@@ -414,15 +436,7 @@ pub fn build_environment(
                 source,
                 |base, cache, progress| prepare_reflection(spec, base, material, cache, progress),
                 |probe, exact| {
-                    reflection::bake_table(
-                        probe,
-                        material,
-                        reflection::params_of(spec),
-                        exact,
-                        spec.intensity,
-                        &Progress::hidden(),
-                        reflection::BakeFault::None,
-                    )
+                    reflection::build_term(spec, probe, material, exact, &Progress::hidden())
                 },
                 |table, exact| Environment::Reflection { table, exact },
             )

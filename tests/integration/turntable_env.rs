@@ -54,13 +54,12 @@ const METHODS: [(&str, &str); 5] = [
 ];
 
 /// The pairs a method cannot shade (a transfer table: SH data sets and Lambert only;
-/// light cuts: no cone bound for an SH data set; a reflection table: isotropic materials
-/// only, and lindt-paper is anisotropic).
-const REFUSED: [(&str, &str); 4] = [
+/// light cuts: no cone bound for an SH data set). `reflection` shades lindt-paper
+/// (anisotropic) by filtered importance sampling, built again at each rotation.
+const REFUSED: [(&str, &str); 3] = [
     ("transfer", "glossy"),
     ("transfer", "dbrdf"),
     ("lightcuts", "sh-glossy"),
-    ("reflection", "dbrdf"),
 ];
 
 fn text(material: &str, env: &str, rotation: f64) -> String {

@@ -223,7 +223,12 @@ impl Texels {
 
 /// Power per texel of a `w x h` equirectangular image (row-major), summed `f x f` to a
 /// `w/f x h/f` one, with each coarse texel's centre direction.
-fn downsample(power: &[[f64; 3]], w: usize, h: usize, f: usize) -> (Vec<[f64; 3]>, Texels) {
+pub(super) fn downsample(
+    power: &[[f64; 3]],
+    w: usize,
+    h: usize,
+    f: usize,
+) -> (Vec<[f64; 3]>, Texels) {
     let (cw, ch) = (w / f, h / f);
     let mut out = vec![[0.0f64; 3]; cw * ch];
     for row in 0..h {
@@ -245,7 +250,7 @@ fn downsample(power: &[[f64; 3]], w: usize, h: usize, f: usize) -> (Vec<[f64; 3]
 }
 
 /// The full probe's texel powers times `intensity`, the texels `exclude` zero.
-fn residual_power(probe: &Probe, exclude: &[usize], intensity: f32) -> Vec<[f64; 3]> {
+pub(super) fn residual_power(probe: &Probe, exclude: &[usize], intensity: f32) -> Vec<[f64; 3]> {
     let w = probe.width();
     let mut power: Vec<[f64; 3]> = probe
         .texels()

@@ -56,36 +56,130 @@
 //! 4.5%, order 3 4.0%); the horizon slice is required; 64 exact texels are needed under
 //! studio; a 256-wide residual keeps its own floor at or below 1.1% p99.
 //!
+//! # Anisotropic D-BRDFs
+//! The parameterisation holds isotropic materials only. The rule, per material
+//! ([`ReflectionPath::of`]): an isotropic material gets a table; an anisotropic D-BRDF or
+//! Lambert + D-BRDF (the library's `lindt-paper`) is shaded by deterministic filtered
+//! importance sampling ([`filtered`]: a fixed set of `reflection_samples` half vectors
+//! drawn from the lobe's own `p(h)` table, each reflected direction read from a mip
+//! pyramid of the same residual probe at the level of its share of solid angle,
+//! [`pyramid`]), beside the same exact lights and the same diffuse term over normals; any
+//! other anisotropic model is refused. [`ReflectionTerm`] holds what either path
+//! prepared; `render --stats` names the path.
+//!
 //! # Layout
 //! - [`table`]: [`ReflectionTable`] and its lookup;
 //! - [`build`]: the bake and its error measurement;
-//! - [`cache`]: the disk cache.
+//! - [`cache`]: the disk cache;
+//! - [`filtered`]: [`FilteredSampler`], the anisotropic D-BRDFs' path, and [`pyramid`],
+//!   the residual's radiance pyramid it reads.
 
 pub mod build;
 pub mod cache;
+pub mod filtered;
 pub mod lobe;
+pub mod pyramid;
 pub mod table;
 
 pub use build::{bake_table, BakeFault, BakeParams};
+pub use filtered::{FilteredSampler, PdfFault};
 pub use table::{BakeError, ReflectionTable};
 
 use crate::env::schema::EnvSpec;
-use crate::env::transfer::{prepare_table, PreparedTable};
+use crate::env::transfer::{prepare_table, PreparedTable, TableCache};
+use crate::env::Probe;
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::progress::Progress;
 use std::path::Path;
 
-/// Why `material` cannot be shaded by a reflection-space table, or `None` when it can (an
-/// isotropic model: [`crate::brdf::Brdf::is_isotropic`]).
+/// How `method = "reflection"` shades a material (module doc, "Anisotropic D-BRDFs"): the
+/// rule, per material, is an isotropic material by a reflection-space table and an
+/// anisotropic D-BRDF (or Lambert + D-BRDF) by filtered importance sampling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReflectionPath {
+    /// A baked [`ReflectionTable`].
+    Table,
+    /// A [`FilteredSampler`].
+    FilteredSampling,
+}
+
+impl ReflectionPath {
+    /// The path of `material`, or why the method cannot shade it.
+    pub fn of(material: &Material) -> std::result::Result<ReflectionPath, String> {
+        if material.as_brdf().is_isotropic() {
+            Ok(ReflectionPath::Table)
+        } else if filtered::dbrdf_lobe(material).is_some() {
+            Ok(ReflectionPath::FilteredSampling)
+        } else {
+            Err(format!(
+                "\"reflection\" tabulates isotropic materials and samples anisotropic D-BRDFs; \
+                 this {} is neither (use \"lightcuts\" or \"lights\")",
+                material.name()
+            ))
+        }
+    }
+
+    /// The words `render --stats` and the reports use for the path.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ReflectionPath::Table => "isotropic material: a reflection-space table",
+            ReflectionPath::FilteredSampling => {
+                "anisotropic D-BRDF: filtered importance sampling of the residual probe"
+            }
+        }
+    }
+}
+
+/// What `method = "reflection"` prepared for one material: one variant per
+/// [`ReflectionPath`].
+#[derive(Clone, Debug)]
+pub enum ReflectionTerm {
+    /// An isotropic material's table.
+    Table(ReflectionTable),
+    /// An anisotropic D-BRDF's sampler.
+    Filtered(FilteredSampler),
+}
+
+impl ReflectionTerm {
+    /// The path this term was prepared on.
+    pub fn path(&self) -> ReflectionPath {
+        match self {
+            ReflectionTerm::Table(_) => ReflectionPath::Table,
+            ReflectionTerm::Filtered(_) => ReflectionPath::FilteredSampling,
+        }
+    }
+
+    /// The table, on the table path.
+    pub fn table(&self) -> Option<&ReflectionTable> {
+        match self {
+            ReflectionTerm::Table(t) => Some(t),
+            ReflectionTerm::Filtered(_) => None,
+        }
+    }
+
+    /// Bytes the term holds.
+    pub fn bytes(&self) -> usize {
+        match self {
+            ReflectionTerm::Table(t) => t.bytes(),
+            ReflectionTerm::Filtered(f) => f.bytes(),
+        }
+    }
+
+    /// The same term read with the probe turned by `angle` radians more about +y.
+    pub fn turned(&self, angle: f64) -> ReflectionTerm {
+        match self {
+            ReflectionTerm::Table(t) => ReflectionTerm::Table(t.turned(angle)),
+            ReflectionTerm::Filtered(f) => ReflectionTerm::Filtered(f.turned(angle)),
+        }
+    }
+}
+
+/// Why `material` cannot be shaded by `method = "reflection"`, or `None` when it can (an
+/// isotropic model by a table, an anisotropic D-BRDF by filtered importance sampling:
+/// [`ReflectionPath::of`]).
 pub fn unsupported(material: &Material) -> Option<String> {
-    (!material.as_brdf().is_isotropic()).then(|| {
-        format!(
-            "\"reflection\" tabulates isotropic materials only; this {} is anisotropic \
-             (use \"lightcuts\" or \"lights\")",
-            material.name()
-        )
-    })
+    ReflectionPath::of(material).err()
 }
 
 /// The bake parameters an `[env]` table states.
@@ -98,12 +192,55 @@ pub fn params_of(spec: &EnvSpec) -> BakeParams {
 }
 
 /// What [`prepare_reflection`] made for a scene's `[env]` with `method = "reflection"`.
-pub type PreparedReflection = PreparedTable<ReflectionTable>;
+pub type PreparedReflection = PreparedTable<ReflectionTerm>;
 
-/// Loads the probe of `spec` (relative to `base`) and bakes the table of `material` on the
-/// spec's parameters (or reads it from its valid cache entry in `cache_dir`), the brightest
+/// The term of `material` on its path from `probe` (times `spec.intensity`) without the
+/// texels `exact`: a table baked on the spec's parameters, or a filtered sampler of
+/// `spec.reflection_samples` half vectors (no cache: it is built in well under a second).
+pub fn build_term(
+    spec: &EnvSpec,
+    probe: &Probe,
+    material: &Material,
+    exact: &[usize],
+    progress: &Progress,
+) -> Result<ReflectionTerm> {
+    match ReflectionPath::of(material).map_err(|why| Error::field("env.method", why))? {
+        ReflectionPath::Table => bake_table(
+            probe,
+            material,
+            params_of(spec),
+            exact,
+            spec.intensity,
+            progress,
+            BakeFault::None,
+        )
+        .map(ReflectionTerm::Table),
+        ReflectionPath::FilteredSampling => FilteredSampler::new(
+            probe,
+            material,
+            exact,
+            spec.intensity,
+            spec.reflection_samples,
+            spec.reflection_grid,
+            PdfFault::None,
+        )
+        .map(ReflectionTerm::Filtered)
+        .ok_or_else(|| Error::field("env.method", "not a D-BRDF")),
+    }
+}
+
+/// The filtered sampler is not cached: [`prepare_table`] gets no cache directory for it,
+/// so neither function is called.
+const UNCACHED: TableCache<ReflectionTerm> = TableCache {
+    file_name: |dir, _| dir.to_path_buf(),
+    encode: |_, _| Vec::new(),
+};
+
+/// Loads the probe of `spec` (relative to `base`) and prepares the term of `material`
+/// ([`ReflectionPath`]): the table baked on the spec's parameters (or read from its valid
+/// cache entry in `cache_dir`), or the filtered sampler (never cached); the brightest
 /// `spec.exact_lights` texels split off as lights; `spec.intensity` scales both
-/// ([`prepare_table`]). `progress` counts grid nodes when the table is baked. Errors name
+/// ([`prepare_table`]). `progress` counts grid nodes when a table is baked. Errors name
 /// the file or the field.
 pub fn prepare_reflection(
     spec: &EnvSpec,
@@ -113,42 +250,63 @@ pub fn prepare_reflection(
     progress: &Progress,
 ) -> Result<PreparedReflection> {
     spec.check()?;
-    if let Some(why) = unsupported(material) {
-        return Err(Error::field("env.method", why));
+    let path = ReflectionPath::of(material).map_err(|why| Error::field("env.method", why))?;
+    match path {
+        ReflectionPath::Table => {
+            let params = params_of(spec);
+            let p = prepare_table(
+                spec,
+                base,
+                cache_dir,
+                cache::TABLE_CACHE,
+                |bytes, opts, probe| {
+                    params.check(probe.width(), probe.height())?;
+                    Ok(cache::table_cache_key(
+                        bytes,
+                        opts,
+                        material,
+                        &params,
+                        spec.exact_lights,
+                        spec.intensity,
+                    ))
+                },
+                |f, key, rotation| cache::read_entry(f, key, &params, rotation),
+                |probe, exact| {
+                    bake_table(
+                        probe,
+                        material,
+                        params,
+                        exact,
+                        spec.intensity,
+                        progress,
+                        BakeFault::None,
+                    )
+                },
+            )?;
+            Ok(PreparedTable {
+                table: ReflectionTerm::Table(p.table),
+                lights: p.lights,
+                report: p.report,
+                cache_hit: p.cache_hit,
+                cache_rejected: p.cache_rejected,
+                cache_file: p.cache_file,
+            })
+        }
+        ReflectionPath::FilteredSampling => prepare_table(
+            spec,
+            base,
+            None::<&Path>,
+            UNCACHED,
+            |_, _, _| Ok(0),
+            |_: &Path, _, _| Ok(None),
+            |probe, exact| build_term(spec, probe, material, exact, progress),
+        ),
     }
-    let params = params_of(spec);
-    prepare_table(
-        spec,
-        base,
-        cache_dir,
-        cache::TABLE_CACHE,
-        |bytes, opts, probe| {
-            params.check(probe.width(), probe.height())?;
-            Ok(cache::table_cache_key(
-                bytes,
-                opts,
-                material,
-                &params,
-                spec.exact_lights,
-                spec.intensity,
-            ))
-        },
-        |f, key, rotation| cache::read_entry(f, key, &params, rotation),
-        |probe, exact| {
-            bake_table(
-                probe,
-                material,
-                params,
-                exact,
-                spec.intensity,
-                progress,
-                BakeFault::None,
-            )
-        },
-    )
 }
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_filtered;
 #[cfg(test)]
 mod tests_lobe;

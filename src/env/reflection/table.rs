@@ -129,6 +129,27 @@ fn psi_basis(n: Vec3, r: Vec3, cos_o: f32, (t, b): (Vec3, Vec3)) -> [f32; COEFFS
     [1.0, c, s, c * c - s * s, 2.0 * c * s]
 }
 
+/// The four vertices of an octahedral grid of `g` cells per side around the unit direction
+/// `d` (node `j (g + 1) + i`) and their bilinear weights: the lookup of every value held
+/// over the grid's vertices (the lobes' series at `r`, the diffuse term at `n`).
+#[inline]
+pub(super) fn grid_corners(d: Vec3, g: usize) -> [(usize, f32); 4] {
+    let n1 = g + 1;
+    let (u, w) = sphere_oct_encode(d);
+    let cell = |x: f32| {
+        let f = ((x + 1.0) * 0.5 * g as f32).clamp(0.0, g as f32);
+        let i0 = (f.floor() as usize).min(g - 1);
+        (i0, f - i0 as f32)
+    };
+    let ((i0, a), (j0, b)) = (cell(u), cell(w));
+    [
+        (j0 * n1 + i0, (1.0 - a) * (1.0 - b)),
+        (j0 * n1 + i0 + 1, a * (1.0 - b)),
+        ((j0 + 1) * n1 + i0, (1.0 - a) * b),
+        ((j0 + 1) * n1 + i0 + 1, a * b),
+    ]
+}
+
 impl ReflectionTable {
     /// A table from its parts; the caller checks `values.len()`.
     pub(super) fn from_parts(
@@ -226,22 +247,7 @@ impl ReflectionTable {
         };
         // Grid cell and weights: of `r` for the lobes, of `n` for the diffuse term.
         let g = self.grid;
-        let n1 = g + 1;
-        let corners = |d: Vec3| {
-            let (u, w) = sphere_oct_encode(d);
-            let cell = |x: f32| {
-                let f = ((x + 1.0) * 0.5 * g as f32).clamp(0.0, g as f32);
-                let i0 = (f.floor() as usize).min(g - 1);
-                (i0, f - i0 as f32)
-            };
-            let ((i0, a), (j0, b)) = (cell(u), cell(w));
-            [
-                (j0 * n1 + i0, (1.0 - a) * (1.0 - b)),
-                (j0 * n1 + i0 + 1, a * (1.0 - b)),
-                ((j0 + 1) * n1 + i0, (1.0 - a) * b),
-                ((j0 + 1) * n1 + i0 + 1, a * b),
-            ]
-        };
+        let corners = |d: Vec3| grid_corners(d, g);
         let bases = [
             psi_basis(n, r, cos_o, chart_frame_f32(r, false)),
             psi_basis(n, r, cos_o, chart_frame_f32(r, true)),
