@@ -245,3 +245,62 @@ impl Kernel for ShadeTile<'_, '_, '_> {
         }
     }
 }
+
+impl FramePrep<'_> {
+    /// **Bench only** (`benches/frame.rs`, row `surfaces`): the fast path's surfaces of
+    /// every occupied tile of `vis` (rasterized from `scene`), with their shading frames and
+    /// local views, one tile after the other on one thread, nothing shaded. Returns the
+    /// number of surfaces, and a sum of their local views' z (so nothing is left out).
+    #[doc(hidden)]
+    pub fn surfaces_alone(&self, scene: &Scene, vis: &VisBuffer) -> (usize, f32) {
+        let mut bufs = TileBuffers::default();
+        let (mut count, mut sum) = (0, 0.0);
+        for t in (0..vis.tile_occupied.len()).filter(|&t| vis.tile_occupied[t]) {
+            let (c, z) = self.dispatch.run(SurfacesAlone {
+                prep: self,
+                scene,
+                vis,
+                rect: vis.tile_rect(t),
+                bufs: &mut bufs,
+            });
+            count += c;
+            sum += z;
+        }
+        (count, sum)
+    }
+}
+
+/// One tile of [`FramePrep::surfaces_alone`], as a [`Kernel`] like [`ShadeTile`].
+struct SurfacesAlone<'p, 'a, 'o> {
+    prep: &'p FramePrep<'a>,
+    scene: &'o Scene,
+    vis: &'o VisBuffer,
+    rect: crate::raster::PixelRect,
+    bufs: &'o mut TileBuffers,
+}
+
+impl Kernel for SurfacesAlone<'_, '_, '_> {
+    type Out = (usize, f32);
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> (usize, f32) {
+        let SurfacesAlone {
+            prep,
+            scene,
+            vis,
+            rect,
+            bufs,
+        } = self;
+        tile_surfaces(&scene.mesh, vis, rect, &mut bufs.surfaces);
+        let mut sum = 0.0;
+        for batch in bufs.surfaces.chunks(LANES) {
+            let px = super::pixel_lanes::PixelLanes::of(
+                s,
+                batch.iter().map(|(_, surf)| surf),
+                prep.eye,
+                &prep.rule,
+            );
+            sum += px.wo[2].iter().sum::<f32>();
+        }
+        (bufs.surfaces.len(), sum)
+    }
+}
