@@ -4,8 +4,10 @@
 //!
 //! Design rule: the bits of the per-pixel definitions, pixel by pixel. The surface is
 //! [`surface_at_index`]'s (`gbuffer.rs`): the exact integer edge values and their f64
-//! division into screen barycentrics per pixel as [`crate::raster::SetupTriangle::screen_bary`]
-//! computes them, then in lanes the same IEEE f32 operations in the same order (the
+//! product with the triangle's `1 / area2` per pixel as
+//! [`crate::raster::SetupTriangle::screen_bary`] computes them (that reciprocal once per
+//! triangle of a group of pixels, the triangle's values moved into the lanes of its
+//! pixels), then in lanes the same IEEE f32 operations in the same order (the
 //! perspective division, the source barycentrics, the interpolated position, normal and
 //! tangent, glam's unfused sums and `try_normalize`, the flip of back faces, `1 / depth`).
 //! The rare pixels the lanes cannot give (a normal that does not normalise, whose fallback
@@ -50,18 +52,41 @@ pub(super) struct TileSurfaces {
     pub wo: [Vec<f32>; 3],
 }
 
-/// Rows of the per-group staging table of [`TileSurfaces::resolve_lanes`]: the screen
-/// barycentrics, the set-up vertices' 1/w, the source barycentrics of the set-up vertices
-/// (`SRC + 3 j + k`), the source triangle's positions, normals and tangents (`P + 3 j + axis`
-/// for vertex `j`), the visibility buffer's 1/w.
-const SCREEN: usize = 0;
-const INV_W: usize = 3;
-const SRC: usize = 6;
-const P: usize = 15;
-const N: usize = 24;
-const T: usize = 33;
-const DEPTH: usize = 42;
-const ROWS: usize = 43;
+/// Rows of the per-triangle values of [`TileSurfaces::resolve_lanes`]: the set-up
+/// vertices' 1/w, the source barycentrics of the set-up vertices (`SRC + 3 j + k`), the
+/// source triangle's positions, normals and tangents (`P + 3 j + axis` for vertex `j`).
+const INV_W: usize = 0;
+const SRC: usize = 3;
+const P: usize = 12;
+const N: usize = 21;
+const T: usize = 30;
+const ROWS: usize = 39;
+
+/// A group of up to [`LANES`] pixels staged for [`TileSurfaces::resolve_lanes`]: per lane
+/// its screen barycentrics, 1/w and the slot of its triangle, and the values of each of the
+/// group's distinct triangles (`tri[slot][row]`, rows as the constants above); a row of the
+/// group as lanes is [`Stage::row`].
+struct Stage {
+    screen: [[f32; LANES]; 3],
+    depth: [f32; LANES],
+    slot: [f32; LANES],
+    tri: [[f32; ROWS]; LANES],
+    /// Number of distinct triangles (slots).
+    slots: usize,
+}
+
+impl Stage {
+    /// Row `r` of the per-triangle values, lane by lane (each lane its triangle's; values
+    /// moved, never computed). `slot` is [`Stage::slot`] as lanes.
+    #[inline(always)]
+    fn row<S: Isa>(&self, s: S, slot: S::V, r: usize) -> S::V {
+        let mut v = s.splat(self.tri[0][r]);
+        for d in 1..self.slots {
+            v = slot.select_gt(s.splat(d as f32 - 0.5), s.splat(self.tri[d][r]), v);
+        }
+        v
+    }
+}
 
 impl TileSurfaces {
     /// Number of pixels.
@@ -147,11 +172,8 @@ impl TileSurfaces {
         let padded = self.position[0].len();
         if *rule == FrameRule::UP {
             for o in (0..padded).step_by(LANES) {
-                let ld = |v: &[Vec<f32>; 3]| {
-                    [s.load(&v[0][o..]), s.load(&v[1][o..]), s.load(&v[2][o..])]
-                };
-                let (t, b, n, wo) =
-                    frame_and_view_lanes(s, ld(&self.normal), ld(&self.position), eye);
+                let (nrm, pos) = (load3(s, &self.normal, o), load3(s, &self.position, o));
+                let (t, b, n, wo) = frame_and_view_lanes(s, nrm, pos, eye);
                 for a in 0..3 {
                     t[a].store(&mut self.t[a][o..]);
                     b[a].store(&mut self.b[a][o..]);
@@ -186,54 +208,83 @@ impl TileSurfaces {
         o: usize,
         count: usize,
     ) {
-        let mut st = [[0.0f32; LANES]; ROWS];
+        let mut st = Stage {
+            screen: [[0.0; LANES]; 3],
+            depth: [0.0; LANES],
+            slot: [0.0; LANES],
+            tri: [[0.0; ROWS]; LANES],
+            slots: 0,
+        };
+        let mut ids = [u32::MAX; LANES];
+        // 1 / (doubled area) of each slot's triangle: SetupTriangle::screen_bary's, once.
+        let mut inv_area = [0.0f64; LANES];
         let mut sign = [1.0f32; LANES];
         let tangents = !mesh.tangents.is_empty();
         for p in 0..count {
             let [i, x, y] = self.pixel[o + p];
-            let t = &vis.triangles[vis.visible[i as usize] as usize];
-            let screen = t.screen_bary(x, y);
-            let tri = mesh.triangles[t.source as usize];
-            for j in 0..3 {
-                st[SCREEN + j][p] = screen[j];
-                st[INV_W + j][p] = t.inv_w[j];
-                let v = tri[j] as usize;
-                for a in 0..3 {
-                    st[SRC + 3 * j + a][p] = t.src_bary[j][a];
-                    st[P + 3 * j + a][p] = mesh.positions[v][a];
-                    st[N + 3 * j + a][p] = mesh.normals[v][a];
-                    if tangents {
-                        st[T + 3 * j + a][p] = mesh.tangents[v][a];
+            let id = vis.visible[i as usize];
+            let t = &vis.triangles[id as usize];
+            // Pixels of one triangle are mostly neighbours: the last slot first.
+            let slot = match ids[..st.slots].iter().rposition(|&d| d == id) {
+                Some(d) => d,
+                None => {
+                    let d = st.slots;
+                    st.slots += 1;
+                    ids[d] = id;
+                    inv_area[d] = 1.0 / t.area2 as f64;
+                    let tri = mesh.triangles[t.source as usize];
+                    let row = &mut st.tri[d];
+                    for j in 0..3 {
+                        row[INV_W + j] = t.inv_w[j];
+                        let v = tri[j] as usize;
+                        for a in 0..3 {
+                            row[SRC + 3 * j + a] = t.src_bary[j][a];
+                            row[P + 3 * j + a] = mesh.positions[v][a];
+                            row[N + 3 * j + a] = mesh.normals[v][a];
+                            if tangents {
+                                row[T + 3 * j + a] = mesh.tangents[v][a];
+                            }
+                        }
                     }
+                    d
                 }
+            };
+            // SetupTriangle::screen_bary: the exact edge values times 1 / area2, in f64.
+            let e = t.edges_at(x, y);
+            for j in 0..3 {
+                st.screen[j][p] = (e[j] as f64 * inv_area[slot]) as f32;
             }
-            st[DEPTH][p] = vis.depth[i as usize];
+            st.slot[p] = slot as f32;
+            st.depth[p] = vis.depth[i as usize];
             sign[p] = if t.front_facing { 1.0 } else { -1.0 };
             self.front_facing[o + p] = t.front_facing;
         }
-        let ld = |r: usize| s.load(&st[r]);
+        // No closure and no `std::array::from_fn` does arithmetic here: one not inlined
+        // would not be compiled for `s`'s instruction set.
+        let st = &st;
+        let slot = s.load(&st.slot);
         let (zero, one) = (s.zero(), s.splat(1.0));
         // SetupTriangle::perspective_bary: q = s / w, normalised by its sum where positive.
-        let sb = [ld(SCREEN), ld(SCREEN + 1), ld(SCREEN + 2)];
+        let sb = [
+            s.load(&st.screen[0]),
+            s.load(&st.screen[1]),
+            s.load(&st.screen[2]),
+        ];
         let q = [
-            sb[0] * ld(INV_W),
-            sb[1] * ld(INV_W + 1),
-            sb[2] * ld(INV_W + 2),
+            sb[0] * st.row(s, slot, INV_W),
+            sb[1] * st.row(s, slot, INV_W + 1),
+            sb[2] * st.row(s, slot, INV_W + 2),
         ];
         let sum = (q[0] + q[1]) + q[2];
-        let w: [S::V; 3] = std::array::from_fn(|j| sum.select_gt(zero, q[j].div(sum), sb[j]));
-        // SetupTriangle::source_bary.
-        let bary: [S::V; 3] = std::array::from_fn(|k| {
-            (w[0] * ld(SRC + k) + w[1] * ld(SRC + 3 + k)) + w[2] * ld(SRC + 6 + k)
-        });
-        // v0 b0 + v1 b1 + v2 b2, per axis (glam's Vec3 sums, left to right).
-        let interp = |r: usize| -> [S::V; 3] {
-            std::array::from_fn(|a| {
-                (ld(r + a) * bary[0] + ld(r + 3 + a) * bary[1]) + ld(r + 6 + a) * bary[2]
-            })
-        };
-        let position = interp(P);
-        let nrm = interp(N);
+        let w = [
+            sum.select_gt(zero, q[0].div(sum), sb[0]),
+            sum.select_gt(zero, q[1].div(sum), sb[1]),
+            sum.select_gt(zero, q[2].div(sum), sb[2]),
+        ];
+        // SetupTriangle::source_bary, then the vertices' values interpolated.
+        let bary = weighted3(s, st, slot, SRC, &w);
+        let position = weighted3(s, st, slot, P, &bary);
+        let nrm = weighted3(s, st, slot, N, &bary);
         // try_normalize: `v * (1 / |v|)` where that reciprocal is finite and positive.
         let len2 = (nrm[0] * nrm[0] + nrm[1] * nrm[1]) + nrm[2] * nrm[2];
         let rcp = one.div(len2.sqrt());
@@ -244,7 +295,7 @@ impl TileSurfaces {
             (nrm[a] * rcp * sign).store(&mut self.normal[a][o..]);
         }
         if tangents {
-            let tangent = interp(T);
+            let tangent = weighted3(s, st, slot, T, &bary);
             for a in 0..3 {
                 tangent[a].store(&mut self.tangent[a][o..]);
             }
@@ -253,7 +304,7 @@ impl TileSurfaces {
                 zero.store(&mut self.tangent[a][o..]);
             }
         }
-        one.div(ld(DEPTH)).store(&mut self.view_depth[o..]);
+        one.div(s.load(&st.depth)).store(&mut self.view_depth[o..]);
         // The normal's fallbacks (the facet normal, else +y): the scalar definition.
         let fallback = !ok & ((1u32 << count) - 1);
         for p in (0..count).filter(|p| fallback >> p & 1 == 1) {
@@ -375,6 +426,34 @@ impl TileSurfaces {
             present: (1u32 << count) - 1,
         }
     }
+}
+
+/// `(v0 w0 + v1 w1) + v2 w2` per axis (glam's `Vec3` sums, left to right), the vertex
+/// values `v_j[axis]` in rows `r + 3 j + axis` of `st`, the weights `w` per lane.
+#[inline(always)]
+fn weighted3<S: Isa>(s: S, st: &Stage, slot: S::V, r: usize, w: &[S::V; 3]) -> [S::V; 3] {
+    [
+        weighted(s, st, slot, r, w),
+        weighted(s, st, slot, r + 1, w),
+        weighted(s, st, slot, r + 2, w),
+    ]
+}
+
+/// One axis of [`weighted3`]: rows `r`, `r + 3`, `r + 6`.
+#[inline(always)]
+fn weighted<S: Isa>(s: S, st: &Stage, slot: S::V, r: usize, w: &[S::V; 3]) -> S::V {
+    let v = [
+        st.row(s, slot, r),
+        st.row(s, slot, r + 3),
+        st.row(s, slot, r + 6),
+    ];
+    (v[0] * w[0] + v[1] * w[1]) + v[2] * w[2]
+}
+
+/// Lanes `o .. o + 8` of the three axes of `m`.
+#[inline(always)]
+fn load3<S: Isa>(s: S, m: &[Vec<f32>; 3], o: usize) -> [S::V; 3] {
+    [s.load(&m[0][o..]), s.load(&m[1][o..]), s.load(&m[2][o..])]
 }
 
 #[cfg(test)]
