@@ -32,9 +32,7 @@ impl FramePrep<'_> {
         s: S,
         ds: &ShDataset,
         rec: &ShRecurrence,
-        tile: &TileSurfaces,
-        o: usize,
-        count: usize,
+        (tile, o, count): (&TileSurfaces, usize, usize),
         buf: &mut Vec<f32>,
         sc: &mut kernel::gather::Scratch,
     ) -> [Vec3; MAX_LANES] {

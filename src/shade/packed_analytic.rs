@@ -22,6 +22,10 @@
 //! A pixel's result depends only on its own lane, never on the pixels sharing its group,
 //! so the image does not depend on the tile size or the thread count.
 
+// The point lights' loop fills per-lane arrays indexed by the lane number, which reads as
+// the lane arithmetic it is.
+#![allow(clippy::needless_range_loop)]
+
 use super::surfaces::TileSurfaces;
 use super::FramePrep;
 use crate::kernel::gather::{lane_weight, point_light_local, LaneFrame};

@@ -21,6 +21,10 @@
 //! The arrays are the worker's (`tile.rs`, `TileBuffers`), kept across tiles and frames:
 //! each tile rewrites every entry it reads, so nothing of an earlier tile or frame shows.
 
+// The staging loops index several per-lane arrays by the lane (or axis) number, which
+// reads as the lane arithmetic it is.
+#![allow(clippy::needless_range_loop)]
+
 use super::pixel_lanes::{frame_and_view_lanes, PixelLanes};
 use super::traverse::for_each_visible_index;
 use super::{frame_and_view, surface_at_index, Surface};

@@ -214,7 +214,7 @@ impl Kernel for ShadeTile<'_, '_, '_> {
                 let np = prep.points.len() as u64;
                 for o in (0..count).step_by(width) {
                     let len = (count - o).min(width);
-                    let rgb = prep.shade_packed(s, ds, rec, surfaces, o, len, buf, scratch);
+                    let rgb = prep.shade_packed(s, ds, rec, (surfaces, o, len), buf, scratch);
                     for (k, at) in surfaces.at[o..o + len].iter().enumerate() {
                         band[*at] = rgb[k];
                     }
