@@ -18,6 +18,10 @@
 //! field bit for bit against [`super::tile_surfaces`] and [`super::frame_and_view`] on
 //! every instruction set.
 //!
+//! (Past 400 lines because the staging, the lane arithmetic and its scalar fallbacks are
+//! one definition that must keep `gbuffer.rs`'s bits, and its test is the comparison that
+//! says so.)
+//!
 //! The arrays are the worker's (`tile.rs`, `TileBuffers`), kept across tiles and frames:
 //! each tile rewrites every entry it reads, so nothing of an earlier tile or frame shows.
 
