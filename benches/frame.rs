@@ -4,7 +4,9 @@
 //! once); `raster-reused` is that with the previous frame's buffers reused
 //! (`raster::rasterize_into`); `raster-1M` is `raster-alone` on the teapot at
 //! `segments = 128` (1,048,576 triangles). `frame-reused` is `frame` into a frame context
-//! kept from the previous frame (`render::render_into`).
+//! kept from the previous frame (`render::render_into`). `surfaces` is the fast path's
+//! per-pixel surfaces, shading frames and local views of the whole frame on one thread,
+//! nothing shaded (`FramePrep::surfaces_alone`).
 
 use brdfkit::mesh::teapot::teapot;
 use brdfkit::raster::{self, RasterConfig};
@@ -64,6 +66,10 @@ fn frame(c: &mut Criterion) {
     });
     let fast = ShadeOptions::default();
     g.bench_function("shade", |b| b.iter(|| shade::shade(&scene, &vis, &fast)));
+    // The fast path's surfaces alone (position, normal, shading frame, local view of every
+    // visible pixel), one thread, nothing shaded: what `shade` rebuilds before any light.
+    let prep = shade::FramePrep::new(&scene);
+    g.bench_function("surfaces", |b| b.iter(|| prep.surfaces_alone(&scene, &vis)));
     let oracle = ShadeOptions::default().with_path(ShadingPath::ScalarOracle);
     g.bench_function("shade-scalar-oracle", |b| {
         b.iter(|| shade::shade(&scene, &vis, &oracle))

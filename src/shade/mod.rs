@@ -41,8 +41,12 @@
 //! - `view.rs`: the view direction in the shading frame lifted above the horizon
 //!   ([`local_view`], [`MIN_VIEW_COS`]); one body for f32 ([`lift_above_horizon`]) and f64
 //!   ([`lift_above_horizon_f64`]).
-//! - `pixel_lanes.rs`: the shading frames and view directions of a group of pixels in
-//!   lanes, with the scalar definitions' bits (`PixelLanes`), for the packed paths.
+//! - `pixel_lanes.rs`: the shading frames and view directions of pixels in lanes, with
+//!   the scalar definitions' bits, and a group of them as the packed paths read it
+//!   (`PixelLanes`).
+//! - `surfaces.rs`: a tile's surfaces resolved once for the fast path, structure of
+//!   arrays, in lanes with [`surface_at_index`]'s bits, with their frames and views
+//!   (`TileSurfaces`).
 //! - `options.rs`: what the caller chooses ([`ShadeOptions`], [`ShadingPath`]).
 //! - `entry.rs`: the one entry point ([`shade`]; [`shade_into`], its form into a caller's
 //!   image and buffers) and its result ([`Shaded`], [`ShadeReport`]).
@@ -87,6 +91,7 @@ mod pixel_lanes;
 mod prep;
 mod reflection;
 mod scalar_oracle;
+mod surfaces;
 mod tile;
 mod transfer;
 mod traverse;

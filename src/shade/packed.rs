@@ -8,8 +8,9 @@
 //! Empty lanes and lights below a pixel's horizon get weight 0, which adds an exact 0.
 
 use super::fault::drop_last_band;
-use super::pixel_lanes::PixelLanes;
-use super::{FramePrep, KernelFault, Surface};
+use super::surfaces::TileSurfaces;
+use super::FramePrep;
+use super::KernelFault;
 use crate::conventions::hemi_texcoord;
 use crate::kernel::lanes::{F32x8, Isa, Width, LANES, MAX_LANES};
 use crate::kernel::{self, sh::ShRecurrence};
@@ -22,14 +23,16 @@ impl FramePrep<'_> {
     /// with a handful of lights, a light per lane would leave most lanes empty. Same terms
     /// as [`FramePrep::shade_surface`]; each pixel's sum runs in its own lane over the
     /// lights in order, so it does not depend on which pixels share its batch, nor on the
-    /// width (nor on the tile size or thread count). Results in the first `N` entries.
+    /// width (nor on the tile size or thread count). The pixels are `tile`'s `o .. o +
+    /// count` (`count <= N`, their frames and views resolved with the tile's surfaces).
+    /// Results in the first `N` entries.
     #[inline(always)]
     pub(super) fn shade_packed<S: Isa>(
         &self,
         s: S,
         ds: &ShDataset,
         rec: &ShRecurrence,
-        batch: &[(usize, Surface)],
+        (tile, o, count): (&TileSurfaces, usize, usize),
         buf: &mut Vec<f32>,
         sc: &mut kernel::gather::Scratch,
     ) -> [Vec3; MAX_LANES] {
@@ -46,11 +49,12 @@ impl FramePrep<'_> {
         let includes_cosine = self.brdf.includes_cosine();
         let np = self.points.len();
         let mut table_basis = [None; MAX_LANES];
-        // Frames, view directions and view angles of the whole batch in lanes (the
-        // per-pixel path's bits: `pixel_lanes.rs`, `kernel::approx::view_angles`).
-        let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye, &self.rule);
+        // Frames and view directions of the batch (resolved with the tile's surfaces), and
+        // its view angles in lanes (the per-pixel path's bits: `pixel_lanes.rs`,
+        // `kernel::approx::view_angles`).
+        let px = tile.lanes(o, count);
         let (mut polar, mut azimuth) = ([0.0f32; MAX_LANES], [0.0f32; MAX_LANES]);
-        for o in (0..batch.len()).step_by(LANES) {
+        for o in (0..count).step_by(LANES) {
             let (x, y, z) = (
                 s.load(&px.wo[0][o..]),
                 s.load(&px.wo[1][o..]),
@@ -61,7 +65,7 @@ impl FramePrep<'_> {
         }
         for p in 0..lanes {
             let one = &mut ones[p * stride..p * stride + t3];
-            let Some((_, surf)) = batch.get(p) else {
+            if p >= count {
                 one.fill(0.0);
                 for i in 0..np {
                     let o = i * lanes + p;
@@ -69,7 +73,8 @@ impl FramePrep<'_> {
                     (sc.wr[o], sc.wg[o], sc.wb[o]) = (0.0, 0.0, 0.0);
                 }
                 continue;
-            };
+            }
+            let position = tile.position(o + p);
             let (frame, wo) = (px.frame(p), px.view(p));
             let (ts, tt) = hemi_texcoord(polar[p], azimuth[p]);
             kernel::sh::lookup_coeffs(s, ds, ts, tt, one);
@@ -78,7 +83,7 @@ impl FramePrep<'_> {
             }
             if self.fault == Some(KernelFault::TableBasis) {
                 table_basis[p] = Some(self.points.iter().fold(Vec3::ZERO, |sum, light| {
-                    let (l, e) = light.at(surf.position);
+                    let (l, e) = light.at(position);
                     let wi = frame.to_local(l);
                     let w = kernel::gather::light_weight(e, wi.z, includes_cosine);
                     sum + ds.reconstruct_tabulated(wi, wo) * w
@@ -87,13 +92,9 @@ impl FramePrep<'_> {
             for (i, light) in self.points.iter().enumerate() {
                 // Below the horizon (or degenerate, NaN): weight 0 along the normal, so
                 // the lane adds an exact 0.
-                let (wi, w) = kernel::gather::point_light_local(
-                    light,
-                    surf.position,
-                    &frame,
-                    includes_cosine,
-                )
-                .unwrap_or((Vec3::Z, Vec3::ZERO));
+                let (wi, w) =
+                    kernel::gather::point_light_local(light, position, &frame, includes_cosine)
+                        .unwrap_or((Vec3::Z, Vec3::ZERO));
                 let o = i * lanes + p;
                 (sc.x[o], sc.y[o], sc.z[o]) = (wi.x, wi.y, wi.z);
                 (sc.wr[o], sc.wg[o], sc.wb[o]) = (w.x, w.y, w.z);

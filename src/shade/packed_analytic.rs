@@ -9,7 +9,8 @@
 //! - a directional light's local direction and weight by the same fused multiply-adds as
 //!   [`crate::kernel::gather::gather_dir`], a point light's by [`crate::light::Light::at`]
 //!   and [`crate::conventions::ShadingFrame::to_local`] per pixel; frames and view
-//!   directions from [`PixelLanes`] (the scalar ones' bits, eight pixels at a time);
+//!   directions resolved with the tile's surfaces (`surfaces.rs`: the scalar ones' bits,
+//!   eight pixels at a time);
 //! - a light at or below a pixel's horizon (or a lane without a pixel) weighs exactly 0, and
 //!   its `powf` is not evaluated;
 //! - with **one** light the formula is [`LaneModel::sum`]'s one-light form operation for
@@ -21,10 +22,14 @@
 //! A pixel's result depends only on its own lane, never on the pixels sharing its group,
 //! so the image does not depend on the tile size or the thread count.
 
-use super::pixel_lanes::PixelLanes;
-use super::{FramePrep, Surface};
+// The point lights' loop fills per-lane arrays indexed by the lane number, which reads as
+// the lane arithmetic it is.
+#![allow(clippy::needless_range_loop)]
+
+use super::surfaces::TileSurfaces;
+use super::FramePrep;
 use crate::kernel::gather::{lane_weight, point_light_local, LaneFrame};
-use crate::kernel::lanes::{F32x8, Isa, LANES, MAX_LANES};
+use crate::kernel::lanes::{F32x8, Isa, LANES};
 use crate::kernel::models::LaneModel;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -58,18 +63,20 @@ impl FramePrep<'_> {
     }
 
     /// Up to [`LANES`] pixels of a Lambert or Blinn-Phong material, one per lane, each lit
-    /// by every light of the frame in order (module doc). Results in the first
-    /// `batch.len()` entries.
+    /// by every light of the frame in order (module doc): `tile`'s pixels `o .. o + count`
+    /// (`count <= LANES`). Results in the first `count` entries.
     #[inline(always)]
     pub(super) fn shade_packed_analytic<S: Isa>(
         &self,
         s: S,
-        batch: &[(usize, Surface)],
+        tile: &TileSurfaces,
+        o: usize,
+        count: usize,
     ) -> [Vec3; LANES] {
-        let px = PixelLanes::of(s, batch.iter().map(|(_, surf)| surf), self.eye, &self.rule);
+        let px = tile.lanes(o, count);
         let includes_cosine = self.brdf.includes_cosine();
         let zero = s.zero();
-        let lanes = |a: &[[f32; MAX_LANES]; 3]| [s.load(&a[0]), s.load(&a[1]), s.load(&a[2])];
+        let lanes = |a: &[&[f32]; 3]| [s.load(a[0]), s.load(a[1]), s.load(a[2])];
         let f = LaneFrame {
             t: lanes(&px.t),
             b: lanes(&px.b),
@@ -102,9 +109,10 @@ impl FramePrep<'_> {
         for light in &self.points {
             let mut a = [[0.0f32; LANES]; 6];
             let mut mask = 0u32;
-            for (p, (_, surf)) in batch.iter().enumerate() {
+            for p in 0..count {
+                let position = tile.position(o + p);
                 if let Some((wi, w)) =
-                    point_light_local(light, surf.position, &px.frame(p), includes_cosine)
+                    point_light_local(light, position, &px.frame(p), includes_cosine)
                 {
                     (a[0][p], a[1][p], a[2][p]) = (wi.x, wi.y, wi.z);
                     (a[3][p], a[4][p], a[5][p]) = (w.x, w.y, w.z);

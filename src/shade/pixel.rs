@@ -8,7 +8,7 @@
 //! alternative for point lights only is `packed.rs`.
 
 use super::fault::{seed_fault, shift_one_azimuth_node};
-use super::{frame_and_view, FramePrep, KernelFault, Surface};
+use super::{FramePrep, KernelFault, Surface};
 use crate::conventions::{hemi_texcoord, FrameRule, ShadingFrame};
 use crate::kernel::{self, lanes::Isa};
 use glam::Vec3;
@@ -16,7 +16,9 @@ use glam::Vec3;
 impl FramePrep<'_> {
     /// Radiance of one surface point lit by the chunks `chunks` of the directional lights
     /// and by every point light, on the instruction set `s` (called from the tile loop,
-    /// which [`FramePrep::dispatch`] runs once per tile).
+    /// which [`FramePrep::dispatch`] runs once per tile); `(frame, wo)` is the surface's
+    /// shading frame and lifted local view ([`super::frame_and_view`]'s, resolved with the
+    /// tile's surfaces).
     ///
     /// The lights above the horizon, directional and point alike, go into `scratch` (local
     /// direction, weight `E cos`) and from there through the SH kernel or the material's
@@ -27,11 +29,11 @@ impl FramePrep<'_> {
         &self,
         s: S,
         surf: &Surface,
+        (frame, wo): (ShadingFrame, Vec3),
         chunks: &[u32],
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::gather::Scratch,
     ) -> Vec3 {
-        let (frame, wo) = frame_and_view(surf, self.eye, &self.rule);
         scratch.clear();
         let includes_cosine = self.brdf.includes_cosine();
         kernel::gather::gather_dir(s, &frame, includes_cosine, &self.dir, chunks, scratch);
@@ -48,16 +50,16 @@ impl FramePrep<'_> {
     /// Radiance of one surface point lit by the dropped lights only
     /// ([`FramePrep::dropped_dir`], every chunk, no point light): what the tile loop adds
     /// where [`crate::kernel::skip::needs_restore`] says leaving them out could change the
-    /// pixel by more than `render.drop_lights` of its value.
+    /// pixel by more than `render.drop_lights` of its value; `(frame, wo)` as
+    /// [`FramePrep::shade_surface`]'s.
     #[inline(always)]
     pub fn shade_dropped<S: Isa>(
         &self,
         s: S,
-        surf: &Surface,
+        (frame, wo): (ShadingFrame, Vec3),
         coeff_buf: &mut Vec<f32>,
         scratch: &mut kernel::gather::Scratch,
     ) -> Vec3 {
-        let (frame, wo) = frame_and_view(surf, self.eye, &self.rule);
         scratch.clear();
         let includes_cosine = self.brdf.includes_cosine();
         kernel::gather::gather_dir(

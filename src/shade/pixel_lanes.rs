@@ -1,5 +1,7 @@
-//! A group of pixels as lanes: the shading frames and local view directions of up to
-//! [`MAX_LANES`] surfaces, computed eight pixels per vector operation.
+//! Pixels as lanes: the shading frames and local view directions of surfaces computed
+//! eight pixels per vector operation (`frame_and_view_lanes`, which `surfaces.rs` runs
+//! over a tile once), and a group of up to [`crate::kernel::lanes::MAX_LANES`] of them as
+//! the packed paths read it (`PixelLanes`).
 //!
 //! Design rule: the same bits as the scalar definitions, pixel by pixel:
 //! [`ShadingFrame::from_normal`] and [`local_view`] (`view.rs`) are computed here lane by
@@ -10,125 +12,29 @@
 //! instruction set, edge cases included (the poles, degenerate normals, views below the
 //! horizon).
 
-use super::{Surface, MIN_VIEW_COS};
-use crate::conventions::{FrameRule, ShadingFrame};
-use crate::kernel::lanes::{F32x8, Isa, LANES, MAX_LANES};
+use super::MIN_VIEW_COS;
+use crate::conventions::ShadingFrame;
+use crate::kernel::lanes::{F32x8, Isa};
 use glam::Vec3;
 
-/// Frames (`t`, `b`, `n`) and lifted local view directions `wo` of up to [`MAX_LANES`]
-/// pixels, one per lane (`[axis][lane]`); empty lanes hold the identity frame and `+z`.
-pub struct PixelLanes {
-    pub t: [[f32; MAX_LANES]; 3],
-    pub b: [[f32; MAX_LANES]; 3],
-    pub n: [[f32; MAX_LANES]; 3],
-    pub wo: [[f32; MAX_LANES]; 3],
+/// Frames (`t`, `b`, `n`) and lifted local view directions `wo` of up to
+/// [`crate::kernel::lanes::MAX_LANES`] pixels, one per lane (`[axis][lane..]`, slices of a
+/// tile's arrays, `surfaces.rs`, each long enough for the widest load); lanes without a
+/// pixel hold the identity frame and `+z`.
+pub struct PixelLanes<'a> {
+    pub t: [&'a [f32]; 3],
+    pub b: [&'a [f32]; 3],
+    pub n: [&'a [f32]; 3],
+    pub wo: [&'a [f32]; 3],
     /// Bit `p` set where lane `p` holds a pixel.
     pub present: u32,
 }
 
-impl PixelLanes {
-    /// The frames and view directions of `surfaces` (at most [`MAX_LANES`]) seen from `eye`,
-    /// under `rule`: the world-up frame ([`FrameRule::UP`]) in lanes, any other rule
-    /// (view-aligned frames) pixel by pixel through [`super::frame_and_view`] itself.
-    #[inline(always)]
-    pub fn of<'s, S: Isa>(
-        s: S,
-        surfaces: impl ExactSizeIterator<Item = &'s Surface>,
-        eye: Vec3,
-        rule: &FrameRule,
-    ) -> PixelLanes {
-        let count = surfaces.len();
-        debug_assert!(count <= MAX_LANES);
-        if *rule != FrameRule::UP {
-            return PixelLanes::scalar(surfaces, eye, rule);
-        }
-        let mut pos = [[0.0f32; MAX_LANES]; 3];
-        let mut nrm = [[0.0f32; MAX_LANES]; 3];
-        for (p, surf) in surfaces.enumerate() {
-            for a in 0..3 {
-                pos[a][p] = surf.position[a];
-                nrm[a][p] = surf.normal[a];
-            }
-        }
-        let mut out = PixelLanes {
-            t: [[0.0; MAX_LANES]; 3],
-            b: [[0.0; MAX_LANES]; 3],
-            n: [[0.0; MAX_LANES]; 3],
-            wo: [[0.0; MAX_LANES]; 3],
-            present: (1u32 << count) - 1,
-        };
-        for o in (0..count.max(1)).step_by(LANES) {
-            let nrm = [
-                s.load(&nrm[0][o..]),
-                s.load(&nrm[1][o..]),
-                s.load(&nrm[2][o..]),
-            ];
-            let pos = [
-                s.load(&pos[0][o..]),
-                s.load(&pos[1][o..]),
-                s.load(&pos[2][o..]),
-            ];
-            let (t, b, n, wo) = frame_and_view(s, nrm, pos, eye);
-            for a in 0..3 {
-                t[a].store(&mut out.t[a][o..]);
-                b[a].store(&mut out.b[a][o..]);
-                n[a].store(&mut out.n[a][o..]);
-                wo[a].store(&mut out.wo[a][o..]);
-            }
-        }
-        // Empty lanes: the identity frame and +z (finite values; their weights are 0).
-        for p in count..MAX_LANES {
-            for a in 0..3 {
-                out.t[a][p] = (a == 0) as u8 as f32;
-                out.b[a][p] = (a == 1) as u8 as f32;
-                out.n[a][p] = (a == 2) as u8 as f32;
-                out.wo[a][p] = (a == 2) as u8 as f32;
-            }
-        }
-        out
-    }
-
-    /// [`PixelLanes::of`] for the rules other than [`FrameRule::UP`]: each lane's frame
-    /// and view from [`super::frame_and_view`] (the turn to the view costs a division and a
-    /// square root per pixel, beside a lookup and a sum over lights that dominate).
-    fn scalar<'s>(
-        surfaces: impl ExactSizeIterator<Item = &'s Surface>,
-        eye: Vec3,
-        rule: &FrameRule,
-    ) -> PixelLanes {
-        let count = surfaces.len();
-        let mut out = PixelLanes {
-            t: [[0.0; MAX_LANES]; 3],
-            b: [[0.0; MAX_LANES]; 3],
-            n: [[0.0; MAX_LANES]; 3],
-            wo: [[0.0; MAX_LANES]; 3],
-            present: (1u32 << count) - 1,
-        };
-        // Empty lanes: the identity frame and +z, as [`PixelLanes::of`] leaves them.
-        for p in count..MAX_LANES {
-            for a in 0..3 {
-                out.t[a][p] = (a == 0) as u8 as f32;
-                out.b[a][p] = (a == 1) as u8 as f32;
-                out.n[a][p] = (a == 2) as u8 as f32;
-                out.wo[a][p] = (a == 2) as u8 as f32;
-            }
-        }
-        for (p, surf) in surfaces.enumerate() {
-            let (f, wo) = super::frame_and_view(surf, eye, rule);
-            for a in 0..3 {
-                out.t[a][p] = f.t[a];
-                out.b[a][p] = f.b[a];
-                out.n[a][p] = f.n[a];
-                out.wo[a][p] = wo[a];
-            }
-        }
-        out
-    }
-
+impl PixelLanes<'_> {
     /// Lane `p`'s frame, as [`ShadingFrame::from_normal`] gives it.
     #[inline(always)]
     pub fn frame(&self, p: usize) -> ShadingFrame {
-        let v = |m: &[[f32; MAX_LANES]; 3]| Vec3::new(m[0][p], m[1][p], m[2][p]);
+        let v = |m: &[&[f32]; 3]| Vec3::new(m[0][p], m[1][p], m[2][p]);
         ShadingFrame {
             t: v(&self.t),
             b: v(&self.b),
@@ -174,7 +80,12 @@ fn normalize_or<S: Isa>(s: S, v: V3<S::V>, fallback: V3<S::V>) -> V3<S::V> {
 /// [`ShadingFrame::from_normal`] of normals `nrm` and [`super::local_view`] from `eye` at
 /// positions `pos`, per lane.
 #[inline(always)]
-fn frame_and_view<S: Isa>(s: S, nrm: V3<S::V>, pos: V3<S::V>, eye: Vec3) -> FrameAndView<S::V> {
+pub(super) fn frame_and_view_lanes<S: Isa>(
+    s: S,
+    nrm: V3<S::V>,
+    pos: V3<S::V>,
+    eye: Vec3,
+) -> FrameAndView<S::V> {
     let (zero, one) = (s.zero(), s.splat(1.0));
     let minus = s.splat(-1.0);
     let n = normalize_or(s, nrm, [zero, zero, one]);
@@ -223,17 +134,21 @@ fn frame_and_view<S: Isa>(s: S, nrm: V3<S::V>, pos: V3<S::V>, eye: Vec3) -> Fram
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::lanes::{Dispatch, Kernel, KernelPath};
-    use crate::shade::local_view;
+    use crate::conventions::FrameRule;
+    use crate::kernel::lanes::{Dispatch, Kernel, KernelPath, MAX_LANES};
+    use crate::shade::surfaces::TileSurfaces;
+    use crate::shade::{local_view, Surface};
 
     struct Lanes(Vec<Surface>, Vec3);
     impl Kernel for Lanes {
         type Out = Vec<(ShadingFrame, Vec3)>;
         fn run<S: Isa>(self, s: S) -> Self::Out {
+            let tile = TileSurfaces::of_surfaces(s, &self.0, self.1, &FrameRule::UP);
             let mut out = Vec::new();
-            for group in self.0.chunks(MAX_LANES) {
-                let l = PixelLanes::of(s, group.iter(), self.1, &FrameRule::UP);
-                out.extend((0..group.len()).map(|p| (l.frame(p), l.view(p))));
+            for o in (0..self.0.len()).step_by(MAX_LANES) {
+                let count = (self.0.len() - o).min(MAX_LANES);
+                let l = tile.lanes(o, count);
+                out.extend((0..count).map(|p| (l.frame(p), l.view(p))));
             }
             out
         }

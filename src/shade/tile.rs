@@ -13,14 +13,16 @@
 //! the per-pixel path (`pixel.rs`) or, for SH data sets under point lights only, the
 //! pixel-packed one (`packed.rs`).
 
+use super::surfaces::TileSurfaces;
 pub(super) use super::traverse::Pass;
-use super::traverse::{for_each_tile, for_each_visible, tile_surfaces};
+use super::traverse::{for_each_tile, for_each_visible};
 use super::{FramePrep, ShadeCounts, Surface};
 use crate::image_io::Image;
 use crate::kernel::lanes::{Isa, Kernel, LANES, MAX_LANES};
 use crate::kernel::{self, cluster::Cone, skip::needs_restore};
+use crate::mesh::Mesh;
 use crate::progress::Progress;
-use crate::raster::VisBuffer;
+use crate::raster::{PixelRect, VisBuffer};
 use crate::scene::Scene;
 use glam::Vec3;
 use std::sync::Mutex;
@@ -50,8 +52,14 @@ pub(super) fn shade_kernels(
         |bufs, rect, band| {
             let bufs = &mut bufs.bufs;
             bufs.scratch.reserve(room);
-            tile_surfaces(&scene.mesh, vis, rect, &mut bufs.surfaces);
-            prep.dispatch.run(ShadeTile { prep, band, bufs })
+            prep.dispatch.run(ShadeTile {
+                prep,
+                mesh: &scene.mesh,
+                vis,
+                rect,
+                band,
+                bufs,
+            })
         },
     );
     let skipped = vis.tile_occupied.iter().filter(|o| !**o).count() as u64;
@@ -94,7 +102,7 @@ pub(super) fn shade_per_pixel(
 struct TileBuffers {
     buf: Vec<f32>,
     scratch: kernel::gather::Scratch,
-    surfaces: Vec<(usize, Surface)>,
+    surfaces: TileSurfaces,
 }
 
 impl TileBuffers {
@@ -159,11 +167,15 @@ impl Drop for Lent<'_> {
     }
 }
 
-/// One occupied tile, its surfaces found, as a [`Kernel`] so the whole tile loop is
-/// compiled for the instruction set dispatched once per frame. `band` is the image rows of
-/// the tile's row of tiles; `bufs` are the worker's, reused (`bufs.surfaces` the tile's).
+/// One occupied tile (`rect` of `vis`, rasterized from `mesh`), as a [`Kernel`] so the
+/// whole tile loop, its surfaces resolved first (`surfaces.rs`), is compiled for the
+/// instruction set dispatched once per frame. `band` is the image rows of the tile's row
+/// of tiles; `bufs` are the worker's, reused (`bufs.surfaces` the tile's).
 struct ShadeTile<'p, 'a, 'o> {
     prep: &'p FramePrep<'a>,
+    mesh: &'o Mesh,
+    vis: &'o VisBuffer,
+    rect: PixelRect,
     band: &'o mut [Vec3],
     bufs: &'o mut TileBuffers,
 }
@@ -172,14 +184,23 @@ impl Kernel for ShadeTile<'_, '_, '_> {
     type Out = ShadeCounts;
     #[inline(always)]
     fn run<S: Isa>(self, s: S) -> ShadeCounts {
-        let ShadeTile { prep, band, bufs } = self;
+        let ShadeTile {
+            prep,
+            mesh,
+            vis,
+            rect,
+            band,
+            bufs,
+        } = self;
         let TileBuffers {
             buf,
             scratch,
             surfaces,
         } = bufs;
+        surfaces.resolve(s, mesh, vis, rect, prep.eye, &prep.rule);
+        let count = surfaces.len();
         let cone = if prep.cull_lights {
-            Cone::around(surfaces.iter().map(|(_, s)| s.normal))
+            Cone::around((0..count).map(|k| surfaces.normal(k)))
         } else {
             None
         };
@@ -191,35 +212,39 @@ impl Kernel for ShadeTile<'_, '_, '_> {
             Some((ds, rec)) if prep.dir.is_empty() && !prep.has_transfer() => {
                 let width = super::packed::packed_width(s);
                 let np = prep.points.len() as u64;
-                for batch in surfaces.chunks(width) {
-                    let rgb = prep.shade_packed(s, ds, rec, batch, buf, scratch);
-                    for (k, (at, _)) in batch.iter().enumerate() {
+                for o in (0..count).step_by(width) {
+                    let len = (count - o).min(width);
+                    let rgb = prep.shade_packed(s, ds, rec, (surfaces, o, len), buf, scratch);
+                    for (k, at) in surfaces.at[o..o + len].iter().enumerate() {
                         band[*at] = rgb[k];
                     }
-                    summed += batch.len() as u64 * np;
+                    summed += len as u64 * np;
                     slots += width as u64 * np;
                 }
             }
             _ if prep.packs_analytic() => {
                 let nl = prep.live_lights() as u64;
-                for batch in surfaces.chunks(LANES) {
-                    let rgb = prep.shade_packed_analytic(s, batch);
-                    for (k, (at, _)) in batch.iter().enumerate() {
+                for o in (0..count).step_by(LANES) {
+                    let len = (count - o).min(LANES);
+                    let rgb = prep.shade_packed_analytic(s, surfaces, o, len);
+                    for (k, at) in surfaces.at[o..o + len].iter().enumerate() {
                         band[*at] = rgb[k];
                     }
-                    summed += batch.len() as u64 * nl;
+                    summed += len as u64 * nl;
                     slots += LANES as u64 * nl;
                 }
             }
             _ => {
-                for (at, surf) in surfaces.iter() {
-                    let mut rgb = prep.shade_surface(s, surf, &chunks, buf, scratch);
+                for (k, at) in surfaces.at.iter().enumerate() {
+                    let surf = &surfaces.surface(k);
+                    let fv = surfaces.frame_and_view(k);
+                    let mut rgb = prep.shade_surface(s, surf, fv, &chunks, buf, scratch);
                     summed += scratch.n as u64;
                     slots += prep.lane_slots(scratch.n);
                     if !prep.dropped.removed.is_empty()
                         && needs_restore(rgb, prep.dropped.restore_below(surf.normal))
                     {
-                        rgb += prep.shade_dropped(s, surf, buf, scratch);
+                        rgb += prep.shade_dropped(s, fv, buf, scratch);
                         summed += scratch.n as u64;
                         slots += prep.lane_slots(scratch.n);
                         restored += 1;
@@ -236,12 +261,62 @@ impl Kernel for ShadeTile<'_, '_, '_> {
         ShadeCounts {
             tiles_shaded: 1,
             tiles_skipped: 0,
-            pixels_shaded: surfaces.len() as u64,
-            light_pairs: surfaces.len() as u64 * lights
-                + restored * prep.dropped.removed.len() as u64,
+            pixels_shaded: count as u64,
+            light_pairs: count as u64 * lights + restored * prep.dropped.removed.len() as u64,
             pixels_restored: restored,
             pairs_summed: summed,
             lane_slots: slots,
         }
+    }
+}
+
+impl FramePrep<'_> {
+    /// **Bench only** (`benches/frame.rs`, row `surfaces`): the fast path's surfaces of
+    /// every occupied tile of `vis` (rasterized from `scene`), with their shading frames and
+    /// local views, one tile after the other on one thread, nothing shaded. Returns the
+    /// number of surfaces, and a sum of their local views' z (so nothing is left out).
+    #[doc(hidden)]
+    pub fn surfaces_alone(&self, scene: &Scene, vis: &VisBuffer) -> (usize, f32) {
+        let mut bufs = TileBuffers::default();
+        let (mut count, mut sum) = (0, 0.0);
+        for t in (0..vis.tile_occupied.len()).filter(|&t| vis.tile_occupied[t]) {
+            let (c, z) = self.dispatch.run(SurfacesAlone {
+                prep: self,
+                scene,
+                vis,
+                rect: vis.tile_rect(t),
+                bufs: &mut bufs,
+            });
+            count += c;
+            sum += z;
+        }
+        (count, sum)
+    }
+}
+
+/// One tile of [`FramePrep::surfaces_alone`], as a [`Kernel`] like [`ShadeTile`].
+struct SurfacesAlone<'p, 'a, 'o> {
+    prep: &'p FramePrep<'a>,
+    scene: &'o Scene,
+    vis: &'o VisBuffer,
+    rect: crate::raster::PixelRect,
+    bufs: &'o mut TileBuffers,
+}
+
+impl Kernel for SurfacesAlone<'_, '_, '_> {
+    type Out = (usize, f32);
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> (usize, f32) {
+        let SurfacesAlone {
+            prep,
+            scene,
+            vis,
+            rect,
+            bufs,
+        } = self;
+        let tile = &mut bufs.surfaces;
+        tile.resolve(s, &scene.mesh, vis, rect, prep.eye, &prep.rule);
+        let sum = tile.wo[2].iter().sum::<f32>();
+        (bufs.surfaces.len(), sum)
     }
 }

@@ -43,6 +43,23 @@ pub fn for_each_visible(
     band_y0: u32,
     mut f: impl FnMut(VisiblePixel),
 ) {
+    for_each_visible_index(vis, rect, band_y0, |at, i, x, y| {
+        if let Some(surface) = surface_at_index(mesh, vis, i, x, y) {
+            f(VisiblePixel { at, x, y, surface });
+        }
+    });
+}
+
+/// The pixels [`for_each_visible`] visits, in its order, without their surfaces:
+/// `f(at, i, x, y)` with [`VisiblePixel::at`], the tile-major index `i` of the visibility
+/// buffer and the pixel's coordinates (what `surfaces.rs` resolves in lanes).
+#[inline(always)]
+pub(super) fn for_each_visible_index(
+    vis: &VisBuffer,
+    rect: PixelRect,
+    band_y0: u32,
+    mut f: impl FnMut(usize, usize, u32, u32),
+) {
     let ts = vis.tile_size;
     let x_end = rect.x0 + rect.w;
     for y in rect.y0..rect.y0 + rect.h {
@@ -60,14 +77,7 @@ pub fn for_each_visible(
                         continue;
                     }
                     let px = x + k as u32;
-                    if let Some(surface) = surface_at_index(mesh, vis, first + k, px, y) {
-                        f(VisiblePixel {
-                            at: row_at + px as usize,
-                            x: px,
-                            y,
-                            surface,
-                        });
-                    }
+                    f(row_at + px as usize, first + k, px, y);
                 }
             }
             x = end;
