@@ -324,8 +324,8 @@ fn under_method_auto_the_moving_frame_is_the_reflection_table_or_the_light_set()
         return;
     }
     use brdfkit::env::schema::EnvMethod;
-    // The default material (Blinn-Phong): `auto` is the reflection table (a small one, so
-    // the bake takes a fraction of a second), shown while the view moves.
+    // The default material (Blinn-Phong): `auto` is light cuts when still; while the view
+    // moves, the reflection table (a small one, so the bake takes a fraction of a second).
     let dir = tempfile::tempdir().unwrap();
     let doc = dir.path().join("bp.toml");
     let probe = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/probes/city.exr");

@@ -11,18 +11,17 @@
 //! - Lambert and SH data sets: `transfer` (a table over normals from the full probe plus
 //!   the [`DEFAULT_EXACT_LIGHTS`](crate::env::schema::DEFAULT_EXACT_LIGHTS) brightest
 //!   texels summed exactly): the per-pixel cost does not grow with the probe.
-//! - Blinn-Phong: `reflection`, the material's outgoing radiance tabulated over the
-//!   reflected direction ([`crate::env::reflection`]) at its defaults: within both bounds
-//!   for exponents 50, 200 and 500 under every shipped probe (docs/rendering.md,
-//!   "Reflection tables: error against the converged reference"), a lookup per pixel (tens of milliseconds at 640x480 where
-//!   light cuts take seconds), baked once per material and probe (seconds; cached).
-//! - D-BRDFs: `lightcuts` at the default `cut_error`
+//! - Analytic lobes (Blinn-Phong) and D-BRDFs: `lightcuts` at the default `cut_error`
 //!   ([`DEFAULT_CUT_ERROR`](crate::env::schema::DEFAULT_CUT_ERROR)). A delta light set
 //!   that meets 1% RMSE for a narrow lobe (Lloyd, 1024 lights) is faster, but its 99th
 //!   percentile is tens of percent: the highlight shows the lights as spots. The cuts bound
-//!   every pixel's error instead. The reflection table does not hold every library D-BRDF
-//!   within the bounds (the anisotropic ones not at all; `gold-dust-paint` under the studio
-//!   probe is at 11% at the 99th percentile), so `auto` keeps the cuts for the class.
+//!   every pixel's error instead. The reflection table ([`crate::env::reflection`]) is
+//!   within both bounds for the scene format's default Blinn-Phong (exponents 50 to 500)
+//!   under every shipped probe, but not for the sweep's glossy class (Blinn-Phong 200,
+//!   `ks` 0.9): under studio its default table is at 0.87% relative RMSE and 23% at the
+//!   99th percentile (docs/sweeps.md); nor for every D-BRDF (`gold-dust-paint` under studio
+//!   11%; filtered sampling of the anisotropic `lindt-paper` 15%). It is the viewer's
+//!   moving frame for Blinn-Phong instead ([`auto_moving_method`]).
 //! - MERL tables and RGL files: `lights` (delta lights; no cone bound for light cuts exists
 //!   for a measured table, and the reflection table of a MERL table written from a
 //!   Blinn-Phong of exponent 80 was over both bounds under the studio probe, 1.1% relative
@@ -206,8 +205,7 @@ pub const GPU_AUTO_LIGHTS: usize = 1024;
 pub fn auto_method(material: &MaterialSpec) -> EnvMethod {
     match material {
         MaterialSpec::Lambert { .. } | MaterialSpec::ShFile { .. } => EnvMethod::Transfer,
-        MaterialSpec::BlinnPhong { .. } => EnvMethod::Reflection,
-        MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
+        MaterialSpec::BlinnPhong { .. } | MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
         MaterialSpec::MerlFile { .. } | MaterialSpec::RglFile { .. } => EnvMethod::Lights,
         MaterialSpec::Library { name, .. } => match library::find(name).map(|e| e.representation) {
             Some(Representation::Sh { .. }) => EnvMethod::Transfer,
@@ -218,22 +216,21 @@ pub fn auto_method(material: &MaterialSpec) -> EnvMethod {
     }
 }
 
-/// The method the viewer's still frames refine towards where `[env] method = "auto"`
-/// (`crate::view::refine`): light cuts for the materials light cuts bound (Blinn-Phong and
-/// D-BRDFs: 0.10-0.31% relative RMSE and at most 1.1% at the 99th percentile under the
-/// shipped probes, docs/sweeps.md, against the reflection table's 1% and 10% bounds; up to
-/// seconds per frame, so only once the view is still), else [`auto_method`]'s own choice.
-pub fn auto_still_method(material: &MaterialSpec) -> EnvMethod {
+/// The method the viewer shows while the view moves where `[env] method = "auto"` stands
+/// for a method whose frame takes up to seconds (light cuts; `crate::view::refine`): the
+/// reflection table for Blinn-Phong (tens of milliseconds per frame; under the sweep's
+/// worst probe 0.87% relative RMSE and 23% at the 99th percentile, where the 128-light set
+/// is at 150-218%), the document's delta light set (`lights`) for the others (filtered
+/// sampling of an anisotropic D-BRDF takes over a second per frame).
+pub fn auto_moving_method(material: &MaterialSpec) -> EnvMethod {
     match material {
-        MaterialSpec::BlinnPhong { .. } | MaterialSpec::DbrdfFile { .. } => EnvMethod::Lightcuts,
+        MaterialSpec::BlinnPhong { .. } => EnvMethod::Reflection,
         MaterialSpec::Lambert { .. }
         | MaterialSpec::ShFile { .. }
+        | MaterialSpec::DbrdfFile { .. }
         | MaterialSpec::MerlFile { .. }
-        | MaterialSpec::RglFile { .. } => auto_method(material),
-        MaterialSpec::Library { name, .. } => match library::find(name).map(|e| e.representation) {
-            Some(Representation::Dbrdf) => EnvMethod::Lightcuts,
-            Some(Representation::Sh { .. }) | None => auto_method(material),
-        },
+        | MaterialSpec::RglFile { .. }
+        | MaterialSpec::Library { .. } => EnvMethod::Lights,
     }
 }
 
@@ -303,7 +300,7 @@ mod tests {
                 "kind = \"library\"\nname = \"lindt-paper\"",
                 EnvMethod::Lightcuts,
             ),
-            ("kind = \"blinn-phong\"", EnvMethod::Reflection),
+            ("kind = \"blinn-phong\"", EnvMethod::Lightcuts),
             (
                 "kind = \"merl-file\"\npath = \"m.binary\"",
                 EnvMethod::Lights,
@@ -318,7 +315,7 @@ mod tests {
             assert_eq!(method_of(&text), want, "{material}");
         }
         // No [material]: the default Blinn-Phong.
-        assert_eq!(method_of(env), EnvMethod::Reflection);
+        assert_eq!(method_of(env), EnvMethod::Lightcuts);
     }
 
     #[test]
@@ -337,7 +334,7 @@ mod tests {
         );
         // A stated `auto` stays auto (a written-out scene file states every field).
         let text = "[env]\nfile = \"p.exr\"\nmethod = \"auto\"\ncount = 64\n";
-        assert_eq!(method_of(text), EnvMethod::Reflection);
+        assert_eq!(method_of(text), EnvMethod::Lightcuts);
         // A light set file is delta lights.
         let text = "[material]\nkind = \"lambert\"\n[env]\nlights = \"set.json\"\n";
         assert_eq!(method_of(text), EnvMethod::Lights);
@@ -351,7 +348,7 @@ mod tests {
         };
         let env = "[env]\nfile = \"p.exr\"\n";
         for (material, on_cpu) in [
-            ("kind = \"blinn-phong\"", EnvMethod::Reflection),
+            ("kind = \"blinn-phong\"", EnvMethod::Lightcuts),
             (
                 "kind = \"library\"\nname = \"lindt-paper\"",
                 EnvMethod::Lightcuts,

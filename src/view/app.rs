@@ -110,8 +110,8 @@ impl App {
 
     /// A new view: the next generation, rendered by the fast worker as refinement step 0
     /// ([`super::refine::step_file`]: under `[env] method = "auto"` its method where a frame
-    /// takes milliseconds, a reflection or transfer table; the document's delta light set
-    /// where it would be seconds-per-frame light cuts).
+    /// takes milliseconds, a transfer table; where it would be seconds-per-frame light cuts,
+    /// the reflection table for Blinn-Phong, else the document's delta light set).
     fn changed(&mut self) {
         self.generation += 1;
         self.last_change = Instant::now();

@@ -186,8 +186,8 @@ fn a_turntable_env_frame_is_the_static_render_at_its_rotation_for_every_method()
 
 /// The command line: frame 2 of a 4-frame `--turntable-env` against `render` of the scene
 /// at `rotation = 180`, under `auto` (light cuts for a D-BRDF and the transfer table for
-/// Lambert: the two methods whose frames once did not turn; the reflection table for
-/// Blinn-Phong).
+/// Lambert: the two methods whose frames once did not turn) and under `reflection`
+/// (Blinn-Phong).
 #[test]
 fn the_command_line_frames_turn_as_the_scene_file_rotation_does() {
     let dir = tempfile::tempdir().unwrap();
@@ -197,7 +197,7 @@ fn the_command_line_frames_turn_as_the_scene_file_rotation_does() {
         (
             "reflection",
             CLASSES[2].1,
-            "reflection_grid = 8\nreflection_slices = 3\nreflection_residual = 64",
+            "method = \"reflection\"\nreflection_grid = 8\nreflection_slices = 3\nreflection_residual = 64",
         ),
         (
             "table",
