@@ -1,6 +1,8 @@
 //! Frame time at 640x480 of the teapot (the default camera) under `[env] method =
 //! "reflection"` (the default table: 64 x 64 cells, 13 + 1 slices, 64 exact lights), beside
-//! the same frame under 128 Lloyd lights, for the library D-BRDF `gold-dust-paint` and
+//! the same frame under 128 Lloyd lights (the fast, inaccurate light set) and under light
+//! cuts (`method = "lightcuts"`, the default 1% cut error: the accurate method `auto`
+//! chooses for these materials), for the library D-BRDF `gold-dust-paint` and
 //! Blinn-Phong 200 (isotropic: a table), and the anisotropic library D-BRDF `lindt-paper`
 //! (filtered importance sampling, the default 128 half vectors per pixel and 64 exact
 //! lights; its preparation is printed in place of a bake); the table's target is >= 30
@@ -8,7 +10,11 @@
 //! 512 x 256 probe) and size are measured once per row and printed beside it (a bake runs
 //! once per scene and probe, far too long for criterion's samples). The probes benched are
 //! `BRDFKIT_BENCH_PROBES` (comma-separated, default `city`; the frame's cost does not depend
-//! on the probe: one lookup and 64 lights per pixel whatever it holds).
+//! on the probe: one lookup and 64 lights per pixel whatever it holds; light cuts' does).
+//!
+//! ```sh
+//! BRDFKIT_BENCH_PROBES=city,studio,sky cargo bench --bench reflection -- --noplot
+//! ```
 
 use brdfkit::render::{self, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
@@ -46,7 +52,7 @@ fn reflection(c: &mut Criterion) {
             let table = scene(material, probe, "method = \"reflection\"");
             let t = table
                 .environment
-                .reflection_table()
+                .reflection_term()
                 .expect("a reflection term");
             eprintln!(
                 "{name} under {probe}: {}; prepared in {:.2} s (probe load and material \
@@ -65,6 +71,14 @@ fn reflection(c: &mut Criterion) {
             });
             g.bench_function("frame-lloyd-128", |b| {
                 b.iter(|| render::render(&lloyd, &frame))
+            });
+            // The accurate method `auto` chooses for these materials: 0.15-4 s a frame, so
+            // ten samples (the cut and its tree prepared once, outside the samples).
+            let cuts = scene(material, probe, "method = \"lightcuts\"");
+            g.sample_size(10);
+            g.measurement_time(std::time::Duration::from_secs(1));
+            g.bench_function("frame-lightcuts", |b| {
+                b.iter(|| render::render(&cuts, &frame))
             });
             g.finish();
         }

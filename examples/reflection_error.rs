@@ -125,7 +125,7 @@ fn main() {
                 };
                 let bake = t0.elapsed().as_secs_f64();
                 with_bias(&mut s, bias);
-                let term = s.environment.reflection_table().unwrap().clone();
+                let term = s.environment.reflection_term().unwrap().clone();
                 let got = render(&s, &RenderOptions::default()).image;
                 let row = match &*term {
                     ReflectionTerm::Table(_) => name.to_string(),

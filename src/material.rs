@@ -190,7 +190,14 @@ impl Material {
     pub fn as_sh(&self) -> Option<&ShDataset> {
         match self {
             Material::Sh(ds) => Some(ds),
-            _ => None,
+            Material::Lambert(_)
+            | Material::Phong(_)
+            | Material::BlinnPhong(_)
+            | Material::AshikhminShirley(_)
+            | Material::DBrdf(_)
+            | Material::LambertDbrdf(_)
+            | Material::Merl(_)
+            | Material::Rgl(_) => None,
         }
     }
 }

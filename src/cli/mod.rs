@@ -376,8 +376,12 @@ pub struct RenderArgs {
     /// Only shard I of N (0-based I/N), for array jobs. With --turntable: only frames k with k % N == I, and no GIF (--assemble makes it after). A still image (any render, --reference included): only its bands of rows b with b % N == I (a band is a whole number of tiles, 32 rows by default), written to -o PART.exr as a partial image whose header records the shard, the full size and the scene's hash; --merge joins the N parts.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
-    /// Render nothing: join the partial images of `render --shard I/N` (every shard 0..N once, all of one scene and size) into -o (.exr or .png; default out.png and out.exr), the bits of the unsharded render.
-    #[arg(long, value_name = "PART", num_args = 1.., conflicts_with_all = ["turntable", "shard", "reference", "device"])]
+    /// Render nothing: join the partial images of `render --shard I/N` (every shard 0..N once, all of one scene and size) into -o (.exr or .png; default out.png and out.exr), the bits of the unsharded render. The parts carry the scene and its size: only -o, --exposure and --tonemap go with it.
+    #[arg(long, value_name = "PART", num_args = 1.., conflicts_with_all = [
+        "turntable", "shard", "reference", "device", "scene", "width", "height", "threads",
+        "mesh", "cull", "aov", "tile_size", "env", "sampler", "lights", "env_method",
+        "material", "lookup", "drop_lights", "no_band_skip", "kernel", "stats", "no_cache",
+    ])]
     pub merge: Vec<PathBuf>,
     /// With --turntable: render nothing; build OUT.gif from the existing OUT_0000.png ... frames.
     #[arg(long, requires = "turntable")]

@@ -245,10 +245,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
             None if gpu.is_some() => eprintln!("stats: gpu frame (upload, draw, read-back)"),
             None => eprintln!("stats: none for --reference (every light, every band, no skips)"),
         }
-        if let Some(term) = scene.environment.reflection_table() {
+        if let Some(term) = scene.environment.reflection_term() {
             eprintln!("reflection: {}", term.path().describe());
         }
-        if let Some(t) = scene.environment.reflection_table().and_then(|t| t.table()) {
+        if let Some(t) = scene.environment.reflection_term().and_then(|t| t.table()) {
             let e = t.error();
             eprintln!(
                 "reflection table: {} MB; error measured at bake against exact f64 sums \

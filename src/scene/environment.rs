@@ -114,7 +114,7 @@ impl Environment {
 
     /// The reflection term (a table or a filtered sampler, [`ReflectionTerm`]) shading adds
     /// to every pixel, if the method has one.
-    pub fn reflection_table(&self) -> Option<&Arc<ReflectionTerm>> {
+    pub fn reflection_term(&self) -> Option<&Arc<ReflectionTerm>> {
         match self {
             Environment::Reflection { table, .. } => Some(table),
             Environment::None

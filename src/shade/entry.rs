@@ -105,7 +105,7 @@ pub fn shade_into(
             add_transfer(scene, vis, table, image, &rule);
         }
     }
-    if let Some(table) = scene.environment.reflection_table() {
+    if let Some(table) = scene.environment.reflection_term() {
         // Every path adds it in a pass of its own, after the lights (`reflection.rs`).
         add_reflection(scene, vis, table, image);
     }

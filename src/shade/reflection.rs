@@ -33,25 +33,11 @@ pub(super) fn add_reflection(
     image: &mut Image,
 ) {
     let eye = scene.camera.position;
-    let table = match term {
-        ReflectionTerm::Table(t) => t,
-        ReflectionTerm::Filtered(f) => {
-            let rule = effective_frame_rule(&scene.material, &scene.mesh);
-            for_each_tile(
-                image,
-                vis,
-                Pass::Adds,
-                None,
-                || (),
-                |_, rect, band| {
-                    for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
-                        let (frame, wo) = frame_and_view(&p.surface, eye, &rule);
-                        band[p.at] += f.radiance(&frame, wo);
-                    });
-                },
-            );
-            return;
-        }
+    // The table is of an isotropic material (any tangent will do); the sampler reads the
+    // material's own frame.
+    let rule = match term {
+        ReflectionTerm::Table(_) => FrameRule::UP,
+        ReflectionTerm::Filtered(_) => effective_frame_rule(&scene.material, &scene.mesh),
     };
     for_each_tile(
         image,
@@ -61,8 +47,11 @@ pub(super) fn add_reflection(
         || (),
         |_, rect, band| {
             for_each_visible(&scene.mesh, vis, rect, rect.y0, |p| {
-                let (frame, wo) = frame_and_view(&p.surface, eye, &FrameRule::UP);
-                band[p.at] += table.radiance(frame.n, frame.to_world(wo));
+                let (frame, wo) = frame_and_view(&p.surface, eye, &rule);
+                band[p.at] += match term {
+                    ReflectionTerm::Table(table) => table.radiance(frame.n, frame.to_world(wo)),
+                    ReflectionTerm::Filtered(sampler) => sampler.radiance(&frame, wo),
+                };
             });
         },
     );

@@ -46,7 +46,7 @@ fn anisotropic_dbrdf_is_sampled_and_matches_the_converged_reference() {
     eprintln!("city: lindt-paper filtered importance sampling rel RMSE {e:.5}");
     assert!(e < 0.02, "rel RMSE {e}");
     assert!(e0 > 0.05, "the sampled term adds too little ({e0})");
-    let term = s.environment.reflection_table().expect("a reflection term");
+    let term = s.environment.reflection_term().expect("a reflection term");
     assert_eq!(
         term.path(),
         brdfkit::env::reflection::ReflectionPath::FilteredSampling

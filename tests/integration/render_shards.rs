@@ -182,6 +182,25 @@ fn merge_refuses_missing_duplicated_and_foreign_shards() {
         &["a2of4.exr", "another split"],
     );
     refused(&["a0.exr", "plain.exr"], &["plain.exr", "not a shard"]);
+    // The parts carry the scene and its size: a flag that would change them is refused,
+    // not ignored.
+    for flag in [
+        &["--width", "64"][..],
+        &["--material", "teal-paint"],
+        &["--mesh", "sphere"],
+    ] {
+        let mut args = vec!["render", "--merge", "a0.exr", "a1.exr", "a2.exr"];
+        args.extend(flag);
+        args.extend(["-o", "out.exr"]);
+        let r = cli.run(&args);
+        assert_eq!(r.code, Some(2), "{flag:?}: {}", r.stderr);
+        assert!(
+            r.stderr.lines().next().is_some_and(|l| l.contains(flag[0])),
+            "{flag:?}: {}",
+            r.stderr
+        );
+        assert!(!d.path().join("out.exr").exists(), "{flag:?} wrote out.exr");
+    }
     // The three right parts merge (the refusals above were the faults').
     let r = cli.run(&[
         "render", "--merge", "a0.exr", "a1.exr", "a2.exr", "-o", "out.exr",

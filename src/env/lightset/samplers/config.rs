@@ -64,7 +64,9 @@ impl SamplerConfig {
             SamplerConfig::Uniform { seed, .. }
             | SamplerConfig::Importance { seed, .. }
             | SamplerConfig::Stratified { seed, .. } => Some(seed),
-            _ => None,
+            SamplerConfig::MedianCut { .. } | SamplerConfig::Lloyd { .. } | SamplerConfig::Full => {
+                None
+            }
         }
     }
 
@@ -103,7 +105,10 @@ impl SamplerConfig {
         match self {
             SamplerConfig::Lloyd { .. } => "iterations",
             SamplerConfig::MedianCut { .. } => "levels",
-            _ => "passes",
+            SamplerConfig::Uniform { .. }
+            | SamplerConfig::Importance { .. }
+            | SamplerConfig::Stratified { .. }
+            | SamplerConfig::Full => "passes",
         }
     }
 
@@ -116,7 +121,11 @@ impl SamplerConfig {
         h.write_u64(self.seed().unwrap_or(u64::MAX));
         let iters = match *self {
             SamplerConfig::Lloyd { iterations, .. } => iterations as u64,
-            _ => u64::MAX,
+            SamplerConfig::Uniform { .. }
+            | SamplerConfig::Importance { .. }
+            | SamplerConfig::Stratified { .. }
+            | SamplerConfig::MedianCut { .. }
+            | SamplerConfig::Full => u64::MAX,
         };
         h.write_u64(iters);
     }
