@@ -99,8 +99,8 @@ const REFLECTION_LOOKUP_ITERATIONS: u32 = 4 * 2 * 3 * (1 + 5) + 4 + 4;
 impl Uploads {
     /// The light ranges `[begin, end)` of the passes: each pass's loop iterations (the SH
     /// coefficient lookup, the transfer table's dot and the reflection table's lookup per
-    /// pixel, then per light the light
-    /// loop and the SH recurrence's `bands + bands (bands + 1) / 2`) within
+    /// pixel, then per light the light loop and the SH recurrence's
+    /// `bands + bands (bands + 1) / 2`) within
     /// [`LOOP_ITERATIONS_PER_PASS`]; one empty pass for no lights.
     pub fn light_passes(&self) -> Vec<(u32, u32)> {
         if self.aov {
