@@ -8,9 +8,11 @@
 //!
 //! The environment method is chosen before the device is opened: under `[env] method =
 //! "auto"`, `render --device gpu` asks [`crate::scene::env_method::choose`] for a method the
-//! GPU runs (never light cuts or a reflection table), so `gpu` refuses those only when the
-//! scene states them. `--device auto` keeps the CPU's choice, and falls back to the CPU
-//! when that is one of them.
+//! GPU runs (never light cuts), so `gpu` refuses light cuts only when the scene states
+//! them. `--device auto` keeps the CPU's choice, and falls back to the CPU when that is
+//! light cuts. A stated `method = "reflection"` runs on the GPU for isotropic materials;
+//! for an anisotropic D-BRDF (filtered importance sampling) `gpu` refuses it once the term
+//! is prepared.
 
 use crate::aov::Aov;
 use crate::error::{Error, Result};

@@ -18,13 +18,19 @@
 //!   material tables;
 //! - `diffuse-no-inv-pi`: the Lambert term `albedo / pi` written `albedo` (the Lambert model
 //!   and the Lambert base of Lambert + D-BRDF, the other models keep theirs);
+//! - `reflection-psi-sign`: the reflection table (`shaders/reflection.wgsl`) read at `-psi`:
+//!   the normal's angle about the reflected direction measured from the chart's tangent
+//!   `t` towards `t x r` instead of `b = r x t` (a port that crosses in the other order),
+//!   which flips the sign of the series' `sin psi` and `sin 2 psi` terms;
 //!
 //! And, applied to what is uploaded (src/gpu/upload.rs calls [`Faults::apply_to_uploads`]):
 //! - `sh-sign`: one SH coefficient's sign flipped (`l = 5, m = -3`, in every texel and
 //!   colour: data sets of 6 bands or more);
-//! - `f16-tables`: the material and transfer tables stored as f16 (rounded to nearest);
+//! - `f16-tables`: the material table and the environment's table (transfer or reflection)
+//!   stored as f16 (rounded to nearest);
 //! - `last-light-dropped`: the last delta light of the set left out;
-//! - `rotation-sign`: the transfer table's probe rotation applied with the wrong sign.
+//! - `rotation-sign`: the environment table's probe rotation (transfer or reflection)
+//!   applied with the wrong sign.
 //!
 //! A GPU port that prepares the probe itself would add the pole row's solid angle; this
 //! build receives light sets and transfer tables from the CPU, so that mistake has no place
@@ -40,7 +46,7 @@ impl Faults {
     /// No fault: the correct renderer.
     pub const NONE: Faults = Faults(0);
     /// Every fault by name, with its shader bit.
-    pub const ALL: [(&'static str, u32); 12] = [
+    pub const ALL: [(&'static str, u32); 13] = [
         ("half-texel", 1),
         ("no-cosine", 2),
         ("mirrored-azimuth", 4),
@@ -53,6 +59,7 @@ impl Faults {
         ("f16-tables", 512),
         ("last-light-dropped", 1024),
         ("rotation-sign", 2048),
+        ("reflection-psi-sign", 4096),
     ];
     const SH_SIGN: u32 = 256;
     const F16_TABLES: u32 = 512;
@@ -82,8 +89,9 @@ pub struct UploadedTables<'a> {
     pub material: &'a mut [f32],
     pub sh_terms: usize,
     pub material_is_sh: bool,
-    /// The transfer table's values and its probe rotation (radians).
-    pub transfer: &'a mut [f32],
+    /// The environment's table (the transfer or the reflection table's values; one zero
+    /// without one) and its probe rotation (radians).
+    pub env_table: &'a mut [f32],
     pub rotation: &'a mut f32,
     /// The number of delta lights the shader sums.
     pub light_count: &'a mut u32,
@@ -104,7 +112,7 @@ impl Faults {
             }
         }
         if self.has(Self::F16_TABLES) {
-            for v in t.material.iter_mut().chain(t.transfer.iter_mut()) {
+            for v in t.material.iter_mut().chain(t.env_table.iter_mut()) {
                 *v = half::f16::from_f32(*v).to_f32();
             }
         }

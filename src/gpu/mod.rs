@@ -16,12 +16,16 @@
 //! Layout, one concept per file:
 //! - `adapter.rs`: finding an adapter, opening a device with the adapter's own limits;
 //! - `upload.rs`: the scene packed into GPU buffers (uniforms, vertices, lights, the
-//!   material's table, the environment's transfer table) and checked against those limits;
+//!   material's table, the environment's transfer table or reflection-space table) and
+//!   checked against those limits;
 //! - `shaders/*.wgsl`: conventions (frame, angles, GL texel filtering), BRDF models, real
 //!   SH, the frame (vertex and fragment entry points), and the transfer table's term
 //!   (`transfer.wgsl`: `T` bilinear at the pixel's normal on the grid of
 //!   [`crate::env::transfer`], dotted with the coefficients the fragment looked up at its
-//!   view);
+//!   view), and the reflection table's term (`reflection.wgsl`: the lobes' Fourier series in
+//!   psi bilinear over the octahedral vertices around the reflected direction and linear
+//!   between the view-angle slices, each vertex's psi in its own chart, plus the diffuse
+//!   term bilinear at the normal, all in the probe's frame; [`crate::env::reflection`]);
 //! - `pipeline.rs`: the shader assembled, the render pipeline, one draw;
 //! - `readback.rs`: the float render target copied back into an [`Image`];
 //! - `fault.rs`: the seeded faults that show the golden check catches a broken port.
@@ -30,11 +34,14 @@
 //! coefficient lookup), D-BRDF and Lambert + D-BRDF, under point and directional lights and
 //! delta-light sets from probes (`[env] method = "lights"`), and SH data sets and Lambert
 //! under transfer tables (`[env] method = "transfer"`: the table's term per pixel, once,
-//! plus its brightest texels, which are in the scene's lights), on the f32 path. It also
-//! writes the debug outputs of [`crate::aov`] but `coverage`. Not: Ashikhmin-Shirley, MERL
-//! tables, and `[env] method = "lightcuts"` (an adaptive cut of a light tree refined per
-//! pixel; on a GPU use `transfer` or a light set); [`unsupported`] names the reason, which
-//! callers report.
+//! plus its brightest texels, which are in the scene's lights), and the isotropic models
+//! among them (Blinn-Phong, Phong, isotropic D-BRDFs) under reflection-space tables
+//! (`[env] method = "reflection"`, the table path: its term per pixel, once, plus its
+//! exact lights), on the f32 path. It also writes the debug outputs of [`crate::aov`] but
+//! `coverage`. Not: Ashikhmin-Shirley, MERL tables, `[env] method = "lightcuts"` (an
+//! adaptive cut of a light tree refined per pixel; on a GPU use `transfer` or a light set),
+//! and the reflection method's filtered importance sampling of anisotropic D-BRDFs;
+//! [`unsupported`] names the reason, which callers report.
 
 mod adapter;
 mod fault;

@@ -22,12 +22,13 @@ pub(super) const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba3
 /// The WGSL source for a material with `sh_terms` SH terms per colour.
 pub(super) fn shader_source(sh_terms: u32) -> String {
     format!(
-        "const SH_TERMS: u32 = {sh_terms}u;\n{}\n{}\n{}\n{}\n{}",
+        "const SH_TERMS: u32 = {sh_terms}u;\n{}\n{}\n{}\n{}\n{}\n{}",
         include_str!("shaders/conventions.wgsl"),
         include_str!("shaders/brdf.wgsl"),
         include_str!("shaders/sh.wgsl"),
         include_str!("shaders/frame.wgsl"),
         include_str!("shaders/transfer.wgsl"),
+        include_str!("shaders/reflection.wgsl"),
     )
 }
 
@@ -59,6 +60,16 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
             },
             wgpu::BindGroupLayoutEntry {
                 binding: 5,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
                 visibility: wgpu::ShaderStages::FRAGMENT,
                 ty: wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Storage { read_only: true },
@@ -187,6 +198,10 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
                 wgpu::BindGroupEntry {
                     binding: 5,
                     resource: up.transfer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: up.reflection.as_entire_binding(),
                 },
             ],
         });

@@ -1,15 +1,20 @@
 //! The scene packed for the GPU: one uniform block (camera, exact sphere, material
 //! parameters, counts, faults), the interleaved vertices and the indices, the delta lights,
 //! the material's table (SH coefficients or the D-BRDF's `p(h)`) and the environment's
-//! transfer table, each checked against the adapter's limits before anything is allocated.
+//! transfer table or reflection-space table, each checked against the adapter's limits
+//! before anything is allocated.
 //!
 //! The layouts match `shaders/frame.wgsl` (`Frame`, `Light`); the SH coefficient table keeps
 //! the data set's own layout `coeffs[((j nu + i) 3 + c) T + k]` ([`crate::sh::dataset`]),
 //! the transfer table its own `values[((j nu + i) 3 + c) terms + k]`
-//! ([`crate::env::transfer::TransferTable`], read by `shaders/transfer.wgsl`).
+//! ([`crate::env::transfer::TransferTable`], read by `shaders/transfer.wgsl`), the
+//! reflection table its own, lobes' series then diffuse term
+//! ([`crate::env::reflection::ReflectionTable`], read by `shaders/reflection.wgsl`).
 
 use super::{Faults, Gpu};
 use crate::aov::Aov;
+use crate::env::reflection::table::lobe_value_count;
+use crate::env::reflection::ReflectionTerm;
 use crate::error::Result;
 use crate::light::Light;
 use crate::material::Material;
@@ -37,6 +42,8 @@ pub(super) struct FrameUniform {
     aov: [u32; 4],
     xfer: [u32; 4],
     xfer_rot: [f32; 4],
+    refl: [u32; 4],
+    refl_rot: [f32; 4],
 }
 
 /// The `Light` of `shaders/frame.wgsl`.
@@ -59,6 +66,10 @@ pub(super) struct Uploads {
     pub transfer: wgpu::Buffer,
     /// Terms per colour of the transfer table (0: none).
     pub transfer_terms: u32,
+    /// The reflection-space table's values (one zero when the scene has none).
+    pub reflection: wgpu::Buffer,
+    /// Whether the scene has a reflection-space table (its lookup's loops count per pixel).
+    pub has_reflection: bool,
     /// Terms per colour of the SH data set (bands^2), 1 for other materials: the size of the
     /// shader's per-pixel coefficient array.
     pub sh_terms: u32,
@@ -81,10 +92,15 @@ pub(super) struct Uploads {
 /// for this.
 pub(super) const LOOP_ITERATIONS_PER_PASS: u32 = 16_000;
 
+/// Loop iterations of one reflection-table lookup (`shaders/reflection.wgsl`): four
+/// vertices, two slices, three colours, five coefficients, and the diffuse term's four.
+const REFLECTION_LOOKUP_ITERATIONS: u32 = 4 * 2 * 3 * (1 + 5) + 4 + 4;
+
 impl Uploads {
     /// The light ranges `[begin, end)` of the passes: each pass's loop iterations (the SH
-    /// coefficient lookup and the transfer table's dot per pixel, then per light the light
-    /// loop and the SH recurrence's `bands + bands (bands + 1) / 2`) within
+    /// coefficient lookup, the transfer table's dot and the reflection table's lookup per
+    /// pixel, then per light the light loop and the SH recurrence's
+    /// `bands + bands (bands + 1) / 2`) within
     /// [`LOOP_ITERATIONS_PER_PASS`]; one empty pass for no lights.
     pub fn light_passes(&self) -> Vec<(u32, u32)> {
         if self.aov {
@@ -92,9 +108,15 @@ impl Uploads {
         }
         let b = self.sh_bands;
         let per_light = 1 + b + b * (b + 1) / 2;
-        // The SH coefficient lookup, and the transfer table's dot (first pass only, but
-        // counted for every pass to keep one bound).
-        let per_pixel = if b > 0 { self.sh_terms } else { 0 } + self.transfer_terms;
+        // The SH coefficient lookup, the transfer table's dot and the reflection table's
+        // lookup (first pass only, but counted for every pass to keep one bound).
+        let per_pixel = if b > 0 { self.sh_terms } else { 0 }
+            + self.transfer_terms
+            + if self.has_reflection {
+                REFLECTION_LOOKUP_ITERATIONS
+            } else {
+                0
+            };
         let per_pass = (LOOP_ITERATIONS_PER_PASS.saturating_sub(per_pixel) / per_light).max(1);
         let mut out = Vec::new();
         let mut begin = 0;
@@ -143,12 +165,12 @@ impl Uploads {
                 side as u64,
             ));
         }
-        // Lights, material table, transfer table.
-        if lim.max_storage_buffers_per_shader_stage < 3 {
+        // Lights, material table, transfer table, reflection table.
+        if lim.max_storage_buffers_per_shader_stage < 4 {
             return Err(gpu.over_limit(
                 "the fragment shader",
                 "max_storage_buffers_per_shader_stage",
-                3,
+                4,
                 lim.max_storage_buffers_per_shader_stage as u64,
             ));
         }
@@ -268,18 +290,44 @@ impl Uploads {
         } else if rule.mesh_tangent {
             xfer_rot[3] = 2.0;
         }
-        if transfer.is_empty() {
-            transfer.push(0.0);
-        }
+        // The reflection-space table (an isotropic material's: the filtered path of an
+        // anisotropic D-BRDF is refused by gpu::unsupported).
+        let (refl, mut refl_rot, mut reflection) = match scene.environment.reflection_table() {
+            Some(term) => match term.as_ref() {
+                ReflectionTerm::Table(t) => (
+                    [
+                        t.grid() as u32,
+                        t.slices() as u32,
+                        lobe_value_count(t.grid(), t.slices()) as u32,
+                        1,
+                    ],
+                    [t.rotation(), 0.0, 0.0, 0.0],
+                    t.values().to_vec(),
+                ),
+                ReflectionTerm::Filtered(_) => unreachable!("refused by gpu::unsupported"),
+            },
+            None => ([0; 4], [0.0; 4], Vec::new()),
+        };
         let mut light_count = light_count;
+        // A scene has one environment table at most: the faults apply to that one.
+        let (env_table, rotation) = if refl[3] == 1 {
+            (&mut reflection, &mut refl_rot[0])
+        } else {
+            (&mut transfer, &mut xfer_rot[0])
+        };
         faults.apply_to_uploads(super::fault::UploadedTables {
             material: &mut table,
             sh_terms: sh_terms as usize,
             material_is_sh: kind == 3,
-            transfer: &mut transfer,
-            rotation: &mut xfer_rot[0],
+            env_table,
+            rotation,
             light_count: &mut light_count,
         });
+        for t in [&mut transfer, &mut reflection] {
+            if t.is_empty() {
+                t.push(0.0);
+            }
+        }
 
         let frame = FrameUniform {
             clip_from_world: clip_from_world.to_cols_array_2d(),
@@ -296,6 +344,8 @@ impl Uploads {
             aov: [aov_code(aov), 0, 0, 0],
             xfer,
             xfer_rot,
+            refl,
+            refl_rot,
         };
 
         let mesh = &scene.mesh;
@@ -324,6 +374,10 @@ impl Uploads {
             (
                 "the transfer table",
                 std::mem::size_of_val(transfer.as_slice()) as u64,
+            ),
+            (
+                "the reflection table",
+                std::mem::size_of_val(reflection.as_slice()) as u64,
             ),
         ] {
             if bytes > storage {
@@ -368,6 +422,8 @@ impl Uploads {
             table: buffer("table", bytemuck::cast_slice(&table), U::STORAGE),
             transfer: buffer("transfer", bytemuck::cast_slice(&transfer), U::STORAGE),
             transfer_terms: xfer[2],
+            reflection: buffer("reflection", bytemuck::cast_slice(&reflection), U::STORAGE),
+            has_reflection: refl[3] == 1,
             sh_terms,
             width,
             height,

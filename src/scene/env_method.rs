@@ -31,10 +31,10 @@
 //! its method is then `lights` ([`super::SceneFile::parse`]; a stated `method = "auto"`
 //! stays auto); so do `--sampler` and `--lights` on the command line.
 //!
-//! On the GPU renderer (`brdfkit render --device gpu`, `crate::gpu`), which runs light sets
-//! and transfer tables but neither light cuts nor reflection tables, `auto` keeps
-//! `transfer` and gives the materials whose CPU choice is `lightcuts` or `reflection` the
-//! best light set of that sweep instead:
+//! On the GPU renderer (`brdfkit render --device gpu`, `crate::gpu`), which runs light sets,
+//! transfer tables and reflection tables (the table path of isotropic materials) but not
+//! light cuts, `auto` keeps `transfer` and gives the materials whose CPU choice is
+//! `lightcuts` the best light set of that sweep instead:
 //! [`GPU_AUTO_LIGHTS`] lights by Lloyd (the rendering default sampler), the only light set
 //! of the table under the RMSE bound for every glossy row; its 99th percentile is over
 //! the bound (highlights show the lights as spots), which the line [`choose`] returns
@@ -57,20 +57,24 @@ pub const LIGHTCUTS_NOT_ON_GPU: &str =
     "[env] method = \"lightcuts\" refines an adaptive cut of a light tree per pixel, which \
      the GPU path does not do; on a GPU use \"transfer\" or a light set (\"lights\")";
 
-/// Why the GPU renderer does not draw `[env] method = "reflection"` (no WGSL lookup of the
-/// table yet).
-pub const REFLECTION_NOT_ON_GPU: &str =
-    "[env] method = \"reflection\" looks up a reflection-space table the GPU path does not \
-     have yet; on a GPU use \"transfer\" or a light set (\"lights\")";
+/// Why the GPU renderer does not draw `[env] method = "reflection"` for an anisotropic
+/// D-BRDF: its path is filtered importance sampling of the residual probe's pyramid, a loop
+/// of samples per pixel that only the CPU runs (the table path of isotropic materials is on
+/// the GPU). Said by [`super::Environment::gpu_unsupported`] once the term is prepared.
+pub const REFLECTION_FILTERED_NOT_ON_GPU: &str =
+    "[env] method = \"reflection\" shades an anisotropic D-BRDF by filtered importance \
+     sampling, which the GPU path does not do (it looks up the table of isotropic materials \
+     only); on a GPU use \"transfer\" or a light set (\"lights\")";
 
-/// Why the GPU renderer does not draw `method`, or `None` when it does: light sets and
-/// transfer tables, and `auto` (which [`choose`] makes a light set where the CPU would cut a
-/// light tree). [`super::Environment::gpu_unsupported`] says the same of a built one.
+/// Why the GPU renderer does not draw `method`, or `None` when it does: light sets,
+/// transfer tables, reflection tables, and `auto` (which [`choose`] makes a light set where
+/// the CPU would cut a light tree). [`super::Environment::gpu_unsupported`] says the same
+/// of a built one, and also refuses the reflection method's filtered path
+/// ([`REFLECTION_FILTERED_NOT_ON_GPU`]), which depends on the material.
 pub fn gpu_unsupported(method: EnvMethod) -> Option<&'static str> {
     match method {
-        EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer => None,
+        EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer | EnvMethod::Reflection => None,
         EnvMethod::Lightcuts => Some(LIGHTCUTS_NOT_ON_GPU),
-        EnvMethod::Reflection => Some(REFLECTION_NOT_ON_GPU),
     }
 }
 
@@ -192,7 +196,7 @@ impl EnvMethod {
 pub enum Renderer {
     /// The CPU renderer: every method.
     Cpu,
-    /// The wgpu renderer: light sets and transfer tables, no light cuts.
+    /// The wgpu renderer: light sets, transfer tables and reflection tables, no light cuts.
     Gpu,
 }
 

@@ -16,7 +16,7 @@
 //! that depends on what a method prepared, so the compiler's list for a new method stays
 //! in this file (and env_method.rs, for the answers before anything is built).
 
-use super::env_method::gpu_unsupported;
+use super::env_method::{gpu_unsupported, REFLECTION_FILTERED_NOT_ON_GPU};
 use crate::conventions::rotate_about_up;
 use crate::env::lightcuts::{prepare_lightcuts, LightCuts, LightTree, TileFault};
 use crate::env::lightset::prepare::{self, CacheDir};
@@ -151,11 +151,21 @@ impl Environment {
         self.method().map_or("none", EnvMethod::name)
     }
 
-    /// Why the GPU build does not draw this environment, or `None` when it does (light sets
-    /// and transfer tables; [`gpu_unsupported`] says it of an `[env] method` before anything
-    /// is built).
+    /// Why the GPU build does not draw this environment, or `None` when it does (light sets,
+    /// transfer tables and reflection tables; [`gpu_unsupported`] says it of an `[env]
+    /// method` before anything is built). A reflection term prepared on the filtered path
+    /// (an anisotropic D-BRDF) is refused with [`REFLECTION_FILTERED_NOT_ON_GPU`].
     pub fn gpu_unsupported(&self) -> Option<&'static str> {
-        self.method().and_then(gpu_unsupported)
+        match self {
+            Environment::Reflection { table, .. } => match table.as_ref() {
+                ReflectionTerm::Table(_) => None,
+                ReflectionTerm::Filtered(_) => Some(REFLECTION_FILTERED_NOT_ON_GPU),
+            },
+            Environment::None
+            | Environment::Lights(_)
+            | Environment::Transfer { .. }
+            | Environment::LightCuts(_) => self.method().and_then(gpu_unsupported),
+        }
     }
 
     /// Why a scene with this environment and no light of its own has no list of lights to

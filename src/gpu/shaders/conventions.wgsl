@@ -17,6 +17,7 @@ const FAULT_GAIN: u32 = 32u;
 const FAULT_NEAREST_AZIMUTH: u32 = 64u;
 const FAULT_DIFFUSE_NO_INV_PI: u32 = 128u;
 // Bits 256-2048 are faults of the uploaded data (src/gpu/fault.rs), not tested here.
+const FAULT_REFLECTION_PSI_SIGN: u32 = 4096u;
 
 fn has_fault(bit: u32) -> bool {
     return (frame.ints.z & bit) != 0u;

@@ -33,6 +33,11 @@ struct Frame {
     // sine are y and z; w = 2 for the mesh's tangent (anisotropic materials, "Frame of
     // anisotropic materials"); w = 0 for the world-up frame.
     xfer_rot: vec4<f32>,
+    // The reflection-space table (reflection.wgsl): grid cells per side, uniform view
+    // slices, the index of its diffuse term, 1 when there is one.
+    refl: vec4<u32>,
+    // x: the reflection table's probe rotation about +y, radians.
+    refl_rot: vec4<f32>,
 }
 
 // Debug outputs (thesis Figs. 3.1-3.3; src/aov.rs documents each): the shading normal, the
@@ -201,6 +206,12 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     if pass_info.z == 1u && frame.xfer.w == 1u {
         // The environment's transfer term, once per pixel (transfer.wgsl).
         radiance = transfer_radiance(n, dot(sf.t, sf_up.t), dot(sf.t, sf_up.b));
+    }
+    if pass_info.z == 1u && frame.refl.w == 1u {
+        // The environment's reflection-table term, once per pixel (reflection.wgsl), at the
+        // view lifted above the horizon in the world-up frame (the table is isotropic).
+        let wl = lift_above_horizon(to_local(sf_up, v));
+        radiance = radiance + reflection_radiance(n, wl.x * sf_up.t + wl.y * sf_up.b + wl.z * sf_up.n);
     }
     // This pass's lights (src/gpu/pipeline.rs splits the light set over passes).
     for (var i = pass_info.x; i < pass_info.y; i = i + 1u) {
