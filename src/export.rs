@@ -115,7 +115,7 @@ pub fn export(scene_path: &Path, dir: &Path, aov: Option<Aov>) -> Result<Exporte
         .is_some_and(|e| e.method == EnvMethod::Auto);
     file.resolve_env_method();
     // Export writes delta lights, or a transfer table and its exact lights; a light tree
-    // is neither.
+    // and a reflection-space table are neither.
     let refused = file
         .env
         .as_ref()
@@ -123,15 +123,19 @@ pub fn export(scene_path: &Path, dir: &Path, aov: Option<Aov>) -> Result<Exporte
     if let Some(env) = refused {
         let why = if auto {
             format!(
-                "env.method: \"auto\" is \"{}\" for this material, and export writes delta \
-                 lights or a transfer table; a light tree is neither (state method = \
-                 \"lights\" with a sampler and count, or \"transfer\")",
-                env.method.name()
+                "env.method: \"auto\" is \"{}\" for this material ({}), and export writes \
+                 delta lights or a transfer table (state method = \"lights\" with a sampler \
+                 and count, or \"transfer\")",
+                env.method.name(),
+                env.method.prepares()
             )
         } else {
-            "env.method: export writes delta lights or a transfer table; a light tree is \
-             neither (use method = \"lights\" or \"transfer\")"
-                .to_string()
+            format!(
+                "env.method: export writes delta lights or a transfer table, and \"{}\" is \
+                 {} (use method = \"lights\" or \"transfer\")",
+                env.method.name(),
+                env.method.prepares()
+            )
         };
         return Err(Error::format(scene_path, why));
     }

@@ -292,7 +292,7 @@ impl Uploads {
         }
         // The reflection-space table (an isotropic material's: the filtered path of an
         // anisotropic D-BRDF is refused by gpu::unsupported).
-        let (refl, mut refl_rot, mut reflection) = match scene.environment.reflection_table() {
+        let (refl, mut refl_rot, mut reflection) = match scene.environment.reflection_term() {
             Some(term) => match term.as_ref() {
                 ReflectionTerm::Table(t) => (
                     [

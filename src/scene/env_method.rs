@@ -79,8 +79,8 @@ pub fn gpu_unsupported(method: EnvMethod) -> Option<&'static str> {
 }
 
 /// Whether `brdfkit export` refuses `method`: it writes delta lights (a light set) or a
-/// transfer table and its exact lights; a light tree is neither (`auto` is made concrete
-/// first).
+/// transfer table and its exact lights; a light tree and a reflection-space table are
+/// neither (`auto` is made concrete first).
 pub fn export_unsupported(method: EnvMethod) -> bool {
     match method {
         EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer => false,
@@ -102,6 +102,18 @@ impl EnvMethod {
             EnvMethod::Auto | EnvMethod::Lights | EnvMethod::Transfer | EnvMethod::Reflection => {
                 false
             }
+        }
+    }
+
+    /// What the method prepares from a probe, in a user's words (error messages):
+    /// `auto` is made concrete before anything asks.
+    pub fn prepares(self) -> &'static str {
+        match self {
+            EnvMethod::Lights => "a set of delta lights",
+            EnvMethod::Transfer => "a transfer table over normals and its exact lights",
+            EnvMethod::Lightcuts => "a light tree, cut per pixel",
+            EnvMethod::Reflection => "a reflection-space radiance table and its exact lights",
+            EnvMethod::Auto => "the method it chooses for the material",
         }
     }
 
