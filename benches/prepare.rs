@@ -20,12 +20,13 @@
 use brdfkit::env::lightcuts::prepare_lightcuts;
 use brdfkit::env::lightset::prepare::prepare;
 use brdfkit::env::probe::resample::upsample_bilinear;
+use brdfkit::env::reflection::prepare_reflection;
 use brdfkit::env::transfer::{prepare_transfer, TransferBasis};
 use brdfkit::env::{EnvMethod, EnvSpec, LoadOptions, Probe};
 use brdfkit::image_io::{write_exr, Image};
 use brdfkit::progress::Progress;
 use brdfkit::scene::{Scene, SceneFile};
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
 use glam::Vec3;
 use std::path::Path;
 use std::time::Duration;
@@ -57,6 +58,10 @@ fn prepare_rows(c: &mut Criterion) {
         .expect("the library's teal paint")
         .material;
     let basis = TransferBasis::for_material(&material).expect("an SH data set");
+    let blinn = SceneFile::parse("[material]\nkind = \"blinn-phong\"\n").expect("a scene file");
+    let blinn = Scene::resolve(&blinn, base)
+        .expect("the default Blinn-Phong")
+        .material;
     let mut g = c.benchmark_group("prepare");
     g.sample_size(10)
         .warm_up_time(Duration::from_millis(500))
@@ -78,6 +83,17 @@ fn prepare_rows(c: &mut Criterion) {
         g.bench_function(format!("lights/{size}"), |b| {
             b.iter(|| prepare(&lights, base, None).unwrap())
         });
+        // A bake takes seconds: the fewest samples criterion takes, one bake each.
+        let reflection = spec(EnvMethod::Reflection);
+        g.sampling_mode(SamplingMode::Flat)
+            .warm_up_time(Duration::from_millis(1));
+        g.bench_function(format!("reflection/{size}"), |b| {
+            b.iter(|| {
+                prepare_reflection(&reflection, base, &blinn, None, &Progress::hidden()).unwrap()
+            })
+        });
+        g.sampling_mode(SamplingMode::Auto)
+            .warm_up_time(Duration::from_millis(500));
     }
     g.finish();
 }
