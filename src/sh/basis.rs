@@ -1,5 +1,9 @@
 //! Real orthonormal spherical harmonics evaluated from a Cartesian direction by recurrence.
 //!
+//! (Past 400 lines because it is the one recurrence and the tests that pin it: the scalar
+//! evaluation, its lane form [`ShLanes`] that must keep its bits, and the independent
+//! reference both are checked against.)
+//!
 //! Design rule: one recurrence, written once (a macro instantiates it for `f32` and `f64`),
 //! with no trigonometry and no factorials: the thesis (Def. 11) writes
 //! `Y_l^m = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!) P_l^m(cos polar) e^{i m azimuth}`, whose
