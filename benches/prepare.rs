@@ -2,30 +2,54 @@
 //! costs (`brdfkit render --no-cache`), probe file read and decode included, no cache.
 //!
 //! Rows `prepare/<method>/<size>`: the transfer table (teal-paint, 8 bands, the default
-//! 128 x 65 grid and 64 exact texels), the light tree of light cuts, and the delta-light set
-//! of `method = "lights"` (the default sampler: Lloyd, 128 lights), each from the shipped
-//! city probe (512 x 256) and from city upsampled bilinearly to 4096 x 2048
-//! ([`upsample_bilinear`], written once to a temporary directory), the size people
-//! download. Ten samples a row (the big rows take seconds each).
+//! 128 x 65 grid and 64 exact texels), the light tree of light cuts, the delta-light set
+//! of `method = "lights"` (the default sampler: Lloyd, 128 lights), and the reflection table
+//! of the default Blinn-Phong (`kind = "blinn-phong"`, exponent 60; the default 64 x 64
+//! cells, 13 + 1 slices, 64 exact lights), each from the shipped city probe (512 x 256) and
+//! from city upsampled bilinearly to 4096 x 2048 ([`upsample_bilinear`], written once to a
+//! temporary directory), the size people download. Ten samples a row (the big rows take
+//! seconds each; a reflection bake one per sample, flat sampling, no warm-up to speak of).
 //!
 //! ```sh
 //! cargo bench --bench prepare -- --noplot
+//! cargo bench --bench prepare -- --noplot 'prepare/transfer'
 //! ```
 //!
-//! Measured (2026-12-03, 2 cores shared with other builds, load average 5-8): transfer
-//! 3.29 s (512 x 256) and 4.43 s (4096 x 2048); light cuts 0.119 s and 8.51 s; lights
-//! 0.467 s and 2.17 s. At 512 x 256 the transfer table is projected texel by texel (the
-//! shipped probes keep their bits): its SH weights and per-row multiply-adds bound it.
+//! Measured (2026-12-04, 2 cores shared with two other sessions' builds, load average
+//! 3.3-4.1; wall times move by 2x with the load, so the transfer rows come from one
+//! interleaved run, the bench binary before and after the transfer build's rework, before,
+//! after, before, after):
+//!
+//! | row | before | after | before | after |
+//! |---|---|---|---|---|
+//! | transfer/512x256 | 3.01 s | 1.68 s | 2.98 s | 0.842 s |
+//! | transfer/4096x2048 | 3.30 s | 1.92 s | 1.79 s | 1.75 s |
+//!
+//! The transfer table keeps its bits (the golden images under `method = "transfer"`): the
+//! same f64 operations in the same order, fewer repeated ones (the SH recurrence's
+//! constants once per build, four columns per recurrence on vectorised lanes, the
+//! multiply-adds on split real and imaginary arrays). What bounds it now: the
+//! `65 x 256 x 32` FFTs of 512 points (a third of the profile) and the
+//! `3 x 64 x 257` complex multiply-adds per table row and probe row.
+//!
+//! The other rows, one run after (load average 3.6-4.1): light cuts 91.7 ms (512 x 256)
+//! and 4.91 s (4096 x 2048); lights 333 ms and 1.48 s; reflection 9.87 s and 15.3 s.
+//! Peak memory of `brdfkit render --env PROBE [--material teal-paint] --env-method METHOD
+//! --no-cache --width 320 --height 240` (`/usr/bin/time -v`, the 4096 x 2048 probe from
+//! `cargo run --release --example upsample_probe -- assets/probes/city.exr DIR 4096`):
+//! transfer 242 MB, light cuts 943 MB, reflection 555 MB (1087 MB before its full-resolution
+//! reference stopped copying the residual); at 512 x 256, transfer 85 MB, reflection 73 MB.
 
 use brdfkit::env::lightcuts::prepare_lightcuts;
 use brdfkit::env::lightset::prepare::prepare;
 use brdfkit::env::probe::resample::upsample_bilinear;
+use brdfkit::env::reflection::prepare_reflection;
 use brdfkit::env::transfer::{prepare_transfer, TransferBasis};
 use brdfkit::env::{EnvMethod, EnvSpec, LoadOptions, Probe};
 use brdfkit::image_io::{write_exr, Image};
 use brdfkit::progress::Progress;
 use brdfkit::scene::{Scene, SceneFile};
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
 use glam::Vec3;
 use std::path::Path;
 use std::time::Duration;
@@ -57,6 +81,10 @@ fn prepare_rows(c: &mut Criterion) {
         .expect("the library's teal paint")
         .material;
     let basis = TransferBasis::for_material(&material).expect("an SH data set");
+    let blinn = SceneFile::parse("[material]\nkind = \"blinn-phong\"\n").expect("a scene file");
+    let blinn = Scene::resolve(&blinn, base)
+        .expect("the default Blinn-Phong")
+        .material;
     let mut g = c.benchmark_group("prepare");
     g.sample_size(10)
         .warm_up_time(Duration::from_millis(500))
@@ -78,6 +106,17 @@ fn prepare_rows(c: &mut Criterion) {
         g.bench_function(format!("lights/{size}"), |b| {
             b.iter(|| prepare(&lights, base, None).unwrap())
         });
+        // A bake takes seconds: the fewest samples criterion takes, one bake each.
+        let reflection = spec(EnvMethod::Reflection);
+        g.sampling_mode(SamplingMode::Flat)
+            .warm_up_time(Duration::from_millis(1));
+        g.bench_function(format!("reflection/{size}"), |b| {
+            b.iter(|| {
+                prepare_reflection(&reflection, base, &blinn, None, &Progress::hidden()).unwrap()
+            })
+        });
+        g.sampling_mode(SamplingMode::Auto)
+            .warm_up_time(Duration::from_millis(500));
     }
     g.finish();
 }

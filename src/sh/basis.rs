@@ -1,5 +1,9 @@
 //! Real orthonormal spherical harmonics evaluated from a Cartesian direction by recurrence.
 //!
+//! (Past 400 lines because it is the one recurrence and the tests that pin it: the scalar
+//! evaluation, its lane form [`ShLanes`] that must keep its bits, and the independent
+//! reference both are checked against.)
+//!
 //! Design rule: one recurrence, written once (a macro instantiates it for `f32` and `f64`),
 //! with no trigonometry and no factorials: the thesis (Def. 11) writes
 //! `Y_l^m = sqrt((2l+1)/(4 pi) (l-m)!/(l+m)!) P_l^m(cos polar) e^{i m azimuth}`, whose
@@ -65,6 +69,33 @@ pub fn sh_lm(k: usize) -> (usize, i32) {
     (l, k as i32 - (l * l + l) as i32)
 }
 
+/// `sqrt((2m+1)/(2m))`, the step `Q_{m-1,m-1} -> Q_mm` (module doc, "Recurrence"), in f64
+/// (exact integers, one rounding per operation). `m >= 1`.
+#[inline]
+fn qmm_step(m: usize) -> f64 {
+    let mf = m as f64;
+    ((2.0 * mf + 1.0) / (2.0 * mf)).sqrt()
+}
+
+/// `sqrt(2m+3)`, the step `Q_mm -> Q_{m+1,m}` (module doc), in f64.
+#[inline]
+fn first_step(m: usize) -> f64 {
+    let mf = m as f64;
+    (2.0 * mf + 3.0).sqrt()
+}
+
+/// `[a_lm, b_lm]` of the three-term step `Q_lm = a_lm (z Q_{l-1,m} - b_lm Q_{l-2,m})`
+/// (module doc), in f64. `l >= m + 2`.
+#[inline]
+fn step_ab(l: usize, m: usize) -> [f64; 2] {
+    let lf = l as f64;
+    let mf = m as f64;
+    let a = ((4.0 * lf * lf - 1.0) / (lf * lf - mf * mf)).sqrt();
+    let lm1 = lf - 1.0;
+    let b = ((lm1 * lm1 - mf * mf) / (4.0 * lm1 * lm1 - 1.0)).sqrt();
+    [a, b]
+}
+
 macro_rules! sh_eval_impl {
     ($name:ident, $t:ty, $v:ty) => {
         /// Evaluates every real SH term of the bands `l < out.len().sqrt()` at the direction
@@ -97,8 +128,7 @@ macro_rules! sh_eval_impl {
             let (mut cm, mut sm): ($t, $t) = (one, 0.0);
             for m in 0..bands {
                 if m > 0 {
-                    let mf = m as f64;
-                    qmm *= ((2.0 * mf + 1.0) / (2.0 * mf)).sqrt() as $t;
+                    qmm *= qmm_step(m) as $t;
                     let c = x * cm - y * sm;
                     let s = x * sm + y * cm;
                     cm = c;
@@ -123,19 +153,14 @@ macro_rules! sh_eval_impl {
                 };
                 write(out, m, qmm);
                 if m + 1 < bands {
-                    let mf = m as f64;
-                    let q = (2.0 * mf + 3.0).sqrt() as $t * z * qmm;
+                    let q = first_step(m) as $t * z * qmm;
                     write(out, m + 1, q);
                     q_lm2 = qmm;
                     q_lm1 = q;
                 }
                 for l in (m + 2)..bands {
                     // Constants in f64 (exact integers, one rounding) then narrowed.
-                    let lf = l as f64;
-                    let mf = m as f64;
-                    let a = ((4.0 * lf * lf - 1.0) / (lf * lf - mf * mf)).sqrt() as $t;
-                    let lm1 = lf - 1.0;
-                    let b = ((lm1 * lm1 - mf * mf) / (4.0 * lm1 * lm1 - 1.0)).sqrt() as $t;
+                    let [a, b] = step_ab(l, m).map(|c| c as $t);
                     let q = a * (z * q_lm1 - b * q_lm2);
                     write(out, l, q);
                     q_lm2 = q_lm1;
@@ -149,6 +174,118 @@ macro_rules! sh_eval_impl {
 
 sh_eval_impl!(eval_sh_f32, f32, Vec3);
 sh_eval_impl!(eval_sh_f64, f64, DVec3);
+
+/// Number of directions [`ShLanes::eval`] evaluates at once.
+pub const SH_LANES: usize = 4;
+
+/// One value per lane, lane `i` the `i`-th of [`SH_LANES`] directions.
+pub type Lanes = [f64; SH_LANES];
+
+/// [`eval_sh_f64`] for [`SH_LANES`] directions at once, for loops that evaluate the basis
+/// millions of times (a transfer table's build, [`crate::env::transfer`]): the recurrence's
+/// constants computed once for a band count, and the recurrence (module doc) run on arrays
+/// of lanes, which the compiler vectorises. Each lane's value is [`eval_sh_f64`]'s, bit for
+/// bit: the same IEEE operations in the same order (the constants are the same f64
+/// expressions, evaluated once instead of per call); a test holds it to that.
+#[derive(Clone, Debug)]
+pub struct ShLanes {
+    bands: usize,
+    /// `qmm_step(m)` (index 0 unused) and `first_step(m)`, per `m`.
+    steps: Vec<[f64; 2]>,
+    /// `step_ab(l, m)` at `l * bands + m`, for `l >= m + 2`.
+    ab: Vec<[f64; 2]>,
+}
+
+impl ShLanes {
+    /// The constants for `bands` bands (`bands * bands` terms).
+    pub fn new(bands: usize) -> ShLanes {
+        let mut ab = vec![[0.0; 2]; bands * bands];
+        for m in 0..bands {
+            for l in (m + 2)..bands {
+                ab[l * bands + m] = step_ab(l, m);
+            }
+        }
+        ShLanes {
+            bands,
+            steps: (0..bands)
+                .map(|m| [if m > 0 { qmm_step(m) } else { 0.0 }, first_step(m)])
+                .collect(),
+            ab,
+        }
+    }
+
+    /// The band count.
+    pub fn bands(&self) -> usize {
+        self.bands
+    }
+
+    /// Writes `Y_k(d_i)` to `out[k][i]` for the directions `d_i = (x[i], y[i], z[i])`
+    /// (local shading frame, normalised inside, a zero or non-finite direction replaced by
+    /// +z, as [`eval_sh_f64`]). `out.len()` must be `bands * bands`.
+    #[inline]
+    pub fn eval(&self, x: Lanes, y: Lanes, z: Lanes, out: &mut [Lanes]) {
+        let bands = self.bands;
+        assert_eq!(
+            out.len(),
+            bands * bands,
+            "SH output lanes for {bands} bands"
+        );
+        if bands == 0 {
+            return;
+        }
+        #[inline(always)]
+        fn lanes(f: impl Fn(usize) -> f64) -> Lanes {
+            std::array::from_fn(f)
+        }
+        // DVec3::try_normalize: 1 / sqrt((x x + y y) + z z), kept when finite and positive.
+        let mut d = [[0.0; SH_LANES]; 3];
+        for i in 0..SH_LANES {
+            let rcp = 1.0 / ((x[i] * x[i] + y[i] * y[i]) + z[i] * z[i]).sqrt();
+            let unit = rcp.is_finite() && rcp > 0.0;
+            d[0][i] = if unit { x[i] * rcp } else { 0.0 };
+            d[1][i] = if unit { y[i] * rcp } else { 0.0 };
+            d[2][i] = if unit { z[i] * rcp } else { 1.0 };
+        }
+        let [x, y, z] = d;
+        let sqrt2 = std::f64::consts::SQRT_2;
+        let mut qmm: Lanes = [0.5 / std::f64::consts::PI.sqrt(); SH_LANES];
+        let (mut cm, mut sm): (Lanes, Lanes) = ([1.0; SH_LANES], [0.0; SH_LANES]);
+        for m in 0..bands {
+            let [step, first] = self.steps[m];
+            if m > 0 {
+                qmm = lanes(|i| qmm[i] * step);
+                let c = lanes(|i| x[i] * cm[i] - y[i] * sm[i]);
+                let s = lanes(|i| x[i] * sm[i] + y[i] * cm[i]);
+                cm = c;
+                sm = s;
+            }
+            let fc = lanes(|i| sqrt2 * cm[i]);
+            let fs = lanes(|i| sqrt2 * sm[i]);
+            let write = |out: &mut [Lanes], l: usize, q: Lanes| {
+                let base = l * l + l;
+                if m == 0 {
+                    out[base] = q;
+                } else {
+                    out[base + m] = lanes(|i| q[i] * fc[i]);
+                    out[base - m] = lanes(|i| q[i] * fs[i]);
+                }
+            };
+            write(out, m, qmm);
+            if m + 1 < bands {
+                let mut q_lm2 = qmm;
+                let mut q_lm1 = lanes(|i| first * z[i] * qmm[i]);
+                write(out, m + 1, q_lm1);
+                for l in (m + 2)..bands {
+                    let [a, b] = self.ab[l * bands + m];
+                    let q = lanes(|i| a * (z[i] * q_lm1[i] - b * q_lm2[i]));
+                    write(out, l, q);
+                    q_lm2 = q_lm1;
+                    q_lm1 = q;
+                }
+            }
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {
@@ -340,6 +477,34 @@ mod tests {
                     "<{i},{j}> = {}",
                     gram[i * n + j]
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn lanes_give_the_scalar_bits() {
+        let mut dirs = test_dirs();
+        dirs.extend([
+            DVec3::ZERO,
+            DVec3::new(f64::NAN, 0.0, 1.0),
+            DVec3::new(3.0, -2.0, 0.5),
+            DVec3::new(1e-200, 0.0, 0.0),
+        ]);
+        for bands in [0, 1, 2, 3, 8, 12] {
+            let lanes = ShLanes::new(bands);
+            let nt = bands * bands;
+            let (mut out, mut one) = (vec![[0.0; SH_LANES]; nt], vec![0.0; nt]);
+            for group in dirs.chunks(SH_LANES) {
+                let at = |f: fn(DVec3) -> f64| -> Lanes {
+                    std::array::from_fn(|i| group.get(i).map_or(0.0, |d| f(*d)))
+                };
+                lanes.eval(at(|d| d.x), at(|d| d.y), at(|d| d.z), &mut out);
+                for (i, d) in group.iter().enumerate() {
+                    eval_sh_f64(*d, &mut one);
+                    for k in 0..nt {
+                        assert_eq!(out[k][i].to_bits(), one[k].to_bits(), "{d} term {k}");
+                    }
+                }
             }
         }
     }

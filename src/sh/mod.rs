@@ -22,7 +22,7 @@ pub mod file;
 pub mod quadrature;
 pub mod rotate;
 
-pub use basis::{eval_sh_f32, eval_sh_f64, num_terms, sh_index, sh_lm};
+pub use basis::{eval_sh_f32, eval_sh_f64, num_terms, sh_index, sh_lm, ShLanes, SH_LANES};
 pub use dataset::{Lookup, ShBasisTable, ShDataError, ShDataset, MAX_BANDS};
 pub use file::{read_sh_dataset, write_sh_dataset, ShFileError};
 pub use rotate::rotate_about_z;

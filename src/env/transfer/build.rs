@@ -14,7 +14,8 @@
 //! `T_k(i, j) = sum_rows sum_cols L(row, col + s_i) Omega_row w_k(j, row, col)` with
 //! `w_k(j, row, col) = Y_k(local) [local.z > 0] [local.z if cosine]` the weights of node
 //! `(0, j)` (columns mod `W`). The weights are evaluated once per table row and probe row
-//! (`W x terms` values, the SH by [`crate::sh::basis::eval_sh_f64`]). Summed directly that is
+//! (`W x terms` values, the SH by [`crate::sh::basis::ShLanes`], four columns at once,
+//! `weights.rs`). Summed directly that is
 //! `nodes x texels above the horizon x 3 x terms` multiply-adds; but for one table row and
 //! one probe row the sum over columns is a circular correlation of the power row with the
 //! weight row, evaluated at the shifts `s_i`, so the build sums its transform instead
@@ -43,12 +44,12 @@
 //! the f64 sums differently in the last bits, far below the table's f32.)
 
 use super::table::TransferTable;
+use super::weights::RowWeights;
 use super::TransferBasis;
 use crate::conventions::{probe_direction, texel_center_f64};
 use crate::env::{luminance, LightSet, Probe};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
-use crate::sh::basis::eval_sh_f64;
 use glam::DVec3;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
@@ -361,6 +362,7 @@ pub(super) fn table_row_direct(
     dirs: &[DVec3],
     fault: BuildFault,
 ) -> Vec<f64> {
+    use crate::sh::basis::eval_sh_f64;
     let nt = basis.terms();
     let polar = std::f64::consts::PI * j as f64 / (nv - 1) as f64;
     let (sp, cp) = polar.sin_cos();
@@ -433,59 +435,15 @@ struct RowGeometry {
     h: usize,
 }
 
-/// The node `(0, j)`'s weights `w_k(j, row, col)` for every column of probe row `r`
-/// (module doc): `Y_k(local) [local.z > 0] [local.z if cosine]`, written to
-/// `weights[col * terms + k]` (zero below the horizon). Returns whether any column is
-/// above the horizon.
-fn row_weights(
-    j: usize,
-    nv: usize,
-    (w, r): (usize, usize),
-    basis: TransferBasis,
-    dirs: &[DVec3],
-    fault: BuildFault,
-    weights: &mut [f64],
-) -> bool {
-    let nt = basis.terms();
-    let polar = std::f64::consts::PI * j as f64 / (nv - 1) as f64;
-    let (sp, cp) = polar.sin_cos();
-    // Node (0, j): normal at probe azimuth 0 and its shading frame (parent module doc):
-    // n = (0, cos p, sin p), t = (0, sin p, -cos p), b = n x t = (-1, 0, 0).
-    let n = DVec3::new(0.0, cp, sp);
-    let t = DVec3::new(0.0, sp, -cp);
-    let b = n.cross(t);
-    let mut any = false;
-    for col in 0..w {
-        let d = dirs[r * w + col];
-        let local = DVec3::new(d.dot(t), d.dot(b), d.dot(n));
-        let wk = &mut weights[col * nt..(col + 1) * nt];
-        if !(local.z > 0.0) && fault != BuildFault::NoHemisphereClip {
-            wk.fill(0.0);
-            continue;
-        }
-        any = true;
-        match basis {
-            TransferBasis::Irradiance => wk[0] = local.z.max(0.0),
-            TransferBasis::Sh { cosine, .. } => {
-                eval_sh_f64(local, wk);
-                if cosine {
-                    for v in wk.iter_mut() {
-                        *v *= local.z;
-                    }
-                }
-            }
-        }
-    }
-    any
-}
-
 /// The discrete Fourier transforms (`X[f] = sum_n x[n] e^{-2 pi i f n / W}`, rustfft's
 /// forward transform, f64) of every probe row's texel power, per channel, frequencies
-/// `0..=W/2` (the rest are their conjugates: the power is real); rows of zero power are
-/// marked so the build skips them.
+/// `0..=W/2` (the rest are their conjugates: the power is real), real and imaginary parts
+/// apart (the build's multiply-adds run along frequencies on plain f64 arrays, which the
+/// compiler vectorises); rows of zero power are marked so the build skips them.
 struct PowerSpectra {
-    /// `spec[(r * 3 + c) * (W/2 + 1) + f]`.
-    spec: Vec<Complex64>,
+    /// `re[(r * 3 + c) * (W/2 + 1) + f]`, and `im` alike.
+    re: Vec<f64>,
+    im: Vec<f64>,
     nonzero: Vec<bool>,
     half: usize,
     fft: std::sync::Arc<dyn Fft<f64>>,
@@ -495,13 +453,14 @@ impl PowerSpectra {
     fn new(power: &[[f64; 3]], w: usize, h: usize) -> PowerSpectra {
         let fft = FftPlanner::new().plan_fft_forward(w);
         let half = w / 2 + 1;
-        let mut spec = vec![Complex64::new(0.0, 0.0); h * 3 * half];
-        let nonzero: Vec<bool> = spec
+        let (mut re, mut im) = (vec![0.0; h * 3 * half], vec![0.0; h * 3 * half]);
+        let nonzero: Vec<bool> = re
             .par_chunks_mut(3 * half)
+            .zip(im.par_chunks_mut(3 * half))
             .enumerate()
             .map_init(
                 || vec![Complex64::new(0.0, 0.0); w],
-                |buf, (r, out)| {
+                |buf, (r, (out_re, out_im))| {
                     let row = &power[r * w..(r + 1) * w];
                     if !row.iter().any(|p| *p != [0.0; 3]) {
                         return false;
@@ -511,14 +470,18 @@ impl PowerSpectra {
                             *b = Complex64::new(p[c], 0.0);
                         }
                         fft.process(buf);
-                        out[c * half..(c + 1) * half].copy_from_slice(&buf[..half]);
+                        for (f, v) in buf[..half].iter().enumerate() {
+                            out_re[c * half + f] = v.re;
+                            out_im[c * half + f] = v.im;
+                        }
                     }
                     true
                 },
             )
             .collect();
         PowerSpectra {
-            spec,
+            re,
+            im,
             nonzero,
             half,
             fft,
@@ -547,35 +510,59 @@ fn table_row_fft(
     let nt = basis.terms();
     let half = spectra.half;
     let zero = Complex64::new(0.0, 0.0);
-    // acc[(k * 3 + c) * half + f]: sum over rows of P_c[f] conj(W_k[f]).
-    let mut acc = vec![zero; nt * 3 * half];
-    let mut weights = vec![0.0f64; w * nt];
+    // acc[(k * 3 + c) * half + f]: sum over rows of P_c[f] conj(W_k[f]), real and
+    // imaginary parts apart. Each sum takes its rows in index order.
+    let (mut acc_re, mut acc_im) = (vec![0.0; nt * 3 * half], vec![0.0; nt * 3 * half]);
+    let mut weights = RowWeights::new(basis, w);
     let mut z = vec![zero; w];
+    let mut scratch = vec![zero; spectra.fft.get_inplace_scratch_len()];
+    // conj(W_k0[f]) at f and conj(W_k1[f]) at half + f.
+    let (mut w_re, mut w_im) = (vec![0.0; 2 * half], vec![0.0; 2 * half]);
     for r in 0..h {
-        if !spectra.nonzero[r] || !row_weights(g.j, g.nv, (w, r), basis, dirs, fault, &mut weights)
-        {
+        if !spectra.nonzero[r] || !weights.compute((g.j, g.nv), r, dirs, fault) {
             continue;
         }
-        let p = &spectra.spec[r * 3 * half..(r + 1) * 3 * half];
+        let p_re = &spectra.re[r * 3 * half..(r + 1) * 3 * half];
+        let p_im = &spectra.im[r * 3 * half..(r + 1) * 3 * half];
         for k0 in (0..nt).step_by(2) {
             let k1 = k0 + 1;
             // Two real rows in one complex transform: z = w_k0 + i w_k1.
-            for (col, zc) in z.iter_mut().enumerate() {
-                let wk = &weights[col * nt..(col + 1) * nt];
-                *zc = Complex64::new(wk[k0], if k1 < nt { wk[k1] } else { 0.0 });
+            if k1 < nt {
+                let (a, b) = (weights.term(k0), weights.term(k1));
+                for ((zc, x), y) in z.iter_mut().zip(a).zip(b) {
+                    *zc = Complex64::new(*x, *y);
+                }
+            } else {
+                for (zc, x) in z.iter_mut().zip(weights.term(k0)) {
+                    *zc = Complex64::new(*x, 0.0);
+                }
             }
-            spectra.fft.process(&mut z);
+            spectra.fft.process_with_scratch(&mut z, &mut scratch);
             for f in 0..half {
                 let a = z[f];
-                let b = z[(w - f) % w].conj();
+                let b = z[if f == 0 { 0 } else { w - f }].conj();
                 // W_k0 = (Z[f] + conj Z[-f]) / 2, W_k1 = (Z[f] - conj Z[-f]) / 2i.
-                let w0 = (a + b) * 0.5;
-                let w1 = (a - b) * Complex64::new(0.0, -0.5);
+                let w0 = ((a + b) * 0.5).conj();
+                let w1 = ((a - b) * Complex64::new(0.0, -0.5)).conj();
+                (w_re[f], w_im[f]) = (w0.re, w0.im);
+                (w_re[half + f], w_im[half + f]) = (w1.re, w1.im);
+            }
+            for (n, k) in [k0, k1].into_iter().enumerate().take(nt - k0) {
+                let (v_re, v_im) = (
+                    &w_re[n * half..(n + 1) * half],
+                    &w_im[n * half..(n + 1) * half],
+                );
                 for c in 0..3 {
-                    let pc = p[c * half + f];
-                    acc[(k0 * 3 + c) * half + f] += pc * w0.conj();
-                    if k1 < nt {
-                        acc[(k1 * 3 + c) * half + f] += pc * w1.conj();
+                    let (q_re, q_im) = (
+                        &p_re[c * half..(c + 1) * half],
+                        &p_im[c * half..(c + 1) * half],
+                    );
+                    let o = (k * 3 + c) * half;
+                    let (a_re, a_im) = (&mut acc_re[o..o + half], &mut acc_im[o..o + half]);
+                    // The complex product P conj(W) as num-complex's `Mul` forms it.
+                    for f in 0..half {
+                        a_re[f] += q_re[f] * v_re[f] - q_im[f] * v_im[f];
+                        a_im[f] += q_re[f] * v_im[f] + q_im[f] * v_re[f];
                     }
                 }
             }
@@ -587,11 +574,12 @@ fn table_row_fft(
     let mut folded = vec![zero; nu];
     for k in 0..nt {
         for c in 0..3 {
-            let a = &acc[(k * 3 + c) * half..(k * 3 + c + 1) * half];
+            let o = (k * 3 + c) * half;
+            let a = |f: usize| Complex64::new(acc_re[o + f], acc_im[o + f]);
             folded.fill(zero);
             for f in 0..w {
                 // Frequencies past W/2 are the conjugates of W - f (a real correlation).
-                let v = if f < half { a[f] } else { a[w - f].conj() };
+                let v = if f < half { a(f) } else { a(w - f).conj() };
                 folded[f % nu] += v;
             }
             inverse.process(&mut folded);

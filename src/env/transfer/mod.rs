@@ -38,7 +38,8 @@
 //! # Layout
 //! - [`table`]: [`TransferTable`] (values, grid, bilinear lookup in normal);
 //! - [`build`]: building a table from a probe ([`build::build_table`]) and choosing the
-//!   brightest texels ([`build::brightest_texels`]);
+//!   brightest texels ([`build::brightest_texels`]); `weights.rs`, the per-row SH weights
+//!   it sums, four columns at a time;
 //! - [`cache`]: the disk cache of tables beside the light-set cache (`brdfkit render` and
 //!   `brdfkit view` only; `brdfkit cache` lists and cleans it);
 //! - [`file`](mod@file): the table as `brdfkit export` writes it for a GPU build (a JSON header and
@@ -48,6 +49,7 @@ pub mod build;
 pub mod cache;
 pub mod file;
 pub mod table;
+mod weights;
 
 pub use build::{brightest_texels, build_table, BuildFault};
 pub use table::TransferTable;
