@@ -519,7 +519,9 @@ fn table_row_fft(
     // conj(W_k0[f]) at f and conj(W_k1[f]) at half + f.
     let (mut w_re, mut w_im) = (vec![0.0; 2 * half], vec![0.0; 2 * half]);
     for r in 0..h {
-        if !spectra.nonzero[r] || !weights.compute((g.j, g.nv), r, dirs, fault) {
+        if !spectra.nonzero[r]
+            || !weights.compute((g.j, g.nv), r, dirs, fault != BuildFault::NoHemisphereClip)
+        {
             continue;
         }
         let p_re = &spectra.re[r * 3 * half..(r + 1) * 3 * half];

@@ -8,7 +8,6 @@
 //! bits (`crate::sh::basis`'s test `lanes_give_the_scalar_bits`; the golden images drawn
 //! under `method = "transfer"`).
 
-use super::build::BuildFault;
 use super::TransferBasis;
 use crate::sh::basis::{Lanes, ShLanes, SH_LANES};
 use glam::DVec3;
@@ -56,14 +55,14 @@ impl RowWeights {
     /// The weights of node `(0, j)` of a table with `nv` polar rows for every column of
     /// probe row `r` (`dirs`: the unrotated texel centre directions, `width` per row):
     /// `Y_k(local) [local.z > 0] [local.z if cosine]` in the node's shading frame, zero
-    /// below its horizon (kept with [`BuildFault::NoHemisphereClip`]). Returns whether any
-    /// column is above the horizon.
+    /// below its horizon when `clip` (the build's seeded fault "no hemisphere clip" passes
+    /// `false`). Returns whether any column is above the horizon.
     pub(super) fn compute(
         &mut self,
         (j, nv): (usize, usize),
         r: usize,
         dirs: &[DVec3],
-        fault: BuildFault,
+        clip: bool,
     ) -> bool {
         let (w, stride, nt) = (self.width, self.stride, self.basis.terms());
         let polar = std::f64::consts::PI * j as f64 / (nv - 1) as f64;
@@ -73,7 +72,6 @@ impl RowWeights {
         let n = DVec3::new(0.0, cp, sp);
         let t = DVec3::new(0.0, sp, -cp);
         let b = n.cross(t);
-        let clip = fault != BuildFault::NoHemisphereClip;
         let row = &dirs[r * w..(r + 1) * w];
         let mut any = false;
         for col0 in (0..w).step_by(SH_LANES) {
