@@ -94,6 +94,16 @@ pub trait Brdf: Send + Sync {
         self.eval(wi.as_vec3(), wo.as_vec3()).as_dvec3()
     }
 
+    /// [`Brdf::eval_f64`] at one view direction `wo` for each direction of `wi`, into `out`
+    /// (the same length): the same bits as one call per direction. A model with work that
+    /// depends on `wo` alone does it once (an SH data set's coefficient lookup); the
+    /// reference path ([`crate::shade`]'s f64 path) evaluates a pixel's lights through it.
+    fn eval_f64_at_view(&self, wo: glam::DVec3, wi: &[glam::DVec3], out: &mut [glam::DVec3]) {
+        for (o, &w) in out.iter_mut().zip(wi) {
+            *o = self.eval_f64(w, wo);
+        }
+    }
+
     /// An upper bound `M` (RGB, 1/sr) on `|f_r(wi, wo) cos(polar_i)|` over all pairs of
     /// directions above the horizon, i.e. on the absolute value of
     /// [`eval_cosine_weighted`]. One directional light of irradiance `E` then changes any

@@ -35,21 +35,38 @@ pub(super) fn shade_f64_no_skips(
     pass: Pass,
 ) {
     let brdf = scene.material.as_brdf();
+    let cosine = !brdf.includes_cosine();
     let eye = scene.camera.position.as_dvec3();
     let lights = scene.delta_lights();
     shade_per_pixel(scene, vis, progress, image, pass, |s| {
         let ([t, b, n], wo) = frame_and_view_f64(s, eye, rule);
         let local = |d: DVec3| DVec3::new(d.dot(t), d.dot(b), d.dot(n));
         let p = s.position.as_dvec3();
+        // The lights above the horizon, a chunk at a time, evaluated at this view together
+        // (Brdf::eval_f64_at_view) and summed in the lights' order.
+        let mut wi = [DVec3::ZERO; LIGHT_CHUNK];
+        let mut irradiance = [DVec3::ZERO; LIGHT_CHUNK];
+        let mut f = [DVec3::ZERO; LIGHT_CHUNK];
         let mut sum = DVec3::ZERO;
-        for light in lights.iter() {
-            let (l, e) = light.at_f64(p);
-            let wi = local(l);
-            if wi.z > 0.0 {
-                let f = brdf.eval_f64(wi, wo);
-                sum += if brdf.includes_cosine() { f } else { f * wi.z } * e;
+        for chunk in lights.chunks(LIGHT_CHUNK) {
+            let mut above = 0;
+            for light in chunk {
+                let (l, e) = light.at_f64(p);
+                let w = local(l);
+                if w.z > 0.0 {
+                    wi[above] = w;
+                    irradiance[above] = e;
+                    above += 1;
+                }
+            }
+            brdf.eval_f64_at_view(wo, &wi[..above], &mut f[..above]);
+            for k in 0..above {
+                sum += if cosine { f[k] * wi[k].z } else { f[k] } * irradiance[k];
             }
         }
         sum.as_vec3()
     })
 }
+
+/// Lights evaluated together per pixel on the f64 path (stack arrays of this many).
+const LIGHT_CHUNK: usize = 256;

@@ -104,17 +104,50 @@ impl Brdf for ShDataset {
     /// coefficients are the stored f32 values, filtered as in [`ShDataset::reconstruct`]);
     /// the analytic basis, like every path (a basis table is never read, module doc).
     fn eval_f64(&self, wi: glam::DVec3, wo: glam::DVec3) -> glam::DVec3 {
-        if wi.z <= 0.0 || wo.z <= 0.0 {
+        if wo.z <= 0.0 {
+            return glam::DVec3::ZERO;
+        }
+        let mut cbuf = [0.0f32; 3 * MAX_BANDS * MAX_BANDS];
+        let c = self.view_coeffs(wo, &mut cbuf);
+        self.eval_f64_with_coeffs(wi, c)
+    }
+
+    /// [`Brdf::eval_f64`] for every `wi`, the coefficients `c_k(wo)` looked up once: the
+    /// same bits as one call per direction.
+    fn eval_f64_at_view(&self, wo: glam::DVec3, wi: &[glam::DVec3], out: &mut [glam::DVec3]) {
+        if wo.z <= 0.0 {
+            out.fill(glam::DVec3::ZERO);
+            return;
+        }
+        let mut cbuf = [0.0f32; 3 * MAX_BANDS * MAX_BANDS];
+        let c = self.view_coeffs(wo, &mut cbuf);
+        for (o, &w) in out.iter_mut().zip(wi) {
+            *o = self.eval_f64_with_coeffs(w, c);
+        }
+    }
+}
+
+impl ShDataset {
+    /// The coefficients `c_k(wo)` of the three channels (channel-major, `3 x` the data
+    /// set's terms, the front of `buf`), looked up as [`ShDataset::reconstruct`] does.
+    fn view_coeffs<'a>(&self, wo: glam::DVec3, buf: &'a mut [f32]) -> &'a [f32] {
+        let c = &mut buf[..3 * num_terms(self.bands)];
+        let (p, a) = local_angles(wo.as_vec3());
+        let (s, t) = hemi_texcoord(p, a);
+        self.lookup_coeffs(s, t, self.coeff_lookup, c);
+        c
+    }
+
+    /// `sum_k c_k Y_k(wi)` in f64 for the coefficients `c` of [`ShDataset::view_coeffs`];
+    /// zero below the horizon.
+    fn eval_f64_with_coeffs(&self, wi: glam::DVec3, c: &[f32]) -> glam::DVec3 {
+        if wi.z <= 0.0 {
             return glam::DVec3::ZERO;
         }
         let nt = num_terms(self.bands);
         let mut ybuf = [0.0f64; MAX_BANDS * MAX_BANDS];
         let y = &mut ybuf[..nt];
         eval_sh_f64(wi, y);
-        let mut c = vec![0.0f32; 3 * nt];
-        let (p, a) = local_angles(wo.as_vec3());
-        let (s, t) = hemi_texcoord(p, a);
-        self.lookup_coeffs(s, t, self.coeff_lookup, &mut c);
         let dot = |o: usize| -> f64 { (0..nt).map(|k| c[o + k] as f64 * y[k]).sum() };
         glam::DVec3::new(dot(0), dot(nt), dot(2 * nt))
     }
@@ -206,5 +239,30 @@ mod tests {
             table_error = table_error.max(d.abs().max_element());
         }
         assert!(table_error > 0.1, "coarse table error only {table_error}");
+    }
+
+    /// The reference path's batch at one view has the bits of one `eval_f64` per direction,
+    /// below the horizon too (wi or wo), for both lookups.
+    #[test]
+    fn eval_f64_at_view_is_eval_f64_per_direction() {
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+        for lookup in [Lookup::Nearest, Lookup::Bilinear] {
+            let mut ds = random_dataset(8, 4, 5, 3);
+            ds.coeff_lookup = lookup;
+            for _ in 0..20 {
+                let tau = std::f32::consts::TAU;
+                let wo = local_direction(rng.gen_range(0.0..1.7), rng.gen_range(0.0..tau));
+                let wi: Vec<_> = (0..40)
+                    .map(|_| {
+                        local_direction(rng.gen_range(0.0..3.1), rng.gen_range(0.0..tau)).as_dvec3()
+                    })
+                    .collect();
+                let mut got = vec![glam::DVec3::NAN; wi.len()];
+                ds.eval_f64_at_view(wo.as_dvec3(), &wi, &mut got);
+                for (w, g) in wi.iter().zip(&got) {
+                    assert_eq!(*g, ds.eval_f64(*w, wo.as_dvec3()), "{lookup:?} {w} {wo}");
+                }
+            }
+        }
     }
 }
