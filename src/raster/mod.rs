@@ -9,13 +9,21 @@
 //! 1. [`clip`]: homogeneous clipping against the near plane and a guard band; triangles
 //!    that cross the camera plane are cut, not dropped.
 //! 2. [`setup`]: snapping to fixed point (each mesh vertex once) and integer edge
-//!    functions with a top-left rule.
+//!    functions with a top-left rule, in two parallel passes: the first keeps the
+//!    triangles that can cover a pixel centre ([`setup::covered_bounds`]: area, facing,
+//!    bounds; most triangles of a dense mesh stop there), as a list of small survivor
+//!    records in source order; the second sets up each survivor straight into the
+//!    visibility buffer's triangle list (written once, never copied).
 //! 3. binning (here): each set-up triangle is listed in every tile its pixel bounds touch,
-//!    in source order (one flat list, [`Bins`]).
+//!    in source order (one flat list, [`Bins`]); the tile rectangles (divisions by the
+//!    tile size) are computed in parallel, the counting and listing are two serial passes
+//!    of adds.
 //! 4. [`tile`]: tiles resolve visibility in parallel (rayon): per pixel the nearest triangle
 //!    (largest 1/w; ties keep the earlier triangle) and, if asked, how many triangles cover
-//!    it; a large triangle is walked in blocks classified by their corners. Tiles with an
-//!    empty bin are not visited.
+//!    it; a triangle is tested eight pixels of a row at a time in i32 lanes where its
+//!    extent allows, a large one walked in blocks classified by their corners. A reused
+//!    buffer is cleared tile by tile by the task that resolves the tile, just before it
+//!    (one pass over the memory); a tile with an empty bin is only cleared.
 //!
 //! [`rasterize_into`] reuses a previous frame's [`VisBuffer`] and [`RasterScratch`], so a
 //! caller drawing frame after frame at one size touches no new memory.
@@ -219,7 +227,10 @@ const SETUP_CHUNK: usize = 2048;
 #[derive(Debug, Default)]
 pub struct RasterScratch {
     verts: Vec<SnappedVertex>,
-    chunks: Vec<Vec<SetupTriangle>>,
+    /// Set-up's first pass, per chunk of source triangles: the survivors.
+    chunks: Vec<Vec<[u32; 2]>>,
+    /// All chunks' survivors in source order.
+    survivors: Vec<[u32; 2]>,
     bins: Bins,
 }
 
@@ -229,6 +240,8 @@ pub struct RasterScratch {
 pub struct Bins {
     offsets: Vec<u32>,
     items: Vec<u32>,
+    /// Per triangle, its first and last tile column and row (binning's scratch).
+    rects: Vec<[u32; 4]>,
 }
 
 impl Bins {
@@ -265,7 +278,8 @@ pub fn setup_triangles(
 /// tested against the clip planes and snapped once (a vertex shared by six triangles is
 /// not snapped six times); a triangle no plane clips is set up from its snapped vertices
 /// ([`setup::setup_snapped`], the same bits as [`setup::setup`]), a clipped one from its
-/// clipped polygon.
+/// clipped polygon. Two passes (module doc): survivors first, then each survivor set up
+/// in place, so the output order is source order for any thread count.
 fn setup_triangles_into(
     clip: &[Vec4],
     triangles: &[[u32; 3]],
@@ -290,7 +304,10 @@ fn setup_triangles_into(
         })
         .collect_into_vec(verts);
     let verts = &*verts;
-    const IDENTITY: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    // Pass 1, per chunk in parallel: which set-up triangles survive, as (source triangle,
+    // triangle of its clipped polygon's fan or UNCLIPPED), in source order. Only the cheap
+    // rejections run here ([`setup::covered_bounds`]; most triangles of a dense mesh end
+    // there); clipping is rare and done again in pass 2.
     let chunks = &mut scratch.chunks;
     chunks.resize_with(triangles.len().div_ceil(SETUP_CHUNK), Vec::new);
     chunks
@@ -308,33 +325,59 @@ fn setup_triangles_into(
                     continue; // wholly outside one plane
                 }
                 if codes[0] | codes[1] | codes[2] == 0 {
-                    out.extend(setup::setup_snapped(
-                        sv.map(|v| (v.x, v.y)),
-                        sv.map(|v| v.w),
-                        IDENTITY,
-                        source,
-                        width,
-                        height,
-                        cull_back,
-                    ));
+                    let p = sv.map(|v| (v.x, v.y));
+                    if setup::covered_bounds(p, width, height, cull_back).is_some() {
+                        out.push([source, UNCLIPPED]);
+                    }
                     continue;
                 }
-                let v = tri.map(|i| clip[i as usize]);
-                planes.clip_triangle(v, &mut poly);
+                planes.clip_triangle(tri.map(|i| clip[i as usize]), &mut poly);
                 for i in 1..poly.len().saturating_sub(1) {
-                    let cv = [poly[0], poly[i], poly[i + 1]];
-                    out.extend(setup::setup(cv, source, width, height, cull_back));
+                    let p =
+                        [poly[0], poly[i], poly[i + 1]].map(|v| setup::snap(v.clip, width, height));
+                    if setup::covered_bounds(p, width, height, cull_back).is_some() {
+                        out.push([source, i as u32]);
+                    }
                 }
             }
         });
-    // One copy per chunk (a flattening iterator would move the 200-byte triangles one by
-    // one).
-    out.clear();
-    out.reserve(chunks.iter().map(Vec::len).sum());
+    let survivors = &mut scratch.survivors;
+    survivors.clear();
     for c in chunks.iter() {
-        out.extend_from_slice(c);
+        survivors.extend_from_slice(c);
     }
+    // Pass 2, in parallel: each survivor set up straight into `out` (an indexed parallel
+    // iterator writes in place: the 200-byte triangles are written once, never copied).
+    const IDENTITY: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    out.clear();
+    out.par_extend(survivors.par_iter().with_min_len(SETUP_CHUNK / 4).map_init(
+        Vec::new,
+        |poly, &[source, fan]| {
+            let tri = triangles[source as usize];
+            let set_up = if fan == UNCLIPPED {
+                let sv = tri.map(|i| verts[i as usize]);
+                setup::setup_snapped(
+                    sv.map(|v| (v.x, v.y)),
+                    sv.map(|v| v.w),
+                    IDENTITY,
+                    source,
+                    width,
+                    height,
+                    cull_back,
+                )
+            } else {
+                planes.clip_triangle(tri.map(|i| clip[i as usize]), poly);
+                let f = fan as usize;
+                let cv = [poly[0], poly[f], poly[f + 1]];
+                setup::setup(cv, source, width, height, cull_back)
+            };
+            set_up.expect("pass 1 kept only triangles that set up")
+        },
+    ));
 }
+
+/// Marks a survivor of set-up's first pass that no plane clips.
+const UNCLIPPED: u32 = u32::MAX;
 
 /// Lists, per tile, the indices of the set-up triangles whose pixel bounds touch it, in
 /// increasing index order.
@@ -344,8 +387,9 @@ pub fn bin_triangles(tris: &[SetupTriangle], tiles_x: u32, tiles_y: u32, tile_si
     bins
 }
 
-/// [`bin_triangles`] into `bins`: one pass counts each tile's triangles, a second lists
-/// them in triangle order.
+/// [`bin_triangles`] into `bins`: each triangle's tile rectangle is computed once (in
+/// parallel: the divisions by the tile size are most of binning's work), then one pass
+/// counts each tile's triangles and a second lists them in triangle order.
 fn bin_triangles_into(
     tris: &[SetupTriangle],
     tiles_x: u32,
@@ -354,20 +398,27 @@ fn bin_triangles_into(
     bins: &mut Bins,
 ) {
     let n = (tiles_x * tiles_y) as usize;
+    let rects = &mut bins.rects;
+    tris.par_iter()
+        .with_min_len(SETUP_CHUNK)
+        .map(|t| {
+            [
+                t.px_min / tile_size,
+                t.px_max / tile_size,
+                t.py_min / tile_size,
+                t.py_max / tile_size,
+            ]
+        })
+        .collect_into_vec(rects);
+    let rects = &*rects;
     let offsets = &mut bins.offsets;
     offsets.clear();
     offsets.resize(n + 1, 0);
-    let tiles_of = |t: &SetupTriangle| {
-        (
-            t.px_min / tile_size..=t.px_max / tile_size,
-            t.py_min / tile_size..=t.py_max / tile_size,
-        )
-    };
-    for t in tris {
-        let (xs, ys) = tiles_of(t);
-        for ty in ys {
-            for tx in xs.clone() {
-                offsets[(ty * tiles_x + tx) as usize + 1] += 1;
+    for &[x0, x1, y0, y1] in rects {
+        for ty in y0..=y1 {
+            let row = (ty * tiles_x) as usize + 1;
+            for tx in x0..=x1 {
+                offsets[row + tx as usize] += 1;
             }
         }
     }
@@ -378,11 +429,11 @@ fn bin_triangles_into(
     items.clear();
     items.resize(offsets[n] as usize, 0);
     // Each tile's next free slot, kept in `offsets[t]` while filling and restored after.
-    for (i, t) in tris.iter().enumerate() {
-        let (xs, ys) = tiles_of(t);
-        for ty in ys {
-            for tx in xs.clone() {
-                let slot = &mut offsets[(ty * tiles_x + tx) as usize];
+    for (i, &[x0, x1, y0, y1]) in rects.iter().enumerate() {
+        for ty in y0..=y1 {
+            let row = (ty * tiles_x) as usize;
+            for tx in x0..=x1 {
+                let slot = &mut offsets[row + tx as usize];
                 items[*slot as usize] = i as u32;
                 *slot += 1;
             }
@@ -448,16 +499,33 @@ pub fn rasterize_into_with_fault(
     let bins = &*bins;
     let per_tile = (ts * ts) as usize;
     let n = per_tile * (tiles_x * tiles_y) as usize;
-    if fault != Some(RasterFault::PreviousFrameKept) {
-        vis.visible.clear();
-        vis.depth.clear();
+    // A buffer of another size (a first frame) is filled here, in parallel; one of this
+    // size is cleared tile by tile just before the tile is resolved, while its memory is
+    // in cache (one pass over it, not two).
+    let keep = fault == Some(RasterFault::PreviousFrameKept);
+    let refill = vis.visible.len() != n || vis.depth.len() != n;
+    if refill {
+        if keep {
+            vis.visible.resize(n, NO_TRIANGLE);
+            vis.depth.resize(n, 0.0);
+        } else {
+            vis.visible.clear();
+            vis.visible
+                .par_extend(rayon::iter::repeat_n(NO_TRIANGLE, n));
+            vis.depth.clear();
+            vis.depth.par_extend(rayon::iter::repeat_n(0.0, n));
+        }
     }
-    vis.visible.resize(n, NO_TRIANGLE);
-    vis.depth.resize(n, 0.0);
+    let clear_tiles = !refill && !keep;
+    let mut clear_coverage = false;
     if cfg.count_coverage {
         let c = vis.coverage.get_or_insert_with(Vec::new);
-        c.clear();
-        c.resize(n, 0);
+        if c.len() == n {
+            clear_coverage = true;
+        } else {
+            c.clear();
+            c.par_extend(rayon::iter::repeat_n(0, n));
+        }
     } else {
         vis.coverage = None;
     }
@@ -474,8 +542,20 @@ pub fn rasterize_into_with_fault(
             .zip(vis.depth.par_chunks_mut(per_tile))
             .zip(cov_chunks.into_par_iter())
             .enumerate()
-            .filter(|(t, _)| !bins.tile(*t).is_empty())
-            .for_each(|(t, ((visible, depth), coverage))| {
+            .for_each(|(t, ((visible, depth), mut coverage))| {
+                if clear_tiles {
+                    visible.fill(NO_TRIANGLE);
+                    depth.fill(0.0);
+                }
+                if clear_coverage {
+                    if let Some(c) = coverage.as_deref_mut() {
+                        c.fill(0);
+                    }
+                }
+                let bin = bins.tile(t);
+                if bin.is_empty() {
+                    return;
+                }
                 let r = PixelRect::tile(t, ts, tiles_x, cfg.width, cfg.height);
                 let tile = tile::TileTarget {
                     x0: r.x0,
@@ -489,7 +569,7 @@ pub fn rasterize_into_with_fault(
                     depth,
                     coverage,
                 };
-                tile::resolve(&tile, setup, bins.tile(t), &mut out, fault);
+                tile::resolve(&tile, setup, bin, &mut out, fault);
             });
     }
     vis.width = cfg.width;

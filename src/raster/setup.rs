@@ -115,23 +115,19 @@ pub fn setup(
     )
 }
 
-/// [`setup`] of a triangle whose vertices are already snapped ([`snap`]): `p` the
-/// fixed-point positions, `w` the clip w of each vertex, `src_bary` each vertex's
-/// barycentric coordinates in the source triangle. The rasterizer snaps each mesh vertex
-/// once and sets up the triangles no plane clips from those (a vertex's snap is a function
-/// of its clip position alone, so the result is the same bits as [`setup`]'s). The cheap
-/// rejections come first (area, facing, no pixel centre in the bounds: most triangles of a
-/// dense mesh), before the edge functions and 1/w.
+/// The cheap rejections of [`setup_snapped`]: `None` for a zero-area triangle, a back
+/// face when `cull_back`, and a triangle whose bounds hold no pixel centre of the target;
+/// otherwise the signed doubled area (negative: front-facing) and the inclusive pixel
+/// bounds `[x_min, x_max, y_min, y_max]` of the samples it can cover. The rasterizer's
+/// first set-up pass keeps only the triangles this accepts (most of a dense mesh's are
+/// rejected here), and [`setup_snapped`] starts with it.
 #[inline]
-pub fn setup_snapped(
-    mut p: [(i64, i64); 3],
-    mut w: [f32; 3],
-    mut src_bary: [[f32; 3]; 3],
-    source: u32,
+pub fn covered_bounds(
+    p: [(i64, i64); 3],
     width: u32,
     height: u32,
     cull_back: bool,
-) -> Option<SetupTriangle> {
+) -> Option<(i64, [i64; 4])> {
     let area2 = edge(p[0].0, p[0].1, p[1].0, p[1].1, p[2].0, p[2].1);
     if area2 == 0 {
         return None;
@@ -154,6 +150,28 @@ pub fn setup_snapped(
     if px0 > px1 || py0 > py1 {
         return None;
     }
+    Some((area2, [px0, px1, py0, py1]))
+}
+
+/// [`setup`] of a triangle whose vertices are already snapped ([`snap`]): `p` the
+/// fixed-point positions, `w` the clip w of each vertex, `src_bary` each vertex's
+/// barycentric coordinates in the source triangle. The rasterizer snaps each mesh vertex
+/// once and sets up the triangles no plane clips from those (a vertex's snap is a function
+/// of its clip position alone, so the result is the same bits as [`setup`]'s). The cheap
+/// rejections come first ([`covered_bounds`]: area, facing, no pixel centre in the
+/// bounds: most triangles of a dense mesh), before the edge functions and 1/w.
+#[inline]
+pub fn setup_snapped(
+    mut p: [(i64, i64); 3],
+    mut w: [f32; 3],
+    mut src_bary: [[f32; 3]; 3],
+    source: u32,
+    width: u32,
+    height: u32,
+    cull_back: bool,
+) -> Option<SetupTriangle> {
+    let (area2, [px0, px1, py0, py1]) = covered_bounds(p, width, height, cull_back)?;
+    let front_facing = area2 < 0;
     if area2 < 0 {
         p.swap(1, 2);
         w.swap(1, 2);
