@@ -58,6 +58,9 @@ pub enum RasterFault {
     /// are not cleared before this frame is resolved into it
     /// ([`super::rasterize_into_with_fault`]).
     PreviousFrameKept,
+    /// The small-triangle walk (eight pixels of a row at a time) drops the last pixel of a
+    /// row's final, partial group of lanes (its bounds mask one lane short).
+    LaneTailSkipped,
 }
 
 /// The tile's output buffers, row-major with the tile's stride.
@@ -114,6 +117,7 @@ impl<'a> Walk<'a> {
         tile: &TileTarget,
         (x0, y0, x1, y1): (u32, u32, u32, u32),
         out: &mut TileBuffers,
+        fault: Option<RasterFault>,
     ) {
         let t = self.t;
         let step_x = self.step_x.map(|s| s as i32);
@@ -125,7 +129,10 @@ impl<'a> Walk<'a> {
         let unbias = t.bias.map(|b| (1 - b) as i32);
         let q = self.q;
         for cx in (x0..=x1).step_by(ROW_LANES) {
-            let n = (x1 - cx + 1).min(ROW_LANES as u32);
+            let mut n = (x1 - cx + 1).min(ROW_LANES as u32);
+            if fault == Some(RasterFault::LaneTailSkipped) && n < ROW_LANES as u32 {
+                n -= 1;
+            }
             let in_bounds = (1u32 << n) - 1;
             let mut row = self.biased_at(cx, y0).map(|e| e as i32);
             for py in y0..=y1 {
@@ -267,7 +274,7 @@ pub fn resolve(
         let walk = Walk::new(t, ti);
         if x1 - x0 < BLOCK && y1 - y0 < BLOCK {
             if walk.lanes {
-                walk.walk_lanes(tile, (x0, y0, x1, y1), out);
+                walk.walk_lanes(tile, (x0, y0, x1, y1), out, fault);
             } else {
                 walk.walk::<true>(tile, (x0, y0, x1, y1), out);
             }
@@ -289,7 +296,7 @@ pub fn resolve(
                         if fault == Some(RasterFault::PartialBlockAccepted) {
                             walk.walk::<false>(tile, rect, out);
                         } else if walk.lanes {
-                            walk.walk_lanes(tile, rect, out);
+                            walk.walk_lanes(tile, rect, out, fault);
                         } else {
                             walk.walk::<true>(tile, rect, out);
                         }

@@ -263,6 +263,7 @@ fn seeded_block_faults_fail_the_comparison() {
     for fault in [
         RasterFault::PartialBlockAccepted,
         RasterFault::LastBlockColumnSkipped,
+        RasterFault::LaneTailSkipped,
     ] {
         let caught = (0..300u64).find(|&seed| {
             let (clip, tris) = scene(seed);
