@@ -256,7 +256,7 @@ fn with_bias(s: &mut Scene, bias: Option<f32>) {
     }
 }
 
-/// The per-pixel relative error `(|x| - |r|) / |r|` as a PNG: red too bright, blue too
+/// The per-pixel relative error `|x - r| / |r|` as a PNG: red too bright, blue too
 /// dark, full at 20%; black where the reference is below 1% of its mean (left out of p99).
 fn write_error_png(
     path: &Path,
