@@ -86,15 +86,12 @@ fn main() {
         })
         .collect();
     // Each texel's rank among the brightest (usize::MAX beyond the largest K).
-    let kmax = *ks_list.iter().max().unwrap();
     let mut rank = vec![usize::MAX; w * h];
-    let order = brightest_texels(&probe, kmax);
     for k in &ks_list {
         for &i in &brightest_texels(&probe, *k) {
             rank[i] = rank[i].min(*k);
         }
     }
-    drop(order);
     println!(
         "Blinn-Phong exponent {exponent}, kd {kd}, ks {ks}, probe {probe_name}, {points} points x {PSI} psi per band"
     );
