@@ -3,7 +3,7 @@
 //!
 //! ```sh
 //! cargo run --release --example reflection_error -- [SIZE] [m=MATERIAL ...] [n=N,N...] \
-//!     [bias=B] [png=DIR] [PROBE...]
+//!     [bias=B] [png=DIR] [kd=K] [ks=K] [set=FIELD=VALUE ...] [diag] [PROBE...]
 //! ```
 //!
 //! For Blinn-Phong exponents 50, 200 and 500 (the scene format's other defaults) and the
@@ -29,7 +29,16 @@
 //!   error that needs no reference), the preparation time and the size held.
 //!
 //! With `png=DIR`, each row's image and its reference are written to
-//! `DIR/NAME-PROBE[-N].png` and `DIR/NAME-PROBE-reference.png` (ACES, exposure 1).
+//! `DIR/NAME-PROBE[-N].png` and `DIR/NAME-PROBE-reference.png` (ACES, exposure 1), and the
+//! per-pixel relative error to `DIR/NAME-PROBE[-N]-error.png` (red too bright, blue too
+//! dark, full at 20%).
+//!
+//! Knobs for studies: `kd=K` and `ks=K` set the Blinn-Phong rows' albedos (grey; the sweep's
+//! glossy class is `kd=0.05 ks=0.9`); each `set=FIELD=VALUE` adds `FIELD = VALUE` to the
+//! method's `[env]` table (e.g. `set=exact_lights=256`, `set=reflection_grid=96`,
+//! `set=reflection_residual=512`). `diag` prints, per row, where the pixels above the 99th
+//! percentile lie: their share by view polar angle (0-60, 60-70, 70-80, 80-90 degrees),
+//! their median reference norm over the image's mean and the share that is too bright.
 //!
 //! [`ReflectionTable::error`]: brdfkit::env::reflection::ReflectionTable::error
 
@@ -61,7 +70,7 @@ fn main() {
     let mut probes: Vec<&str> = args
         .iter()
         .skip(1)
-        .filter(|a| !a.contains('='))
+        .filter(|a| !a.contains('=') && *a != "diag")
         .map(|s| s.as_str())
         .collect();
     let only: Vec<&str> = args.iter().filter_map(|a| a.strip_prefix("m=")).collect();
@@ -76,13 +85,35 @@ fn main() {
         .find_map(|a| a.strip_prefix("bias="))
         .map(|b| b.parse().unwrap());
     let png: Option<&str> = args.iter().find_map(|a| a.strip_prefix("png="));
+    let kd: Option<&str> = args.iter().find_map(|a| a.strip_prefix("kd="));
+    let ks: Option<&str> = args.iter().find_map(|a| a.strip_prefix("ks="));
+    let extra: String = args
+        .iter()
+        .filter_map(|a| a.strip_prefix("set="))
+        .map(|kv| {
+            let (k, v) = kv.split_once('=').expect("set=FIELD=VALUE");
+            format!("{k} = {v}\n")
+        })
+        .collect();
+    let diag = args.iter().any(|a| a == "diag");
     if probes.is_empty() {
         probes = vec!["city", "studio", "sky"];
     }
+    let albedo = |k: Option<&str>, key: &str| {
+        k.map_or(String::new(), |k| format!("\n{key} = [{k}, {k}, {k}]"))
+    };
+    let bp = |e: u32| {
+        format!(
+            "kind = \"blinn-phong\"\nexponent = {e}{}{}",
+            albedo(kd, "kd"),
+            albedo(ks, "ks")
+        )
+    };
+    let (bp50, bp200, bp500) = (bp(50), bp(200), bp(500));
     let materials = [
-        ("blinn-phong-50", "kind = \"blinn-phong\"\nexponent = 50"),
-        ("blinn-phong-200", "kind = \"blinn-phong\"\nexponent = 200"),
-        ("blinn-phong-500", "kind = \"blinn-phong\"\nexponent = 500"),
+        ("blinn-phong-50", bp50.as_str()),
+        ("blinn-phong-200", bp200.as_str()),
+        ("blinn-phong-500", bp500.as_str()),
         (
             "gold-dust-paint",
             "kind = \"library\"\nname = \"gold-dust-paint\"",
@@ -115,7 +146,7 @@ fn main() {
             }
             for &n in &counts {
                 let t0 = Instant::now();
-                let env = format!("method = \"reflection\"\nreflection_samples = {n}");
+                let env = format!("method = \"reflection\"\nreflection_samples = {n}\n{extra}");
                 let mut s = match try_scene(material, probe, &env, size) {
                     Ok(s) => s,
                     Err(e) => {
@@ -136,6 +167,13 @@ fn main() {
                     brdfkit::image_io::write_png(&path, &got, 1.0, Default::default()).unwrap();
                 }
                 let e = errors(&s, &reference, &got);
+                if let Some(dir) = png {
+                    let path = Path::new(dir).join(format!("{name}-{probe}-{n}-error.png"));
+                    write_error_png(&path, &reference, &got);
+                }
+                if diag {
+                    diagnose(&s, &reference, &got, &format!("{name} {probe}"));
+                }
                 let last = match &*term {
                     ReflectionTerm::Table(t) => {
                         let b = t.error();
@@ -216,4 +254,98 @@ fn with_bias(s: &mut Scene, bias: Option<f32>) {
             };
         }
     }
+}
+
+/// The per-pixel relative error `|x - r| / |r|` as a PNG: red too bright, blue too
+/// dark, full at 20%; black where the reference is below 1% of its mean (left out of p99).
+fn write_error_png(
+    path: &Path,
+    reference: &brdfkit::image_io::Image,
+    got: &brdfkit::image_io::Image,
+) {
+    let mean = mean_norm(reference);
+    let bytes = reference
+        .pixels
+        .iter()
+        .zip(&got.pixels)
+        .flat_map(|(r, x)| {
+            let n = r.length();
+            if n <= 0.01 * mean as f32 {
+                return [0, 0, 0];
+            }
+            let e = (*x - *r).length() / n;
+            let v = (e / 0.2).min(1.0);
+            let g = (255.0 * v) as u8;
+            if x.length() >= n {
+                [g, 0, 0]
+            } else {
+                [0, 0, g]
+            }
+        })
+        .collect();
+    brdfkit::image_io::write_png_bytes(path, reference.width, reference.height, bytes).unwrap();
+}
+
+/// Mean RGB norm of the covered (non-zero) pixels of `img`.
+fn mean_norm(img: &brdfkit::image_io::Image) -> f64 {
+    let covered: Vec<f64> = img
+        .pixels
+        .iter()
+        .map(|p| p.as_dvec3().length())
+        .filter(|&n| n > 0.0)
+        .collect();
+    covered.iter().sum::<f64>() / covered.len().max(1) as f64
+}
+
+/// Prints where the pixels above the 99th percentile of the relative error lie (module
+/// doc, `diag`).
+fn diagnose(
+    s: &Scene,
+    reference: &brdfkit::image_io::Image,
+    got: &brdfkit::image_io::Image,
+    row: &str,
+) {
+    let vis = rasterize(s, false);
+    let polar = aov::compute(s, &vis, Aov::ViewPolar);
+    let mean = mean_norm(reference);
+    // (relative error, polar degrees, reference norm / mean, too bright)
+    let mut px: Vec<(f64, f64, f64, bool)> = reference
+        .pixels
+        .iter()
+        .zip(&got.pixels)
+        .zip(&polar.pixels)
+        .filter_map(|((r, x), p)| {
+            let n = r.as_dvec3().length();
+            (n > 0.01 * mean).then(|| {
+                (
+                    (x.as_dvec3() - r.as_dvec3()).length() / n,
+                    90.0 * p.x as f64,
+                    n / mean,
+                    x.as_dvec3().length() > n,
+                )
+            })
+        })
+        .collect();
+    px.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let i = ((px.len() as f64 * 0.99) as usize).min(px.len().saturating_sub(1));
+    let top = &px[i..];
+    let bins = [0.0, 60.0, 70.0, 80.0, 90.1];
+    let shares: Vec<String> = bins
+        .windows(2)
+        .map(|w| {
+            let k = top.iter().filter(|t| t.1 >= w[0] && t.1 < w[1]).count();
+            let all = px.iter().filter(|t| t.1 >= w[0] && t.1 < w[1]).count();
+            format!("{}-{}: {k}/{all}", w[0], w[1].floor())
+        })
+        .collect();
+    let mut norms: Vec<f64> = top.iter().map(|t| t.2).collect();
+    norms.sort_by(f64::total_cmp);
+    let bright = top.iter().filter(|t| t.3).count();
+    println!(
+        "  diag {row}: p99 pixels {} (of {}), by view polar {}; median |ref|/mean {:.3}; too bright {bright}",
+        top.len(),
+        px.len(),
+        shares.join(", "),
+        norms.get(norms.len() / 2).copied().unwrap_or(0.0)
+    );
 }
