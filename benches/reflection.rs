@@ -15,6 +15,16 @@
 //! ```sh
 //! BRDFKIT_BENCH_PROBES=city,studio,sky cargo bench --bench reflection -- --noplot
 //! ```
+//!
+//! The order of the series in psi (`[env] reflection_order`): the same teapot frame,
+//! Blinn-Phong 200 (the sweep's glossy class, `kd = 0.05`, `ks = 0.9`) under city, with a
+//! table of each order of `BRDFKIT_BENCH_ORDERS` (comma-separated, default `2,6`; the
+//! bake time and size printed as above). An empty `BRDFKIT_BENCH_PROBES` skips the
+//! comparison of methods above, so this runs alone:
+//!
+//! ```text
+//! BRDFKIT_BENCH_PROBES= cargo bench --bench reflection -- order --noplot
+//! ```
 
 use brdfkit::render::{self, RenderOptions};
 use brdfkit::scene::{Scene, SceneFile};
@@ -46,7 +56,7 @@ fn scene(material: &str, probe: &str, env: &str) -> Scene {
 
 fn reflection(c: &mut Criterion) {
     let probes = std::env::var("BRDFKIT_BENCH_PROBES").unwrap_or_else(|_| "city".into());
-    for probe in probes.split(',') {
+    for probe in probes.split(',').filter(|p| !p.is_empty()) {
         for (name, material) in MATERIALS {
             let t0 = Instant::now();
             let table = scene(material, probe, "method = \"reflection\"");
@@ -85,5 +95,35 @@ fn reflection(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, reflection);
+/// The frame at each order of `BRDFKIT_BENCH_ORDERS` (module doc).
+fn psi_order(c: &mut Criterion) {
+    let orders = std::env::var("BRDFKIT_BENCH_ORDERS").unwrap_or_else(|_| "2,6".into());
+    let glossy = "kind = \"blinn-phong\"\nkd = [0.05, 0.05, 0.05]\nks = [0.9, 0.9, 0.9]\n\
+                  exponent = 200";
+    let mut g = c.benchmark_group("teapot-640x480-blinn-phong-200-glossy-city");
+    g.sample_size(20);
+    for order in orders.split(',').filter(|o| !o.is_empty()) {
+        let t0 = Instant::now();
+        let s = scene(
+            glossy,
+            "city",
+            &format!("method = \"reflection\"\nreflection_order = {order}"),
+        );
+        let t = s.environment.reflection_term().expect("a reflection term");
+        eprintln!(
+            "order {order}: prepared in {:.2} s (probe load and material included), {:.1} MB, \
+             measured error {:?}",
+            t0.elapsed().as_secs_f64(),
+            t.bytes() as f64 / 1e6,
+            t.table().map(|t| t.error())
+        );
+        let frame = RenderOptions::default();
+        g.bench_function(format!("frame-reflection-order-{order}"), |b| {
+            b.iter(|| render::render(&s, &frame))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, reflection, psi_order);
 criterion_main!(benches);

@@ -36,9 +36,10 @@
 //! Knobs for studies: `kd=K` and `ks=K` set the Blinn-Phong rows' albedos (grey; the sweep's
 //! glossy class is `kd=0.05 ks=0.9`); each `set=FIELD=VALUE` adds `FIELD = VALUE` to the
 //! method's `[env]` table (e.g. `set=exact_lights=256`, `set=reflection_grid=96`,
-//! `set=reflection_residual=512`). `diag` prints, per row, where the pixels above the 99th
-//! percentile lie: their share by view polar angle (0-60, 60-70, 70-80, 80-90 degrees),
-//! their median reference norm over the image's mean and the share that is too bright.
+//! `set=reflection_residual=512`, `set=reflection_order=6`). `diag` prints, per row, where
+//! the pixels above the 99th percentile lie: their share by view polar angle (0-60,
+//! 60-70, 70-80, 80-90 degrees), their median reference norm over the image's mean and the
+//! share that is too bright.
 //!
 //! [`ReflectionTable::error`]: brdfkit::env::reflection::ReflectionTable::error
 

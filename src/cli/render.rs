@@ -251,9 +251,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
         if let Some(t) = scene.environment.reflection_term().and_then(|t| t.table()) {
             let e = t.error();
             eprintln!(
-                "reflection table: {} MB; error measured at bake against exact f64 sums \
-                 ({} samples per set, luminance): rel RMSE {:.3}%, p99 {:.2}%, max {:.2}%; \
-                 view polar 70-89.9 deg: rel RMSE {:.3}%, p99 {:.2}%, max {:.2}%",
+                "reflection table: {g} x {g} cells, {} + 1 slices, psi order {}, {} MB; error \
+                 measured at bake against exact f64 sums ({} samples per set, luminance): rel \
+                 RMSE {:.3}%, p99 {:.2}%, max {:.2}%; view polar 70-89.9 deg: rel RMSE \
+                 {:.3}%, p99 {:.2}%, max {:.2}%",
+                t.slices(),
+                t.order(),
                 format_args!("{:.1}", t.bytes() as f64 / 1e6),
                 e.samples,
                 100.0 * e.rel_rmse,
@@ -262,6 +265,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 100.0 * e.grazing_rel_rmse,
                 100.0 * e.grazing_p99,
                 100.0 * e.grazing_max,
+                g = t.grid(),
             );
         }
         // Of the image itself, whatever rendered it: a PNG clips these to black.

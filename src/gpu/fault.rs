@@ -21,7 +21,8 @@
 //! - `reflection-psi-sign`: the reflection table (`shaders/reflection.wgsl`) read at `-psi`:
 //!   the normal's angle about the reflected direction measured from the chart's tangent
 //!   `t` towards `t x r` instead of `b = r x t` (a port that crosses in the other order),
-//!   which flips the sign of the series' `sin psi` and `sin 2 psi` terms;
+//!   which flips the sign of the series' `sin k psi` terms at every order `k` (the basis'
+//!   recurrence carries the sign of `sin psi` up);
 //!
 //! And, applied to what is uploaded (src/gpu/upload.rs calls [`Faults::apply_to_uploads`]):
 //! - `sh-sign`: one SH coefficient's sign flipped (`l = 5, m = -3`, in every texel and

@@ -1,6 +1,7 @@
 //! The render pipeline and one draw: the WGSL files assembled behind a header that sizes
-//! the per-pixel SH coefficient array, a depth-tested (reverse-z: `Greater`, cleared to 0,
-//! as [`crate::scene::camera`]'s projection writes depth `near / w`) draw of the indexed
+//! the per-pixel SH coefficient array and the reflection table's Fourier basis, a
+//! depth-tested (reverse-z: `Greater`, cleared to 0, as [`crate::scene::camera`]'s
+//! projection writes depth `near / w`) draw of the indexed
 //! mesh into an `Rgba32Float` target (linear radiance; alpha 1 where covered, 0 elsewhere).
 //! Triangles are counter-clockwise seen from the front ([`crate::mesh::Mesh`]); back faces
 //! are drawn (two-sided) unless the scene culls them.
@@ -19,10 +20,13 @@ use wgpu::util::DeviceExt;
 /// The colour target's format: 32-bit float RGBA, renderable on every WebGPU adapter.
 pub(super) const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// The WGSL source for a material with `sh_terms` SH terms per colour.
-pub(super) fn shader_source(sh_terms: u32) -> String {
+/// The WGSL source for a material with `sh_terms` SH terms per colour and a reflection
+/// table whose series in psi is of order `refl_order` (`shaders/reflection.wgsl`; any
+/// order 1 to 8 without a table).
+pub(super) fn shader_source(sh_terms: u32, refl_order: u32) -> String {
     format!(
-        "const SH_TERMS: u32 = {sh_terms}u;\n{}\n{}\n{}\n{}\n{}\n{}",
+        "const SH_TERMS: u32 = {sh_terms}u;\nconst REFL_ORDER: u32 = {refl_order}u;\n\
+         {}\n{}\n{}\n{}\n{}\n{}",
         include_str!("shaders/conventions.wgsl"),
         include_str!("shaders/brdf.wgsl"),
         include_str!("shaders/sh.wgsl"),
@@ -39,7 +43,7 @@ pub(super) fn draw(gpu: &Gpu, up: &Uploads) -> Result<wgpu::Texture> {
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("brdfkit frame"),
-        source: wgpu::ShaderSource::Wgsl(shader_source(up.sh_terms).into()),
+        source: wgpu::ShaderSource::Wgsl(shader_source(up.sh_terms, up.refl_order).into()),
     });
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("frame"),

@@ -13,8 +13,9 @@
 
 use super::{Faults, Gpu};
 use crate::aov::Aov;
-use crate::env::reflection::table::lobe_value_count;
+use crate::env::reflection::table::{coeffs, lobe_value_count};
 use crate::env::reflection::ReflectionTerm;
+use crate::env::schema::DEFAULT_REFLECTION_ORDER;
 use crate::error::Result;
 use crate::light::Light;
 use crate::material::Material;
@@ -70,6 +71,9 @@ pub(super) struct Uploads {
     pub reflection: wgpu::Buffer,
     /// Whether the scene has a reflection-space table (its lookup's loops count per pixel).
     pub has_reflection: bool,
+    /// The order of the reflection table's series in psi (the default 2 without a table):
+    /// the shader's header sizes its basis by it (`REFL_ORDER`, [`super::pipeline`]).
+    pub refl_order: u32,
     /// Terms per colour of the SH data set (bands^2), 1 for other materials: the size of the
     /// shader's per-pixel coefficient array.
     pub sh_terms: u32,
@@ -92,9 +96,12 @@ pub(super) struct Uploads {
 /// for this.
 pub(super) const LOOP_ITERATIONS_PER_PASS: u32 = 16_000;
 
-/// Loop iterations of one reflection-table lookup (`shaders/reflection.wgsl`): four
-/// vertices, two slices, three colours, five coefficients, and the diffuse term's four.
-const REFLECTION_LOOKUP_ITERATIONS: u32 = 4 * 2 * 3 * (1 + 5) + 4 + 4;
+/// Loop iterations of one reflection-table lookup (`shaders/reflection.wgsl`) of a series of
+/// order `order`: four vertices, two slices, three colours, `2 order + 1` coefficients, the
+/// diffuse term's four, and the two bases' `order` each (156 at order 2).
+fn reflection_lookup_iterations(order: u32) -> u32 {
+    4 * 2 * 3 * (1 + coeffs(order as usize) as u32) + 4 + 4 + 2 * order
+}
 
 impl Uploads {
     /// The light ranges `[begin, end)` of the passes: each pass's loop iterations (the SH
@@ -113,7 +120,7 @@ impl Uploads {
         let per_pixel = if b > 0 { self.sh_terms } else { 0 }
             + self.transfer_terms
             + if self.has_reflection {
-                REFLECTION_LOOKUP_ITERATIONS
+                reflection_lookup_iterations(self.refl_order)
             } else {
                 0
             };
@@ -292,22 +299,29 @@ impl Uploads {
         }
         // The reflection-space table (an isotropic material's: the filtered path of an
         // anisotropic D-BRDF is refused by gpu::unsupported).
-        let (refl, mut refl_rot, mut reflection) = match scene.environment.reflection_term() {
-            Some(term) => match term.as_ref() {
-                ReflectionTerm::Table(t) => (
-                    [
-                        t.grid() as u32,
-                        t.slices() as u32,
-                        lobe_value_count(t.grid(), t.slices()) as u32,
-                        1,
-                    ],
-                    [t.rotation(), 0.0, 0.0, 0.0],
-                    t.values().to_vec(),
+        let (refl, mut refl_rot, mut reflection, refl_order) =
+            match scene.environment.reflection_term() {
+                Some(term) => match term.as_ref() {
+                    ReflectionTerm::Table(t) => (
+                        [
+                            t.grid() as u32,
+                            t.slices() as u32,
+                            lobe_value_count(t.grid(), t.slices(), t.order()) as u32,
+                            1,
+                        ],
+                        [t.rotation(), 0.0, 0.0, 0.0],
+                        t.values().to_vec(),
+                        t.order() as u32,
+                    ),
+                    ReflectionTerm::Filtered(_) => unreachable!("refused by gpu::unsupported"),
+                },
+                None => (
+                    [0; 4],
+                    [0.0; 4],
+                    Vec::new(),
+                    DEFAULT_REFLECTION_ORDER as u32,
                 ),
-                ReflectionTerm::Filtered(_) => unreachable!("refused by gpu::unsupported"),
-            },
-            None => ([0; 4], [0.0; 4], Vec::new()),
-        };
+            };
         let mut light_count = light_count;
         // A scene has one environment table at most: the faults apply to that one.
         let (env_table, rotation) = if refl[3] == 1 {
@@ -424,6 +438,7 @@ impl Uploads {
             transfer_terms: xfer[2],
             reflection: buffer("reflection", bytemuck::cast_slice(&reflection), U::STORAGE),
             has_reflection: refl[3] == 1,
+            refl_order,
             sh_terms,
             width,
             height,

@@ -182,9 +182,10 @@ impl EnvMethod {
             )),
             EnvMethod::Reflection => Some((
                 format!(
-                    "reflection table: {g} x {g} cells, {s} + 1 slices",
+                    "reflection table: {g} x {g} cells, {s} + 1 slices, psi order {o}",
                     g = env.reflection_grid,
-                    s = env.reflection_slices
+                    s = env.reflection_slices,
+                    o = env.reflection_order
                 ),
                 "nodes",
             )),

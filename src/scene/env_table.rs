@@ -48,6 +48,8 @@ struct EnvTable {
     #[serde(skip_serializing_if = "Option::is_none")]
     reflection_residual: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    reflection_order: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     reflection_samples: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     cut_error: Option<f32>,
@@ -69,6 +71,7 @@ pub fn method_fields(method: EnvMethod) -> &'static [&'static str] {
             "reflection_grid",
             "reflection_slices",
             "reflection_residual",
+            "reflection_order",
             "reflection_samples",
             "exact_lights",
         ],
@@ -90,6 +93,7 @@ impl EnvTable {
             ("reflection_grid", t.reflection_grid.is_some()),
             ("reflection_slices", t.reflection_slices.is_some()),
             ("reflection_residual", t.reflection_residual.is_some()),
+            ("reflection_order", t.reflection_order.is_some()),
             ("reflection_samples", t.reflection_samples.is_some()),
             ("cut_error", t.cut_error.is_some()),
             ("cut_max", t.cut_max.is_some()),
@@ -143,6 +147,7 @@ impl EnvTable {
             reflection_grid: self.reflection_grid.unwrap_or(d.reflection_grid),
             reflection_slices: self.reflection_slices.unwrap_or(d.reflection_slices),
             reflection_residual: self.reflection_residual.unwrap_or(d.reflection_residual),
+            reflection_order: self.reflection_order.unwrap_or(d.reflection_order),
             reflection_samples: self.reflection_samples.unwrap_or(d.reflection_samples),
             cut_error: self.cut_error.unwrap_or(d.cut_error),
             cut_max: self.cut_max.unwrap_or(d.cut_max),
@@ -177,6 +182,7 @@ impl EnvTable {
             reflection_grid: reflection.then_some(spec.reflection_grid),
             reflection_slices: reflection.then_some(spec.reflection_slices),
             reflection_residual: reflection.then_some(spec.reflection_residual),
+            reflection_order: reflection.then_some(spec.reflection_order),
             reflection_samples: reflection.then_some(spec.reflection_samples),
             cut_error: cuts.then_some(spec.cut_error),
             cut_max: cuts.then_some(spec.cut_max),

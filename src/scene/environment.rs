@@ -22,7 +22,7 @@ use crate::env::lightcuts::{prepare_lightcuts, LightCuts, LightTree, TileFault};
 use crate::env::lightset::prepare::{self, CacheDir};
 use crate::env::lightset::to_scene_lights;
 use crate::env::reflection::{self, prepare_reflection, ReflectionTerm};
-use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind};
+use crate::env::schema::{EnvMethod, EnvSpec, SamplerKind, DEFAULT_REFLECTION_ORDER};
 use crate::env::transfer::{self, prepare_transfer, PreparedTable, TransferBasis, TransferTable};
 use crate::env::Probe;
 use crate::error::{Error, Result};
@@ -208,10 +208,11 @@ impl Environment {
                 ReflectionTerm::Table(table) => (
                     "reflection-table",
                     format!(
-                        "a reflection table ({g} x {g} cells, {s} + 1 slices, {mb:.1} MB) and \
-                         {lights} exact lights",
+                        "a reflection table ({g} x {g} cells, {s} + 1 slices, psi order {o}, \
+                         {mb:.1} MB) and {lights} exact lights",
                         g = table.grid(),
                         s = table.slices(),
+                        o = table.order(),
                         mb = table.bytes() as f64 / 1e6,
                     ),
                 ),
@@ -258,10 +259,17 @@ impl Environment {
                 format!("lightcuts cut_error {} ({lights} texels)", c.cut_error)
             }
             Environment::Reflection { table, .. } => match &**table {
+                // The order only off the default: the manifest's words from before it was a
+                // parameter stay.
                 ReflectionTerm::Table(table) => format!(
-                    "reflection {g}x{g}x{s} + {lights} exact",
+                    "reflection {g}x{g}x{s}{o} + {lights} exact",
                     g = table.grid(),
-                    s = table.slices()
+                    s = table.slices(),
+                    o = if table.order() == DEFAULT_REFLECTION_ORDER {
+                        String::new()
+                    } else {
+                        format!(" order {}", table.order())
+                    }
                 ),
                 ReflectionTerm::Filtered(f) => format!(
                     "reflection filtered-is {n} + {lights} exact",

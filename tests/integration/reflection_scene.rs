@@ -80,6 +80,14 @@ fn reflection_fields_are_checked_and_named() {
             "method = \"reflection\"\nreflection_samples = 0",
             "env.reflection_samples",
         ),
+        (
+            "method = \"reflection\"\nreflection_order = 0",
+            "env.reflection_order",
+        ),
+        (
+            "method = \"reflection\"\nreflection_order = 9",
+            "env.reflection_order",
+        ),
     ] {
         let e = scene("city", GLOSSY, extra).err().unwrap().to_string();
         assert!(e.contains(field), "{extra}: {e}");
@@ -90,6 +98,12 @@ fn reflection_fields_are_checked_and_named() {
     let e = SceneFile::parse(text).err().unwrap().to_string();
     assert!(
         e.contains("reflection_grid") && e.contains("\"reflection\""),
+        "{e}"
+    );
+    let text = "[env]\nfile = \"p.exr\"\nmethod = \"lightcuts\"\nreflection_order = 6\n";
+    let e = SceneFile::parse(text).err().unwrap().to_string();
+    assert!(
+        e.contains("reflection_order") && e.contains("\"reflection\""),
         "{e}"
     );
     let text = "[env]\nfile = \"p.exr\"\nmethod = \"lights\"\nreflection_samples = 64\n";

@@ -47,8 +47,10 @@
 //! parameters): Blinn-Phong 200 18.6 -> 8.3 s (city), 16.7 -> 8.4 s (studio); gold dust
 //! paint 30.9 -> 10.9 s, 30.0 -> 13.9 s; the error columns moved by at most 0.04 points of
 //! p99 (the bake's own studio p99 of the gold dust paint, 30.09% -> 30.13%). What bounds
-//! the bake now is the number of (sample, texel) pairs: about 105 samples per node times
-//! the node's culled texel list, at two square roots, a division and a table lookup each.
+//! the bake now is the number of (sample, texel) pairs: `slices x 4 order + 1` samples per
+//! node (105 at the defaults, 13 slices and order 2; 313 at order 6, so a bake of order 6
+//! takes about three times as long) times the node's culled texel list, at two square
+//! roots, a division and a table lookup each.
 //!
 //! # Determinism
 //! One rayon task per node of the grid; each node's sums run over its texel list in index
@@ -57,8 +59,8 @@
 
 use super::lobe::{Lobe, LobeForm};
 use super::table::{
-    chart_frame, chart_is_z, node_direction, slice_angle, value_count, BakeError, ReflectionTable,
-    COEFFS, PSI_SAMPLES,
+    chart_frame, chart_is_z, coeffs, node_direction, psi_samples, slice_angle, value_count,
+    BakeError, ReflectionTable, MAX_COEFFS, MAX_ORDER, MIN_ORDER,
 };
 use crate::conventions::{probe_direction, probe_texel_solid_angle, texel_center_f64};
 use crate::env::{Probe, LUMINANCE_WEIGHTS};
@@ -149,7 +151,7 @@ pub enum BakeFault {
 }
 
 /// The table's parameters (the `[env]` fields `reflection_grid`, `reflection_slices`,
-/// `reflection_residual`).
+/// `reflection_residual`, `reflection_order`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BakeParams {
     /// Cells per side of the octahedral grid of reflected directions.
@@ -158,6 +160,9 @@ pub struct BakeParams {
     pub slices: usize,
     /// Largest width of the residual probe the table is baked from, texels.
     pub residual: usize,
+    /// Order of the Fourier series in psi, [`MIN_ORDER`] to [`MAX_ORDER`] (parent module
+    /// doc, "Order of the series in psi").
+    pub order: usize,
 }
 
 impl BakeParams {
@@ -175,13 +180,24 @@ impl BakeParams {
                 format!("{} is out of range (2 to 256)", self.slices),
             ));
         }
-        let values = value_count(self.grid, self.slices);
+        if !(MIN_ORDER..=MAX_ORDER).contains(&self.order) {
+            return Err(Error::field(
+                "env.reflection_order",
+                format!(
+                    "{} is out of range ({MIN_ORDER} to {MAX_ORDER}: the order of the series \
+                     in psi)",
+                    self.order
+                ),
+            ));
+        }
+        let values = value_count(self.grid, self.slices, self.order);
         if values > MAX_VALUES {
             return Err(Error::field(
                 "env.reflection_grid",
                 format!(
-                    "{} cells per side and {} slices are {values} values, over 2^24 (64 MiB)",
-                    self.grid, self.slices
+                    "{} cells per side, {} slices and order {} are {values} values, over 2^24 \
+                     (64 MiB)",
+                    self.grid, self.slices, self.order
                 ),
             ));
         }
@@ -417,6 +433,11 @@ pub fn bake_table(
     let cull = lobe.cull_cos();
     let g = params.grid;
     let ns = params.slices + 1;
+    let (order, nc, samples) = (
+        params.order,
+        coeffs(params.order),
+        psi_samples(params.order),
+    );
     let nodes = (g + 1) * (g + 1);
     progress.set_length(nodes as u64);
     let per_node: Vec<Vec<f32>> = (0..nodes)
@@ -440,40 +461,45 @@ pub fn bake_table(
                 texels = kept;
             }
             let tb = chart_frame(r, chart_is_z(r));
-            let mut out = vec![0.0f32; ns * 3 * COEFFS];
+            let mut out = vec![0.0f32; ns * 3 * nc];
             for s in 0..ns {
                 let polar = slice_angle(s, params.slices);
-                let mut coeffs = [[0.0f64; COEFFS]; 3];
+                let mut series = [[0.0f64; MAX_COEFFS]; 3];
                 if polar == 0.0 {
                     let (n, v) = sample_normal_view(r, 0.0, 0.0, tb);
                     let l = lobe_sum(&lobe, cosine, n, v, &texels);
-                    for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
+                    for (q, lc) in series.iter_mut().zip(l.to_array()) {
                         q[0] = lc;
                     }
                 } else {
-                    for m in 0..PSI_SAMPLES {
-                        let psi = std::f64::consts::TAU * m as f64 / PSI_SAMPLES as f64;
+                    for m in 0..samples {
+                        let psi = std::f64::consts::TAU * m as f64 / samples as f64;
                         let (n, v) = sample_normal_view(r, polar, psi, tb);
                         let l = lobe_sum(&lobe, cosine, n, v, &texels);
-                        let (s1, c1) = psi.sin_cos();
-                        let (s2, c2) = (2.0 * psi).sin_cos();
-                        let basis = [0.5, c1, s1, c2, s2];
-                        for (q, lc) in coeffs.iter_mut().zip(l.to_array()) {
-                            for (qk, bk) in q.iter_mut().zip(basis) {
-                                *qk += 2.0 / PSI_SAMPLES as f64 * bk * lc;
+                        // `[1/2, cos psi, sin psi, ..., cos(order psi), sin(order psi)]`.
+                        let mut basis = [0.0f64; MAX_COEFFS];
+                        basis[0] = 0.5;
+                        for j in 1..=order {
+                            let (sj, cj) = (j as f64 * psi).sin_cos();
+                            (basis[2 * j - 1], basis[2 * j]) = (cj, sj);
+                        }
+                        for (q, lc) in series.iter_mut().zip(l.to_array()) {
+                            for (qk, bk) in q[..nc].iter_mut().zip(basis) {
+                                *qk += 2.0 / samples as f64 * bk * lc;
                             }
                         }
                     }
                 }
-                for (c, qc) in coeffs.iter().enumerate() {
-                    for (k, &val) in qc.iter().enumerate() {
-                        let sine = k == 2 || k == 4;
+                for (c, qc) in series.iter().enumerate() {
+                    for (k, &val) in qc[..nc].iter().enumerate() {
+                        // b_j, the sine coefficients, at even k > 0.
+                        let sine = k > 0 && k.is_multiple_of(2);
                         let val = if fault == BakeFault::SineTermsNegated && sine {
                             -val
                         } else {
                             val
                         };
-                        out[(s * 3 + c) * COEFFS + k] = val as f32;
+                        out[(s * 3 + c) * nc + k] = val as f32;
                     }
                 }
             }
@@ -503,7 +529,7 @@ pub fn bake_table(
         .chain(diffuse.into_iter().flatten())
         .collect();
     let unrotated =
-        ReflectionTable::from_parts(g, params.slices, 0.0, values, BakeError::default());
+        ReflectionTable::from_parts(g, params.slices, order, 0.0, values, BakeError::default());
     // The exact reference: every texel of the full probe but the excluded ones (the
     // residual's powers moved in, the directions allocated once: at 4096 x 2048 each
     // array is 200 MB, and a copy grown by pushes took twice that again).
@@ -519,6 +545,7 @@ pub fn bake_table(
     Ok(ReflectionTable::from_parts(
         g,
         params.slices,
+        order,
         probe.rotation(),
         values,
         error,

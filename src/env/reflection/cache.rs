@@ -8,14 +8,20 @@
 //! environment cache's key shares: [`key_hasher`]), the loader options that change
 //! texels (`zero_non_finite`, `max_texels`), the material (its complete `Debug` form, every
 //! parameter and table value, streamed into the hasher: [`material_fingerprint`]), every
-//! table parameter (grid, slices, residual width), the number of brightest texels left out
-//! and the intensity's bits ([`table_cache_key`]). The probe rotation is not in the key: the
+//! table parameter (grid, slices, residual width), the number of brightest texels left out,
+//! the intensity's bits and, last and only when it is not the default 2, the order of the
+//! series in psi ([`table_cache_key`]: a table of the default order keeps the key it had
+//! before the order was a parameter, so its existing entries are still read). The probe
+//! rotation is not in the key: the
 //! table lives in the probe's own frame and the rotation is applied at lookup. Entries are
 //! `<dir>/reflection-<key>.bin`.
 //!
 //! # Format
-//! One line of JSON ([`TableHeader`]: format tag, versions, key, grid, slices, value count,
-//! the bake's measured error, checksum), a newline, then the values as little-endian f32.
+//! One line of JSON ([`TableHeader`]: format tag, versions, key, grid, slices, the order of
+//! the series in psi (written only when it is not 2, read as 2 when absent: an entry of the
+//! default order is byte for byte the entry from before the order was a parameter), value
+//! count, the bake's measured error, checksum), a newline, then the values as
+//! little-endian f32.
 //! Every read checks what the transfer cache checks ([`crate::env::cache_entry`]); an entry
 //! that fails any of it is ignored (and rewritten), never trusted.
 
@@ -25,6 +31,7 @@ use crate::env::cache_entry::{
     encode_values_entry, impl_values_header, key_hasher, read_values_entry, values_checksum,
     EntryKind, CRATE_VERSION,
 };
+use crate::env::schema::DEFAULT_REFLECTION_ORDER;
 use crate::env::transfer::TableCache;
 use crate::env::LoadOptions;
 use crate::hash::{self, StableHasher};
@@ -34,7 +41,8 @@ use std::path::{Path, PathBuf};
 
 /// Version of the algorithm that turns a probe, a material and the parameters into a table
 /// ([`super::build::bake_table`]). Part of every key: bump it when a table's values change
-/// for the same inputs.
+/// for the same inputs. (Making the order of the series in psi a parameter did not: at the
+/// default order 2 the bake writes the same bits.)
 pub const REFLECTION_ALGORITHM_VERSION: u32 = 4;
 
 /// Format tag of an entry.
@@ -90,6 +98,11 @@ pub fn table_cache_key(
     h.write_u64(p.residual as u64);
     h.write_u64(exact_lights as u64);
     h.write_u64(intensity.to_bits() as u64);
+    // Last and only off the default: the default's key is the one from before the order
+    // was a parameter (module doc, "Key").
+    if p.order != DEFAULT_REFLECTION_ORDER {
+        h.write_u64(p.order as u64);
+    }
     h.finish()
 }
 
@@ -114,9 +127,21 @@ pub struct TableHeader {
     pub key: String,
     pub grid: usize,
     pub slices: usize,
+    /// The order of the series in psi; absent (read as 2) at the default order (module
+    /// doc, "Format").
+    #[serde(default = "default_order", skip_serializing_if = "is_default_order")]
+    pub order: usize,
     pub values: usize,
     pub error: BakeError,
     pub checksum: String,
+}
+
+fn default_order() -> usize {
+    DEFAULT_REFLECTION_ORDER
+}
+
+fn is_default_order(order: &usize) -> bool {
+    *order == DEFAULT_REFLECTION_ORDER
 }
 
 impl_values_header!(TableHeader);
@@ -131,6 +156,7 @@ pub fn encode_entry(table: &ReflectionTable, key: u64) -> Vec<u8> {
         key: EntryKind::key_text(key),
         grid: table.grid(),
         slices: table.slices(),
+        order: table.order(),
         values: values.len(),
         error: table.error(),
         checksum: hash::tagged(values_checksum(values)),
@@ -146,12 +172,13 @@ pub fn read_entry(
     params: &BakeParams,
     rotation: f64,
 ) -> std::result::Result<Option<ReflectionTable>, String> {
-    let n = value_count(params.grid, params.slices);
+    let n = value_count(params.grid, params.slices, params.order);
     let expected = |h: &TableHeader| {
-        if (h.grid, h.slices, h.values) != (params.grid, params.slices, n) {
+        if (h.grid, h.slices, h.order, h.values) != (params.grid, params.slices, params.order, n) {
             return Err(format!(
-                "grid {}, {} slices, {} values; expected grid {}, {} slices, {n} values",
-                h.grid, h.slices, h.values, params.grid, params.slices
+                "grid {}, {} slices, psi order {}, {} values; expected grid {}, {} slices, \
+                 psi order {}, {n} values",
+                h.grid, h.slices, h.order, h.values, params.grid, params.slices, params.order
             ));
         }
         Ok(n)
@@ -165,6 +192,13 @@ pub fn read_entry(
         expected,
     )?;
     Ok(entry.map(|(h, values)| {
-        ReflectionTable::from_parts(params.grid, params.slices, rotation, values, h.error)
+        ReflectionTable::from_parts(
+            params.grid,
+            params.slices,
+            params.order,
+            rotation,
+            values,
+            h.error,
+        )
     }))
 }

@@ -15,8 +15,9 @@
 //!   bilinear between the four nodes around a pixel's `r`;
 //! - `polar_o` on `reflection_slices` uniform slices over 0-85 degrees plus one at 89.9
 //!   degrees ([`table::HORIZON_SLICE_DEG`]), linear between two;
-//! - `psi` as a Fourier series of order 2 ([`table::COEFFS`] coefficients), projected from
-//!   [`table::PSI_SAMPLES`] samples. `psi` is measured from a reference tangent about `r`,
+//! - `psi` as a Fourier series of order `reflection_order` (default 2; [`table::coeffs`]:
+//!   `2 order + 1` coefficients), projected from [`table::psi_samples`]: `4 order` samples
+//!   (below, "Order of the series in psi"). `psi` is measured from a reference tangent about `r`,
 //!   which no single field gives on the whole sphere (hairy ball): each node uses +y
 //!   projected normal to `r`, or +z where `|r.y| > 0.8` ([`table::CHART_SWITCH`]); a pixel
 //!   evaluates each corner node's series at its `psi` measured in that node's chart, so
@@ -55,6 +56,34 @@
 //! in `psi` is the knee (order 0 left 188% at the 99th percentile, order 1 33%, order 2
 //! 4.5%, order 3 4.0%); the horizon slice is required; 64 exact texels are needed under
 //! studio; a 256-wide residual keeps its own floor at or below 1.1% p99.
+//!
+//! # Order of the series in psi
+//! The order is the scene's knob (`[env] reflection_order`, 1 to [`table::MAX_ORDER`],
+//! default [`crate::env::schema::DEFAULT_REFLECTION_ORDER`] = 2). At order `K` a node and
+//! slice hold, per colour, `L(psi) ~ a0 + sum_{k = 1..K} (a_k cos k psi + b_k sin k psi)`
+//! with `a_k = (2 / N) sum_m L(psi_m) cos k psi_m`, `b_k` likewise with `sin`,
+//! `psi_m = 2 pi m / N`, `N = 4 K` (and `a0` half of the `k = 0` sum): the discrete
+//! Fourier projection, exact for a series of order below `N - K = 3 K` in psi, so the
+//! samples alias no harmonic up to `3 K - 1` onto one the table holds. The lookup
+//! evaluates the basis by `cos 2 psi = c^2 - s^2`, `sin 2 psi = 2 c s` and angle addition
+//! above; at order 2 the bake and the lookup compute what they did before the order was a
+//! parameter, bit for bit, so the default's tables, cache entries (their keys and bytes,
+//! [`cache`]) and golden images are unchanged.
+//!
+//! Why more than 2: under studio (lamps past the 64 exact texels) the sweep's glossy class
+//! (`kd = 0.05`, `ks = 0.9`) missed 10% at the 99th percentile at order 2 (Blinn-Phong
+//! 200: 0.87% relative RMSE, 23.5% p99 at 96 x 96 against the converged reference;
+//! docs/rendering.md, "Why studio's glossy class misses: the series in psi"). At a view
+//! 60-80 degrees from the normal the lobe about `r` is an ellipse that turns with psi, so
+//! a bright texel a few lobe widths from `r` is a narrow peak in psi: the series' own
+//! error there (exact sums at 32 values of psi, `examples/reflection_psi_error.rs`, p99
+//! with 64 exact texels) was 33%, 11%, 3.1% and 0.5% at orders 2, 4, 6 and 8 for
+//! Blinn-Phong 200 at 60-70 degrees (63%, 26%, 7.8%, 2.6% at 70-80). Order 6 with
+//! `reflection_grid = 128` met the 10% p99 bound for Blinn-Phong 50, 200 and 500 and
+//! gold-dust-paint under studio. Cost: memory and bake time grow as the coefficients and
+//! samples do, `2 K + 1` and `4 K` (order 6: 2.6 times the bytes and 3 times the bake of
+//! order 2; [`table::value_count`]); the lookup sums `2 K + 1` products per node, slice
+//! and colour.
 //!
 //! # Anisotropic D-BRDFs
 //! The parameterisation holds isotropic materials only. The rule, per material
@@ -188,6 +217,7 @@ pub fn params_of(spec: &EnvSpec) -> BakeParams {
         grid: spec.reflection_grid,
         slices: spec.reflection_slices,
         residual: spec.reflection_residual,
+        order: spec.reflection_order,
     }
 }
 
@@ -310,3 +340,5 @@ mod tests;
 mod tests_filtered;
 #[cfg(test)]
 mod tests_lobe;
+#[cfg(test)]
+mod tests_order;

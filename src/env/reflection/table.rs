@@ -5,14 +5,33 @@
 use crate::conventions::{sphere_oct_decode_f64, sphere_oct_encode, sphere_oct_vertex};
 use glam::{DVec3, Vec3};
 
-/// Fourier coefficients per (node, slice, colour): `a0, a1, b1, a2, b2` of
-/// `a0 + a1 cos psi + b1 sin psi + a2 cos 2psi + b2 sin 2psi` (order 2: the knee of the
-/// accuracy study, parent module doc).
-pub const COEFFS: usize = 5;
+/// Smallest order of the series in psi (`[env] reflection_order`).
+pub const MIN_ORDER: usize = 1;
 
-/// Samples of psi per (node, slice) the bake projects onto the [`COEFFS`] coefficients
-/// (`2 pi m / PSI_SAMPLES`, `m = 0..8`; orders up to 5 alias no lower order than 3).
-pub const PSI_SAMPLES: usize = 8;
+/// Largest order of the series in psi: the highest the diagnosis of the series measured
+/// (0.3-16% at the 99th percentile; parent module doc, "Order of the series in psi"); its
+/// series are 3.4 times the default's bytes and its bake about 4 times the time.
+pub const MAX_ORDER: usize = 8;
+
+/// Coefficients per (node, slice, colour) of the largest order: the size of the fixed
+/// arrays the bake and the lookup hold a basis in.
+pub const MAX_COEFFS: usize = 2 * MAX_ORDER + 1;
+
+/// Fourier coefficients per (node, slice, colour) of a series of order `order`:
+/// `a0, a1, b1, ..., a_order, b_order` of
+/// `a0 + sum_{k = 1..order} (a_k cos k psi + b_k sin k psi)`; 5 at the default order 2.
+pub const fn coeffs(order: usize) -> usize {
+    2 * order + 1
+}
+
+/// Samples of psi per (node, slice) the bake projects onto the [`coeffs`] coefficients of
+/// order `order` (`2 pi m / N`, `m = 0..N`, `N = 4 order`: 8 at the default order 2).
+/// At least `2 order + 1`, so the projection is the discrete Fourier transform's; a
+/// harmonic `j` of the radiance lands on coefficient `k` when `j = +-k (mod N)`, so the
+/// first above the order that reaches a held one is `N - order = 3 order`.
+pub const fn psi_samples(order: usize) -> usize {
+    4 * order
+}
 
 /// Polar angle of the view of the last uniform slice, degrees (slices `0..slices` span
 /// `[0, LAST_UNIFORM_SLICE_DEG]`).
@@ -45,7 +64,8 @@ pub struct BakeError {
 }
 
 /// A reflection-space radiance table (parent module doc). Values are f32: first the lobes'
-/// series, `values[((node * slices_total + s) * 3 + c) * COEFFS + k]` with
+/// series, `values[((node * slices_total + s) * 3 + c) * C + k]` (`C =`
+/// [`coeffs`]`(order)`, coefficient `k` in the order of [`coeffs`]) with
 /// `node = j (G + 1) + i` the vertex at octahedral `(u, v) = (-1 + 2i/G, -1 + 2j/G)`, then
 /// the diffuse term over normals on the same vertices,
 /// `values[lobe_values + node * 3 + c]` ([`value_count`]; parent module doc, "Diffuse term").
@@ -54,6 +74,8 @@ pub struct ReflectionTable {
     pub(super) grid: usize,
     /// Uniform slices (the horizon slice is one more).
     pub(super) slices: usize,
+    /// Order of the series in psi, [`MIN_ORDER`] to [`MAX_ORDER`].
+    pub(super) order: usize,
     /// Probe rotation about +y, radians: a world direction `d` reads the table at
     /// `rotate_about_up(d, -rotation)`.
     pub(super) rotation: f32,
@@ -65,15 +87,18 @@ pub struct ReflectionTable {
     pub(super) error: BakeError,
 }
 
-/// Values of the lobes' series of a table of `grid` cells and `slices` uniform slices.
-pub fn lobe_value_count(grid: usize, slices: usize) -> usize {
-    (grid + 1).pow(2) * (slices + 1) * 3 * COEFFS
+/// Values of the lobes' series of a table of `grid` cells, `slices` uniform slices and
+/// series of order `order`.
+pub fn lobe_value_count(grid: usize, slices: usize, order: usize) -> usize {
+    (grid + 1).pow(2) * (slices + 1) * 3 * coeffs(order)
 }
 
-/// Values of a table of `grid` cells and `slices` uniform slices: the lobes' series and the
-/// diffuse term's RGB per node ([`ReflectionTable`]).
-pub fn value_count(grid: usize, slices: usize) -> usize {
-    lobe_value_count(grid, slices) + (grid + 1).pow(2) * 3
+/// Values of a table of `grid` cells, `slices` uniform slices and series of order `order`:
+/// the lobes' series and the diffuse term's RGB per node ([`ReflectionTable`]). Four bytes
+/// each: at the default 64 cells and 13 + 1 slices, 0.71 MB per coefficient (3.6 MB at
+/// order 2, 9.3 MB at order 6), at 128 cells 2.8 MB (14.2 and 36.5 MB).
+pub fn value_count(grid: usize, slices: usize, order: usize) -> usize {
+    lobe_value_count(grid, slices, order) + (grid + 1).pow(2) * 3
 }
 
 /// The polar angle of the view of slice `s` of `slices` uniform ones and the horizon slice
@@ -113,11 +138,21 @@ fn chart_frame_f32(r: Vec3, chart_z: bool) -> (Vec3, Vec3) {
     (t, r.cross(t))
 }
 
-/// The Fourier basis `[1, cos psi, sin psi, cos 2psi, sin 2psi]` of the normal `n` about
-/// `r` in a chart's frame `(t, b)`; `[1, 1, 0, 1, 0]` when `n` is `r` (then only the first
-/// coefficient is non-zero: the bake stores zeros for the others at polar angle 0).
+/// The Fourier basis `[1, cos psi, sin psi, ..., cos(order psi), sin(order psi)]` of the
+/// normal `n` about `r` in a chart's frame `(t, b)` (entries past [`coeffs`]`(order)`
+/// zero); `[1, 1, 0, 1, 0, ...]` when `n` is `r` (then only the first coefficient is
+/// non-zero: the bake stores zeros for the others at polar angle 0). Orders 1 and 2 in
+/// closed form (`cos 2psi = c^2 - s^2`, `sin 2psi = 2 c s`: the lookup's bits from before
+/// the order was a parameter), higher ones by the angle-addition recurrence from the one
+/// below.
 #[inline]
-fn psi_basis(n: Vec3, r: Vec3, cos_o: f32, (t, b): (Vec3, Vec3)) -> [f32; COEFFS] {
+fn psi_basis(
+    n: Vec3,
+    r: Vec3,
+    cos_o: f32,
+    (t, b): (Vec3, Vec3),
+    order: usize,
+) -> [f32; MAX_COEFFS] {
     let d = n - cos_o * r;
     let (x, y) = (d.dot(t), d.dot(b));
     let len = (x * x + y * y).sqrt();
@@ -126,7 +161,19 @@ fn psi_basis(n: Vec3, r: Vec3, cos_o: f32, (t, b): (Vec3, Vec3)) -> [f32; COEFFS
     } else {
         (1.0, 0.0)
     };
-    [1.0, c, s, c * c - s * s, 2.0 * c * s]
+    let mut out = [0.0f32; MAX_COEFFS];
+    out[0] = 1.0;
+    let (mut ck, mut sk) = (c, s);
+    for k in 1..=order {
+        match k {
+            1 => {}
+            2 => (ck, sk) = (c * c - s * s, 2.0 * c * s),
+            _ => (ck, sk) = (ck * c - sk * s, sk * c + ck * s),
+        }
+        out[2 * k - 1] = ck;
+        out[2 * k] = sk;
+    }
+    out
 }
 
 /// The four vertices of an octahedral grid of `g` cells per side around the unit direction
@@ -151,22 +198,30 @@ pub(super) fn grid_corners(d: Vec3, g: usize) -> [(usize, f32); 4] {
 }
 
 impl ReflectionTable {
-    /// A table from its parts; the caller checks `values.len()`.
+    /// A table from its parts; the caller checks `values.len()`. Panics on an order outside
+    /// [`MIN_ORDER`] to [`MAX_ORDER`] (the lookup has no other;
+    /// [`super::build::BakeParams::check`] and the cache's read refuse one first).
     pub(super) fn from_parts(
         grid: usize,
         slices: usize,
+        order: usize,
         rotation: f64,
         values: Vec<f32>,
         error: BakeError,
     ) -> ReflectionTable {
         let n = grid + 1;
-        debug_assert_eq!(values.len(), value_count(grid, slices));
+        assert!(
+            (MIN_ORDER..=MAX_ORDER).contains(&order),
+            "psi order {order}"
+        );
+        debug_assert_eq!(values.len(), value_count(grid, slices, order));
         let chart_z = (0..n * n)
             .map(|k| chart_is_z(node_direction(k % n, k / n, grid)))
             .collect();
         ReflectionTable {
             grid,
             slices,
+            order,
             rotation: rotation as f32,
             unrotate: (-(rotation as f32)).sin_cos(),
             chart_z,
@@ -193,6 +248,12 @@ impl ReflectionTable {
     /// Uniform view slices (the horizon slice is one more).
     pub fn slices(&self) -> usize {
         self.slices
+    }
+
+    /// Order of the series in psi (`[env] reflection_order`; [`coeffs`] of it per node,
+    /// slice and colour).
+    pub fn order(&self) -> usize {
+        self.order
     }
 
     /// Every value (layout in the type's doc).
@@ -247,36 +308,61 @@ impl ReflectionTable {
         };
         // Grid cell and weights: of `r` for the lobes, of `n` for the diffuse term.
         let g = self.grid;
-        let corners = |d: Vec3| grid_corners(d, g);
         let bases = [
-            psi_basis(n, r, cos_o, chart_frame_f32(r, false)),
-            psi_basis(n, r, cos_o, chart_frame_f32(r, true)),
+            psi_basis(n, r, cos_o, chart_frame_f32(r, false), self.order),
+            psi_basis(n, r, cos_o, chart_frame_f32(r, true), self.order),
         ];
-        let ns = self.slices + 1;
-        let mut out = [0.0f32; 3];
-        for (node, wc) in corners(r) {
-            let basis = &bases[self.chart_z[node] as usize];
-            for (s, wt) in [(s0, 1.0 - ws), (s0 + 1, ws)] {
-                let wgt = wc * wt;
-                let at = (node * ns + s) * 3 * COEFFS;
-                for (c, o) in out.iter_mut().enumerate() {
-                    let q = &self.values[at + c * COEFFS..at + (c + 1) * COEFFS];
-                    let f = q[0] * basis[0]
-                        + q[1] * basis[1]
-                        + q[2] * basis[2]
-                        + q[3] * basis[3]
-                        + q[4] * basis[4];
-                    *o += wgt * f;
-                }
-            }
-        }
-        let diffuse = lobe_value_count(g, self.slices);
-        for (node, wc) in corners(n) {
+        // One unrolled copy of the series' sum per order (the order is checked where a
+        // table is made, `from_parts`).
+        let mut out = match coeffs(self.order) {
+            3 => self.lobes::<3>(r, (s0, ws), &bases),
+            5 => self.lobes::<5>(r, (s0, ws), &bases),
+            7 => self.lobes::<7>(r, (s0, ws), &bases),
+            9 => self.lobes::<9>(r, (s0, ws), &bases),
+            11 => self.lobes::<11>(r, (s0, ws), &bases),
+            13 => self.lobes::<13>(r, (s0, ws), &bases),
+            15 => self.lobes::<15>(r, (s0, ws), &bases),
+            17 => self.lobes::<17>(r, (s0, ws), &bases),
+            c => unreachable!("{c} coefficients: from_parts admits orders 1 to {MAX_ORDER}"),
+        };
+        let diffuse = lobe_value_count(g, self.slices, self.order);
+        for (node, wc) in grid_corners(n, g) {
             let at = diffuse + node * 3;
             for (c, o) in out.iter_mut().enumerate() {
                 *o += wc * self.values[at + c];
             }
         }
         Vec3::from_array(out)
+    }
+
+    /// The lobes' series of [`ReflectionTable::radiance`] at the reflected direction `r`
+    /// (probe frame), between slices `s0` and `s0 + 1` (weight `ws` on the second), each
+    /// node's series of `C` coefficients evaluated at the basis of its chart (`bases`: +y,
+    /// +z). Products summed in coefficient order from the first.
+    #[inline]
+    fn lobes<const C: usize>(
+        &self,
+        r: Vec3,
+        (s0, ws): (usize, f32),
+        bases: &[[f32; MAX_COEFFS]; 2],
+    ) -> [f32; 3] {
+        let ns = self.slices + 1;
+        let mut out = [0.0f32; 3];
+        for (node, wc) in grid_corners(r, self.grid) {
+            let basis = &bases[self.chart_z[node] as usize];
+            for (s, wt) in [(s0, 1.0 - ws), (s0 + 1, ws)] {
+                let wgt = wc * wt;
+                let at = (node * ns + s) * 3 * C;
+                for (c, o) in out.iter_mut().enumerate() {
+                    let q = &self.values[at + c * C..][..C];
+                    let mut f = q[0] * basis[0];
+                    for (qk, bk) in q[1..].iter().zip(&basis[1..]) {
+                        f += qk * bk;
+                    }
+                    *o += wgt * f;
+                }
+            }
+        }
+        out
     }
 }

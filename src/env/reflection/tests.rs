@@ -64,6 +64,7 @@ fn params(grid: usize, slices: usize, residual: usize) -> BakeParams {
         grid,
         slices,
         residual,
+        order: crate::env::schema::DEFAULT_REFLECTION_ORDER,
     }
 }
 
@@ -213,7 +214,7 @@ fn the_lambertian_term_over_normals_follows_a_bright_source_past_the_horizon() {
     assert!(e.p99 < 0.5 * f.p99, "{e:?} against {f:?}");
     assert!(e.grazing_p99 < 0.5 * f.grazing_p99, "{e:?} against {f:?}");
     // The series hold what f32 rounding of `albedo / pi` leaves (about 1e-8 of the term).
-    let lobes = super::table::lobe_value_count(32, 9);
+    let lobes = super::table::lobe_value_count(32, 9, 2);
     let (series_part, normals_part) = split.values().split_at(lobes);
     let largest = |v: &[f32]| v.iter().fold(0.0f32, |m, x| m.max(x.abs()));
     assert!(largest(series_part) < 1e-6 * largest(normals_part));
@@ -315,7 +316,7 @@ fn cache_entries_round_trip_and_damage_is_refused() {
         grazing_max: 0.1699259068544874,
         ..t.error()
     };
-    let odd = super::table::ReflectionTable::from_parts(4, 3, 0.0, t.values().to_vec(), awkward);
+    let odd = super::table::ReflectionTable::from_parts(4, 3, 2, 0.0, t.values().to_vec(), awkward);
     std::fs::write(&path, cache::encode_entry(&odd, 7)).unwrap();
     let back = cache::read_entry(&path, 7, &p, 0.0).unwrap().unwrap();
     assert_eq!(back.error().rel_rmse.to_bits(), awkward.rel_rmse.to_bits());

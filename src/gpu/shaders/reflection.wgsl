@@ -9,14 +9,16 @@
 // (the lobes' value count), 1 when the scene has a table; frame.refl_rot.x: the probe
 // rotation r (radians: the environment turned by r about +y, right-handed).
 // Vertex (i, j) sits at octahedral (u, v) = (-1 + 2 i / G, -1 + 2 j / G), node j (G + 1) + i.
-// Lobes: the five Fourier coefficients (a0, a1, b1, a2, b2) of node, slice s, colour c at
-// reflection[((node (S + 1) + s) 3 + c) 5 + k]; diffuse term c E(n): the diffuse start
-// + node 3 + c.
+// Lobes: the C = 2 REFL_ORDER + 1 Fourier coefficients (a0, a1, b1, ..., a_order, b_order)
+// of node, slice s, colour c at reflection[((node (S + 1) + s) 3 + c) C + k]; diffuse term
+// c E(n): the diffuse start + node 3 + c. REFL_ORDER, the order of the series in psi
+// (`[env] reflection_order`, default 2), is defined by the header src/gpu/pipeline.rs
+// puts before these files.
 
 @group(0) @binding(6) var<storage, read> reflection: array<f32>;
 
-// Fourier coefficients per (node, slice, colour): order 2 in psi.
-const REFL_COEFFS: u32 = 5u;
+// Fourier coefficients per (node, slice, colour): order REFL_ORDER in psi.
+const REFL_COEFFS: u32 = 2u * REFL_ORDER + 1u;
 // The view's polar angle of the last uniform slice, 85 degrees, and of the horizon slice,
 // 89.9 degrees, in radians.
 const REFL_LAST_UNIFORM: f32 = 1.4835298641951802;
@@ -90,11 +92,12 @@ fn refl_corners(d: vec3<f32>) -> ReflCorners {
     return out;
 }
 
-// The Fourier basis (1, cos psi, sin psi, cos 2 psi, sin 2 psi) of the normal n about the
-// reflected direction r in the chart whose axis is +z (z_chart) or +y: t = the axis
-// projected normal to r, b = r x t, psi the angle of n's component normal to r from t
-// towards b; (1, 1, 0, 1, 0) when n is along r.
-fn refl_psi_basis(n: vec3<f32>, r: vec3<f32>, cos_o: f32, z_chart: bool) -> array<f32, 5> {
+// The Fourier basis (1, cos psi, sin psi, ..., cos(REFL_ORDER psi), sin(REFL_ORDER psi))
+// of the normal n about the reflected direction r in the chart whose axis is +z (z_chart)
+// or +y: t = the axis projected normal to r, b = r x t, psi the angle of n's component
+// normal to r from t towards b; (1, 1, 0, 1, 0, ...) when n is along r. cos 2 psi and
+// sin 2 psi as c^2 - s^2 and 2 c s, higher orders by angle addition from the one below.
+fn refl_psi_basis(n: vec3<f32>, r: vec3<f32>, cos_o: f32, z_chart: bool) -> array<f32, REFL_COEFFS> {
     var axis = vec3<f32>(0.0, 1.0, 0.0);
     if z_chart {
         axis = vec3<f32>(0.0, 0.0, 1.0);
@@ -120,11 +123,27 @@ fn refl_psi_basis(n: vec3<f32>, r: vec3<f32>, cos_o: f32, z_chart: bool) -> arra
         c = x / len;
         s = y / len;
     }
-    return array<f32, 5>(1.0, c, s, c * c - s * s, 2.0 * c * s);
+    var q: array<f32, REFL_COEFFS>;
+    q[0] = 1.0;
+    var ck = c;
+    var sk = s;
+    for (var k = 1u; k <= REFL_ORDER; k = k + 1u) {
+        if k == 2u {
+            ck = c * c - s * s;
+            sk = 2.0 * c * s;
+        } else if k > 2u {
+            let cn = ck * c - sk * s;
+            sk = sk * c + ck * s;
+            ck = cn;
+        }
+        q[2u * k - 1u] = ck;
+        q[2u * k] = sk;
+    }
+    return q;
 }
 
 // The series of one (node, slice) in the three colours at the basis q.
-fn refl_series(node: u32, slice: u32, q: array<f32, 5>) -> vec3<f32> {
+fn refl_series(node: u32, slice: u32, q: array<f32, REFL_COEFFS>) -> vec3<f32> {
     let slices = frame.refl.y + 1u;
     let at = (node * slices + slice) * 3u * REFL_COEFFS;
     var out = vec3<f32>(0.0);
