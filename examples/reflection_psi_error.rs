@@ -21,8 +21,11 @@
 //! approximated here: the r-grid, the slices and the residual's downsampling are exact, so
 //! the numbers isolate the `psi` order.
 
-use brdfkit::conventions::{probe_direction, probe_texel_solid_angle, texel_center_f64};
+use brdfkit::conventions::{
+    probe_direction, probe_texel_solid_angle, texel_center_f64, view_frame_f64,
+};
 use brdfkit::env::probe::{LoadOptions, Probe};
+use brdfkit::env::reflection::build::sample_normal_view;
 use brdfkit::env::transfer::brightest_texels;
 use brdfkit::scene::{Scene, SceneFile};
 use glam::DVec3;
@@ -119,18 +122,8 @@ fn main() {
                 (0..PSI)
                     .map(|m| {
                         let psi = std::f64::consts::TAU * m as f64 / PSI as f64;
-                        let n = (polar.cos() * r + polar.sin() * (psi.cos() * t + psi.sin() * b))
-                            .normalize();
-                        let v = (2.0 * n.dot(r) * n - r).normalize();
-                        let cos_o = n.dot(v).clamp(0.0, 1.0);
-                        let tan = v - cos_o * n;
-                        let x = if tan.length_squared() > 1e-24 {
-                            tan.normalize()
-                        } else {
-                            n.any_orthonormal_vector()
-                        };
-                        let y = n.cross(x);
-                        let wo = DVec3::new(v.dot(x), 0.0, cos_o);
+                        let (n, v) = sample_normal_view(r, polar, psi, (t, b));
+                        let (x, y, wo) = view_frame_f64(n, v);
                         let mut full = DVec3::ZERO;
                         let mut lobe = vec![DVec3::ZERO; ks_list.len()];
                         for (i, (l, p)) in dir.iter().zip(&power).enumerate() {

@@ -3,7 +3,7 @@
 //! beside the other conventions and re-exported from there.
 
 use super::wrap_azimuth;
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use std::f32::consts::TAU;
 
 /// A right-handed orthonormal shading frame at a surface point (see the module doc).
@@ -207,4 +207,23 @@ pub fn scramble_angle(n: Vec3) -> f32 {
     h = h.wrapping_mul(0x846c_a68b);
     h ^= h >> 16;
     (h >> 8) as f32 / (1u32 << 24) as f32 * TAU
+}
+
+/// The isotropic material's frame at unit normal `n` for unit view `v`, in f64 (the
+/// reference sums' form of "Frame of isotropic tabulated materials" in the module doc):
+/// `(x, y, wo)` with `x` the view's direction in the tangent plane (azimuth 0), `y = n x x`,
+/// and `wo = (v.x, 0, cos_o)` the view in that frame, `cos_o = n.v` clamped to [0, 1].
+///
+/// Fails by documented fallback: where `v` is within 1e-12 of the normal's axis (no
+/// tangent direction), `x` is any unit vector orthogonal to `n`.
+pub fn view_frame_f64(n: DVec3, v: DVec3) -> (DVec3, DVec3, DVec3) {
+    let cos_o = n.dot(v).clamp(0.0, 1.0);
+    let tangent = v - cos_o * n;
+    let x = if tangent.length_squared() > 1e-24 {
+        tangent.normalize()
+    } else {
+        n.any_orthonormal_vector()
+    };
+    let y = n.cross(x);
+    (x, y, DVec3::new(v.dot(x), 0.0, cos_o))
 }

@@ -49,6 +49,37 @@ fn entries(stdout: &str) -> Vec<(String, String, String)> {
         .collect()
 }
 
+/// Runs the check with `--gpu-fault fault` on `must_fail` and `must_pass` and asserts that
+/// it exits 1 and that the entries it fails are exactly `must_fail` (in any order);
+/// returns them sorted, for the log.
+fn assert_fails_exactly(fault: &str, must_fail: &[&str], must_pass: &[&str]) -> Vec<String> {
+    let mut args = vec!["--gpu-fault", fault];
+    args.extend(must_fail.iter().chain(must_pass));
+    let r = check(&args);
+    assert_eq!(
+        r.code,
+        Some(1),
+        "seeded fault {fault} did not fail the check:\n{}{}",
+        r.stdout,
+        r.stderr
+    );
+    let mut failed: Vec<String> = entries(&r.stdout)
+        .into_iter()
+        .filter(|l| l.1 == "FAIL")
+        .map(|l| l.0)
+        .collect();
+    let mut want: Vec<String> = must_fail.iter().map(|n| n.to_string()).collect();
+    failed.sort();
+    want.sort();
+    assert_eq!(
+        failed, want,
+        "{fault} must fail exactly these:\n{}",
+        r.stdout
+    );
+    eprintln!("{fault}: fails {}", want.join(", "));
+    want
+}
+
 #[test]
 fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
     let ok = check(&[]);
@@ -129,26 +160,7 @@ fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
         for n in must_fail.iter().chain(must_pass) {
             assert!(names.contains(n), "{fault}: no entry {n} in the manifest");
         }
-        let mut args = vec!["--gpu-fault", fault];
-        args.extend(must_fail.iter().chain(must_pass));
-        let r = check(&args);
-        assert_eq!(
-            r.code,
-            Some(1),
-            "seeded fault {fault} did not fail the check:\n{}{}",
-            r.stdout,
-            r.stderr
-        );
-        let mut failed: Vec<String> = entries(&r.stdout)
-            .into_iter()
-            .filter(|l| l.1 == "FAIL")
-            .map(|l| l.0)
-            .collect();
-        let mut want: Vec<String> = must_fail.iter().map(|n| n.to_string()).collect();
-        failed.sort();
-        want.sort();
-        assert_eq!(failed, want, "{fault}: {}", r.stdout);
-        eprintln!("{fault}: fails {}", want.join(", "));
+        assert_fails_exactly(fault, must_fail, must_pass);
     }
 
     let reflection: Vec<&str> = names
@@ -160,18 +172,11 @@ fn the_correct_gpu_build_passes_and_every_seeded_fault_fails() {
 
     // The reflection table's own fault fails every entry that has one, and no other: run on
     // those and on a transfer-table entry and a delta-light entry, which must pass.
-    let mut args = vec!["--gpu-fault", "reflection-psi-sign"];
-    args.extend(&reflection);
-    args.extend(["env-transfer-lambert-studio", "default-160x120"]);
-    let r = check(&args);
-    assert_eq!(r.code, Some(1), "{}{}", r.stdout, r.stderr);
-    let failed: Vec<String> = entries(&r.stdout)
-        .into_iter()
-        .filter(|l| l.1 == "FAIL")
-        .map(|l| l.0)
-        .collect();
-    assert_eq!(failed, reflection, "reflection-psi-sign: {}", r.stdout);
-    eprintln!("reflection-psi-sign: fails {}", failed.join(", "));
+    assert_fails_exactly(
+        "reflection-psi-sign",
+        &reflection,
+        &["env-transfer-lambert-studio", "default-160x120"],
+    );
 }
 
 /// The faults a GPU porter would recognise beyond the five above, caught by the radiometric
@@ -196,24 +201,10 @@ fn the_radiometric_bounds_catch_a_gain_and_the_porting_faults() {
         .map(name)
         .collect();
     assert!(lit.len() >= 15 && aov.len() >= 4, "{lit:?} {aov:?}");
-    let failed = |r: &common::Run| -> Vec<String> {
-        entries(&r.stdout)
-            .into_iter()
-            .filter(|l| l.1 == "FAIL")
-            .map(|l| l.0)
-            .collect()
-    };
-
-    let mut args = vec!["--gpu-fault", "gain"];
-    args.extend(lit.iter().chain(&aov).map(String::as_str));
-    let r = check(&args);
-    assert_eq!(r.code, Some(1), "{}{}", r.stdout, r.stderr);
-    assert_eq!(
-        failed(&r),
-        lit,
-        "a 0.5% gain must fail every lit entry and no angle or debug output:\n{}",
-        r.stdout
-    );
+    // A 0.5% gain must fail every lit entry and no angle or debug output.
+    let lit: Vec<&str> = lit.iter().map(String::as_str).collect();
+    let aov: Vec<&str> = aov.iter().map(String::as_str).collect();
+    assert_fails_exactly("gain", &lit, &aov);
 
     for (fault, must_fail) in [
         (
@@ -247,15 +238,7 @@ fn the_radiometric_bounds_catch_a_gain_and_the_porting_faults() {
             ],
         ),
     ] {
-        let mut args = vec!["--gpu-fault", fault];
-        args.extend(must_fail);
-        let r = check(&args);
-        assert_eq!(r.code, Some(1), "{fault}: {}{}", r.stdout, r.stderr);
-        let (mut got, mut want) = (failed(&r), must_fail.to_vec());
-        got.sort();
-        want.sort();
-        assert_eq!(got, want, "{fault}:\n{}", r.stdout);
-        eprintln!("{fault}: fails {}", must_fail.join(", "));
+        assert_fails_exactly(fault, must_fail, &[]);
     }
 }
 

@@ -62,7 +62,9 @@ use super::table::{
     chart_frame, chart_is_z, coeffs, node_direction, psi_samples, slice_angle, value_count,
     BakeError, ReflectionTable, MAX_COEFFS, MAX_ORDER, MIN_ORDER,
 };
-use crate::conventions::{probe_direction, probe_texel_solid_angle, texel_center_f64};
+use crate::conventions::{
+    probe_direction, probe_texel_solid_angle, texel_center_f64, view_frame_f64,
+};
 use crate::env::{Probe, LUMINANCE_WEIGHTS};
 use crate::error::{Error, Result};
 use crate::material::Material;
@@ -295,15 +297,7 @@ pub(super) fn radiance_sum(
     v: DVec3,
     texels: &Texels,
 ) -> DVec3 {
-    let cos_o = n.dot(v).clamp(0.0, 1.0);
-    let tangent = v - cos_o * n;
-    let x = if tangent.length_squared() > 1e-24 {
-        tangent.normalize()
-    } else {
-        n.any_orthonormal_vector()
-    };
-    let y = n.cross(x);
-    let wo = DVec3::new(v.dot(x), 0.0, cos_o);
+    let (x, y, wo) = view_frame_f64(n, v);
     let mut sum = DVec3::ZERO;
     for (l, p) in texels.dir.iter().zip(&texels.power) {
         let z = l.dot(n);
@@ -384,7 +378,7 @@ pub(super) fn lobe_sum(lobe: &Lobe, cosine: bool, n: DVec3, v: DVec3, texels: &T
 }
 
 /// The sample `(r, polar_o, psi)` as a normal and a view (module doc), chart frame `tb`.
-pub(super) fn sample_normal_view(
+pub fn sample_normal_view(
     r: DVec3,
     polar: f64,
     psi: f64,
