@@ -16,8 +16,9 @@
 //!    visibility buffer's triangle list (written once, never copied).
 //! 3. binning (here): each set-up triangle is listed in every tile its pixel bounds touch,
 //!    in source order (one flat list, [`Bins`]); the tile rectangles (divisions by the
-//!    tile size) are computed in parallel, the counting and listing are two serial passes
-//!    of adds.
+//!    tile size) and the tile walk's compact record of each triangle
+//!    ([`tile::TileTriangle`], 80 bytes to the set-up triangle's 224) are computed in
+//!    parallel, the counting and listing are two serial passes of adds.
 //! 4. [`tile`]: tiles resolve visibility in parallel (rayon): per pixel the nearest triangle
 //!    (largest 1/w; ties keep the earlier triangle) and, if asked, how many triangles cover
 //!    it; a triangle is tested eight pixels of a row at a time in i32 lanes where its
@@ -46,6 +47,11 @@ pub use tile::RasterFault;
 
 /// Marks a pixel no triangle covers.
 pub const NO_TRIANGLE: u32 = u32::MAX;
+
+/// Largest width or height of a raster target (pixels): with the guard band
+/// ([`clip::GUARD_PIXELS`]) it bounds snapped coordinates by 2^29 in magnitude, so the tile
+/// walk's record ([`tile::TileTriangle`]) holds them in `i32`.
+pub const MAX_SIDE: u32 = 1 << 20;
 
 /// Which faces to drop before rasterization.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
@@ -242,6 +248,8 @@ pub struct Bins {
     items: Vec<u32>,
     /// Per triangle, its first and last tile column and row (binning's scratch).
     rects: Vec<[u32; 4]>,
+    /// Per triangle, the tile walk's compact record of it.
+    walk: Vec<tile::TileTriangle>,
 }
 
 impl Bins {
@@ -387,8 +395,9 @@ pub fn bin_triangles(tris: &[SetupTriangle], tiles_x: u32, tiles_y: u32, tile_si
     bins
 }
 
-/// [`bin_triangles`] into `bins`: each triangle's tile rectangle is computed once (in
-/// parallel: the divisions by the tile size are most of binning's work), then one pass
+/// [`bin_triangles`] into `bins`: each triangle's tile rectangle and the tile walk's
+/// compact record of it ([`tile::TileTriangle`]) are computed once (in parallel: the
+/// divisions by the tile size are most of binning's work), then one pass
 /// counts each tile's triangles and a second lists them in triangle order.
 fn bin_triangles_into(
     tris: &[SetupTriangle],
@@ -402,14 +411,17 @@ fn bin_triangles_into(
     tris.par_iter()
         .with_min_len(SETUP_CHUNK)
         .map(|t| {
-            [
-                t.px_min / tile_size,
-                t.px_max / tile_size,
-                t.py_min / tile_size,
-                t.py_max / tile_size,
-            ]
+            (
+                [
+                    t.px_min / tile_size,
+                    t.px_max / tile_size,
+                    t.py_min / tile_size,
+                    t.py_max / tile_size,
+                ],
+                tile::TileTriangle::new(t),
+            )
         })
-        .collect_into_vec(rects);
+        .unzip_into_vecs(rects, &mut bins.walk);
     let rects = &*rects;
     let offsets = &mut bins.offsets;
     offsets.clear();
@@ -447,7 +459,8 @@ fn bin_triangles_into(
 }
 
 /// Rasterizes `triangles` (indices into `clip`, clip-space positions) into a visibility
-/// buffer. Panics if the config has a zero width, height or tile size.
+/// buffer. Panics if the config has a zero width, height or tile size, or a side over
+/// [`MAX_SIDE`] pixels.
 pub fn rasterize(clip: &[Vec4], triangles: &[[u32; 3]], cfg: &RasterConfig) -> VisBuffer {
     let mut vis = VisBuffer::default();
     rasterize_into(
@@ -488,6 +501,10 @@ pub fn rasterize_into_with_fault(
     assert!(
         cfg.width > 0 && cfg.height > 0 && cfg.tile_size > 0,
         "empty raster target"
+    );
+    assert!(
+        cfg.width <= MAX_SIDE && cfg.height <= MAX_SIDE,
+        "raster target over {MAX_SIDE} pixels a side"
     );
     let ts = cfg.tile_size;
     let tiles_x = cfg.width.div_ceil(ts);
@@ -569,7 +586,7 @@ pub fn rasterize_into_with_fault(
                     depth,
                     coverage,
                 };
-                tile::resolve(&tile, setup, bin, &mut out, fault);
+                tile::resolve(&tile, &bins.walk, bin, &mut out, fault);
             });
     }
     vis.width = cfg.width;

@@ -2,7 +2,9 @@
 //!
 //! Design rule: this loop is plain integer arithmetic (edge functions stepped by exact i64
 //! adds) plus one f64 depth per covered sample; it never looks outside its tile, so tiles
-//! can run on any thread in any order.
+//! can run on any thread in any order. It reads each triangle from a compact record
+//! ([`TileTriangle`]: the edge coefficients, two vertices, 1/area, 1/w, bounds), not from
+//! the set-up triangle shading reads.
 //!
 //! A triangle's pixel rectangle in the tile is walked whole when it fits in one
 //! [`BLOCK`] x [`BLOCK`] block (most triangles of a dense mesh); a larger one is walked
@@ -16,7 +18,7 @@
 //! same f64 expression as the per-pixel walk's, so the blocks and lanes change nothing
 //! but the work done.
 
-use super::setup::{SetupTriangle, ONE};
+use super::setup::{SetupTriangle, HALF, ONE};
 
 /// Edge of the blocks a large triangle is classified by (pixels).
 pub const BLOCK: u32 = 8;
@@ -32,6 +34,61 @@ const ROW_LANES: usize = 8;
 /// `|E| <= Y (X + 7 ONE) + X (Y + ONE) <= 2 * 2^28 + 2^25 < 2^30` (and the bias adds at
 /// most 1): exact in i32.
 const LANE_EXTENT: i64 = 64 * ONE;
+
+/// A set-up triangle as the tile walk reads it: 80 bytes of what the walk needs, against
+/// the 224 of a [`SetupTriangle`] (which shading reads), so each bin entry streams fewer
+/// cache lines. Built once per triangle, in parallel, by binning ([`TileTriangle::new`]).
+///
+/// Edge k of the set-up triangle (opposite vertex k, from vertex k+1 to vertex k+2) is
+/// evaluated from a vertex on it, `a_k (X - x_o) + b_k (Y - y_o)` with `o` = vertex 1 for
+/// edges 0 and 2 and vertex 2 for edge 1: the same integer as the set-up's `a X + b Y + c`
+/// (`c = -(a x_o + b y_o)` for any vertex on the edge, no overflow in i64), so coverage and
+/// depth keep their bits. Coordinates fit `i32`: the guard band ([`super::clip`]) and the
+/// side limit of [`super::rasterize`] bound them by 2^29 in magnitude.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TileTriangle {
+    /// Fixed-point position of set-up vertex 1 and of vertex 2.
+    origin: [[i32; 2]; 2],
+    /// The set-up's edge coefficients `a`, `b` (fixed point; `|a|`, `|b|` < 2^30).
+    a: [i32; 3],
+    b: [i32; 3],
+    /// `1 / area2` (f64), the set-up's 1/w at each vertex.
+    inv_area: f64,
+    inv_w: [f32; 3],
+    /// Inclusive pixel bounds: x min, x max, y min, y max.
+    bounds: [u32; 4],
+    /// Bit k: edge k is top-left (the set-up's `bias[k]`).
+    bias: u8,
+    /// The vertices' extents are within [`LANE_EXTENT`]: partial blocks take the lane walk.
+    lanes: bool,
+}
+
+impl TileTriangle {
+    /// The walk's record of `t`.
+    #[inline]
+    pub fn new(t: &SetupTriangle) -> TileTriangle {
+        let i32_of = |v: i64| {
+            debug_assert!(
+                v.unsigned_abs() < 1 << 30,
+                "fixed-point value {v} out of range"
+            );
+            v as i32
+        };
+        TileTriangle {
+            origin: [
+                [i32_of(t.x[1]), i32_of(t.y[1])],
+                [i32_of(t.x[2]), i32_of(t.y[2])],
+            ],
+            a: t.a.map(i32_of),
+            b: t.b.map(i32_of),
+            inv_area: 1.0 / t.area2 as f64,
+            inv_w: t.inv_w,
+            bounds: [t.px_min, t.px_max, t.py_min, t.py_max],
+            bias: (t.bias[0] | t.bias[1] << 1 | t.bias[2] << 2) as u8,
+            lanes: extent(&t.x) <= LANE_EXTENT && extent(&t.y) <= LANE_EXTENT,
+        }
+    }
+}
 
 /// The pixel rectangle a tile covers (inclusive) and its row stride in the tile buffers.
 #[derive(Clone, Copy, Debug)]
@@ -61,6 +118,9 @@ pub enum RasterFault {
     /// The small-triangle walk (eight pixels of a row at a time) drops the last pixel of a
     /// row's final, partial group of lanes (its bounds mask one lane short).
     LaneTailSkipped,
+    /// The walk's compact record ([`TileTriangle`]) evaluates edge 1 from vertex 1, which
+    /// is not on it, instead of vertex 2.
+    EdgeOriginWrong,
 }
 
 /// The tile's output buffers, row-major with the tile's stride.
@@ -81,28 +141,44 @@ enum BlockClass {
 }
 
 /// One triangle as the walk reads it.
-struct Walk<'a> {
-    t: &'a SetupTriangle,
+struct Walk {
     ti: u32,
     inv_area: f64,
     q: [f64; 3],
     /// Edge steps per pixel in x and in y.
     step_x: [i64; 3],
     step_y: [i64; 3],
+    /// The edge coefficients (fixed point).
+    a: [i64; 3],
+    b: [i64; 3],
+    /// Per edge: the fixed-point point it is evaluated from ([`TileTriangle`]).
+    origin: [[i64; 2]; 3],
+    /// The set-up's `bias` (1 for a top-left edge).
+    bias: [i64; 3],
     /// The vertices' extents are within [`LANE_EXTENT`]: partial blocks take the lane walk.
     lanes: bool,
 }
 
-impl<'a> Walk<'a> {
-    fn new(t: &'a SetupTriangle, ti: u32) -> Self {
+impl Walk {
+    #[inline]
+    fn new(t: &TileTriangle, ti: u32, fault: Option<RasterFault>) -> Self {
+        let [v1, v2] = t.origin.map(|o| o.map(i64::from));
+        let o1 = if fault == Some(RasterFault::EdgeOriginWrong) {
+            v1
+        } else {
+            v2
+        };
         Walk {
-            t,
             ti,
-            inv_area: 1.0 / t.area2 as f64,
+            inv_area: t.inv_area,
             q: t.inv_w.map(|v| v as f64),
-            step_x: t.a.map(|a| a * ONE),
-            step_y: t.b.map(|b| b * ONE),
-            lanes: extent(&t.x) <= LANE_EXTENT && extent(&t.y) <= LANE_EXTENT,
+            a: t.a.map(i64::from),
+            b: t.b.map(i64::from),
+            step_x: t.a.map(|a| a as i64 * ONE),
+            step_y: t.b.map(|b| b as i64 * ONE),
+            origin: [v1, o1, v1],
+            bias: [0, 1, 2].map(|k| (t.bias >> k & 1) as i64),
+            lanes: t.lanes,
         }
     }
 
@@ -119,14 +195,13 @@ impl<'a> Walk<'a> {
         out: &mut TileBuffers,
         fault: Option<RasterFault>,
     ) {
-        let t = self.t;
         let step_x = self.step_x.map(|s| s as i32);
         let step_y = self.step_y.map(|s| s as i32);
         // Lane j's offset from a row's first pixel, per edge.
         let off: [[i32; ROW_LANES]; 3] =
             std::array::from_fn(|k| std::array::from_fn(|j| j as i32 * step_x[k]));
         // Biased to exact edge value: + 1 - bias.
-        let unbias = t.bias.map(|b| (1 - b) as i32);
+        let unbias = self.bias.map(|b| (1 - b) as i32);
         let q = self.q;
         for cx in (x0..=x1).step_by(ROW_LANES) {
             let mut n = (x1 - cx + 1).min(ROW_LANES as u32);
@@ -139,20 +214,23 @@ impl<'a> Walk<'a> {
                 let v: [i32; ROW_LANES] = std::array::from_fn(|j| {
                     (row[0] + off[0][j]) | (row[1] + off[1][j]) | (row[2] + off[2][j])
                 });
-                // Sign bits: set where a lane is outside an edge.
-                let mut outside = 0u32;
-                for (j, v) in v.iter().enumerate() {
-                    outside |= (*v as u32 >> 31) << j;
-                }
+                // Sign bits, one byte a lane (1 where a lane is outside an edge), gathered
+                // into bit j by one multiply: byte j times 2^(56 - 7 j) lands on bit 56 + j,
+                // and no other product or carry reaches bits 56..63.
+                let sign: [u8; ROW_LANES] = v.map(|v| (v as u32 >> 31) as u8);
+                let outside =
+                    (u64::from_le_bytes(sign).wrapping_mul(0x0102_0408_1020_4080) >> 56) as u32;
                 let mut mask = !outside & in_bounds;
                 let base = ((py - tile.y0) * tile.stride + (cx - tile.x0)) as usize;
+                // The exact edge values at the row's first lane.
+                let exact = [0, 1, 2].map(|k| row[k] + unbias[k]);
                 while mask != 0 {
                     let j = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
                     let i = base + j;
-                    let w0 = (row[0] + off[0][j] + unbias[0]) as f64;
-                    let w1 = (row[1] + off[1][j] + unbias[1]) as f64;
-                    let w2 = (row[2] + off[2][j] + unbias[2]) as f64;
+                    let w0 = (exact[0] + off[0][j]) as f64;
+                    let w1 = (exact[1] + off[1][j]) as f64;
+                    let w2 = (exact[2] + off[2][j]) as f64;
                     let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
                     // Selects, not a branch: which of two overlapping triangles is nearer
                     // is no pattern a branch predictor learns.
@@ -175,11 +253,12 @@ impl<'a> Walk<'a> {
     /// three are >= 0 (inside <=> E + bias > 0 <=> E + bias - 1 >= 0).
     #[inline]
     fn biased_at(&self, px: u32, py: u32) -> [i64; 3] {
-        let mut e = self.t.edges_at(px, py);
-        for (e, bias) in e.iter_mut().zip(self.t.bias) {
-            *e += bias - 1;
-        }
-        e
+        let sx = px as i64 * ONE + HALF;
+        let sy = py as i64 * ONE + HALF;
+        std::array::from_fn(|k| {
+            let [ox, oy] = self.origin[k];
+            self.a[k] * (sx - ox) + self.b[k] * (sy - oy) + self.bias[k] - 1
+        })
     }
 
     /// Classifies the block of pixels `x0..=x1` x `y0..=y1` by its corners.
@@ -213,7 +292,6 @@ impl<'a> Walk<'a> {
         (x0, y0, x1, y1): (u32, u32, u32, u32),
         out: &mut TileBuffers,
     ) {
-        let t = self.t;
         let mut row = self.biased_at(x0, y0);
         for py in y0..=y1 {
             let mut e = row;
@@ -222,9 +300,9 @@ impl<'a> Walk<'a> {
                 if !TEST || (e[0] | e[1] | e[2]) >= 0 {
                     let i = base + (px - tile.x0) as usize;
                     // Undo the bias to get the exact edge values for interpolation.
-                    let w0 = (e[0] - t.bias[0] + 1) as f64;
-                    let w1 = (e[1] - t.bias[1] + 1) as f64;
-                    let w2 = (e[2] - t.bias[2] + 1) as f64;
+                    let w0 = (e[0] - self.bias[0] + 1) as f64;
+                    let w1 = (e[1] - self.bias[1] + 1) as f64;
+                    let w2 = (e[2] - self.bias[2] + 1) as f64;
                     let q = self.q;
                     let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
                     if z > out.depth[i] {
@@ -252,26 +330,28 @@ fn extent(v: &[i64; 3]) -> i64 {
     v[0].max(v[1]).max(v[2]) - v[0].min(v[1]).min(v[2])
 }
 
-/// Resolves visibility for the triangles `bin` (indices into `tris`, increasing) in one
+/// Resolves visibility for the triangles `bin` (indices into `tris`, the walk's records of
+/// the set-up triangles, increasing) in one
 /// tile: per pixel the nearest triangle (largest 1/w; ties keep the earlier triangle) and,
 /// when `out.coverage` is given, the number of triangles covering it.
 pub fn resolve(
     tile: &TileTarget,
-    tris: &[SetupTriangle],
+    tris: &[TileTriangle],
     bin: &[u32],
     out: &mut TileBuffers,
     fault: Option<RasterFault>,
 ) {
     for &ti in bin {
         let t = &tris[ti as usize];
-        let x0 = t.px_min.max(tile.x0);
-        let x1 = t.px_max.min(tile.x1);
-        let y0 = t.py_min.max(tile.y0);
-        let y1 = t.py_max.min(tile.y1);
+        let [px_min, px_max, py_min, py_max] = t.bounds;
+        let x0 = px_min.max(tile.x0);
+        let x1 = px_max.min(tile.x1);
+        let y0 = py_min.max(tile.y0);
+        let y1 = py_max.min(tile.y1);
         if x0 > x1 || y0 > y1 {
             continue;
         }
-        let walk = Walk::new(t, ti);
+        let walk = Walk::new(t, ti, fault);
         if x1 - x0 < BLOCK && y1 - y0 < BLOCK {
             if walk.lanes {
                 walk.walk_lanes(tile, (x0, y0, x1, y1), out, fault);

@@ -264,6 +264,7 @@ fn seeded_block_faults_fail_the_comparison() {
         RasterFault::PartialBlockAccepted,
         RasterFault::LastBlockColumnSkipped,
         RasterFault::LaneTailSkipped,
+        RasterFault::EdgeOriginWrong,
     ] {
         let caught = (0..300u64).find(|&seed| {
             let (clip, tris) = scene(seed);
