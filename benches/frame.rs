@@ -33,6 +33,7 @@ fn frame(c: &mut Criterion) {
         cull: scene.render.cull,
         near: scene.camera.near,
         count_coverage: false,
+        kernel: brdfkit::lanes::KernelPath::Auto,
     };
     let clip = render::clip_positions(&scene);
     g.bench_function("raster-alone", |b| {

@@ -42,7 +42,7 @@
 //!    structure-of-arrays buffers: light clustering and culling [`kernel::cluster`], a pixel's
 //!    lights gathered for every material [`kernel::gather`], SH sums [`kernel::sh`], lane
 //!    models for the analytic and D-BRDF materials [`kernel::models`], chosen by matching on
-//!    the [`material::Material`]; [`kernel::lanes`] is the only SIMD code, [`kernel::skip`]
+//!    the [`material::Material`]; [`lanes`] is the only SIMD code, [`kernel::skip`]
 //!    bounds what each skip changes, [`kernel::approx`] states the error of each
 //!    approximation), [`aov`] (debug outputs: normal, depth, coverage, view and light angles).
 //! 5. **Images out**: [`image_io`] (linear EXR; PNG via the one display encoding
@@ -81,7 +81,9 @@
 //! [`conventions`] -> [`brdf`] -> [`sh`] -> [`material`] -> [`kernel`] -> [`shade`] ->
 //! [`render`] -> tools -> [`cli`]; off it, [`acquire`] (after [`sh`]) -> [`library`] (after
 //! [`material`], which it builds) -> [`scene`] (which resolves a library name).
-//! 1. [`conventions`], [`error`], [`hash`], [`progress`]: the leaves.
+//! 1. [`conventions`], [`error`], [`hash`], [`progress`], [`lanes`]: the leaves ([`lanes`] is
+//!    the one SIMD wrapper, below every module that computes in lanes: the kernels, and any
+//!    other hot loop of a layer before theirs).
 //! 2. [`image_io`]: files in and out.
 //! 3. [`brdf`], [`light`], [`mesh`], [`raster`], [`metrics`], [`shard`]: models, geometry, measures.
 //! 4. [`sh`], [`compare`]: SH data sets (which implement the BRDF trait); image comparison.
@@ -148,7 +150,7 @@
 //! per pixel. No floating-point reduction crosses a task boundary (sums over parallel work
 //! are collected and added in index order). Seeded samplers use explicit seeds. There is
 //! no fast-math anywhere. The kernel's instruction set is chosen once per frame from the
-//! scene's `render.kernel` ([`kernel::lanes::KernelPath`]: `auto`, `portable`, `avx2`,
+//! scene's `render.kernel` ([`lanes::KernelPath`]: `auto`, `portable`, `avx2`,
 //! `avx512`; there is no other path), never per thread, and every path gives the same bits:
 //! every multiply-add is fused, every lane sum has one order (16-lane vectors compute
 //! per-light or per-pixel values only). The golden check demands
@@ -182,6 +184,7 @@ pub mod gpu;
 pub mod hash;
 pub mod image_io;
 pub mod kernel;
+pub mod lanes;
 pub mod library;
 pub mod light;
 pub mod material;

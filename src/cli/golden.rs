@@ -3,7 +3,7 @@
 use super::{GoldenAction, GoldenDevice};
 use crate::error::{Error, Result};
 use crate::golden::CheckOptions;
-use crate::kernel::lanes::Dispatch;
+use crate::lanes::Dispatch;
 use crate::shard::Shard;
 use std::path::PathBuf;
 

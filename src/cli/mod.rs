@@ -346,7 +346,7 @@ pub struct SceneArgs {
     pub no_band_skip: bool,
     /// Kernel path of the f32 shading: auto (the widest this CPU runs), portable, avx2 (an error where the CPU lacks AVX2+FMA) or avx512 (an error without AVX-512F+VL). Every path gives the same bits; only speed differs.
     #[arg(long, value_enum)]
-    pub kernel: Option<crate::kernel::lanes::KernelPath>,
+    pub kernel: Option<crate::lanes::KernelPath>,
     /// Print statistics to stderr: `render` the work counters (tiles shaded/skipped, pixels, pixel x light pairs, the kernels' lane use, lights dropped, SH bands used), `view` frames per second and refinement times at the end.
     #[arg(long)]
     pub stats: bool,
@@ -432,7 +432,7 @@ pub enum GoldenAction {
         dir: PathBuf,
         /// Kernel path to render on: auto (the widest this CPU runs), portable, avx2 or avx512.
         #[arg(long, value_enum, default_value = "auto")]
-        kernel: crate::kernel::lanes::KernelPath,
+        kernel: crate::lanes::KernelPath,
         /// Also re-measure each shaded entry's fast-vs-reference bound at 1/4 of its size (f64 reference with every probe texel a light: seconds per environment entry) and hold it to the stored bound (10% + 1e-6 margin).
         #[arg(long)]
         bounds: bool,
@@ -469,7 +469,7 @@ pub enum GoldenAction {
         dir: PathBuf,
         /// Kernel path to render on (recorded in the manifest's blessed_on).
         #[arg(long, value_enum, default_value = "auto")]
-        kernel: crate::kernel::lanes::KernelPath,
+        kernel: crate::lanes::KernelPath,
         /// Only shard I of N (0-based I/N): entries k with k % N == I of the selection in manifest order. Writes those entries' images, and their manifest records to --records FILE instead of the manifest; `golden bless --merge` writes the records into the manifest.
         #[arg(long, value_name = "I/N", requires = "records")]
         shard: Option<String>,

@@ -367,7 +367,7 @@ pub(super) fn scene_file(a: &SceneArgs, reference: bool) -> Result<(SceneFile, P
         file.render.band_skip = false;
     }
     if let Some(k) = a.kernel {
-        if crate::kernel::lanes::Dispatch::choose(k).is_none() {
+        if crate::lanes::Dispatch::choose(k).is_none() {
             return Err(Error::field(
                 "--kernel",
                 format!("'{}' is not available on this CPU", k.name()),

@@ -138,7 +138,7 @@ pub(super) fn scene_key(
 ) -> Result<u64> {
     let mut f = file.clone();
     f.render.threads = 0;
-    f.render.kernel = crate::kernel::lanes::KernelPath::Auto;
+    f.render.kernel = crate::lanes::KernelPath::Auto;
     f.output.path = None;
     let mut inputs: Vec<PathBuf> = Vec::new();
     let mut take = |p: &mut PathBuf| {

@@ -34,7 +34,7 @@
 //! every bit must agree: the render is deterministic there, so any change at all (a
 //! constant off by 0.05%, one texel, one dropped light) fails. On another platform or path
 //! the entry's tolerance applies. The two kernel paths give the same bits by construction
-//! ([`crate::kernel::lanes`]), which `tests/integration/golden.rs` checks over the whole set, so in
+//! ([`crate::lanes`]), which `tests/integration/golden.rs` checks over the whole set, so in
 //! practice the tolerance serves only other platforms (another libm, another instruction
 //! set) and GPU builds.
 //!
@@ -69,7 +69,7 @@ use crate::aov::Aov;
 use crate::compare::{self, Loaded, RadiometricBounds, Thresholds};
 use crate::error::{Error, Result};
 use crate::image_io::{self, Image};
-use crate::kernel::lanes::{Dispatch, KernelPath};
+use crate::lanes::{Dispatch, KernelPath};
 use crate::render::{self, RenderOptions};
 use crate::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use crate::sh::dataset::Lookup;

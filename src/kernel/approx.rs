@@ -16,7 +16,7 @@
 //! the bilinear weights ~1000x below [`super::KERNEL_TOLERANCE`]. (The D-BRDF's half-vector
 //! lookup needs no angle: [`crate::brdf::dbrdf`], octahedral coordinates.)
 
-use super::lanes::{F32x8, Isa};
+use crate::lanes::{F32x8, Isa};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
 /// Largest difference from `f64::acos` of [`acos_01`] over `[0, 1]`, radians.
@@ -96,7 +96,7 @@ pub fn view_angles<S: Isa>(s: S, wo: glam::Vec3) -> (f32, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::lanes::{Dispatch, Kernel, LANES};
+    use crate::lanes::{Dispatch, Kernel, LANES};
 
     struct Eval(Vec<f32>, Vec<f32>);
     impl Kernel for Eval {
@@ -186,7 +186,7 @@ mod tests {
 mod view_angle_tests {
     use super::*;
     use crate::conventions::local_angles;
-    use crate::kernel::lanes::{Dispatch, Kernel};
+    use crate::lanes::{Dispatch, Kernel};
 
     struct Views(Vec<glam::Vec3>);
     impl Kernel for Views {

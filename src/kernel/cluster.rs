@@ -8,7 +8,7 @@
 //! with and without culling, for any tile size. Units: directions unit world vectors towards
 //! the light, `er, eg, eb` irradiance at normal incidence (W/m^2).
 
-use super::lanes::LANES;
+use crate::lanes::LANES;
 use crate::light::Light;
 use glam::Vec3;
 

@@ -11,8 +11,8 @@
 //! the frame of [`crate::conventions::ShadingFrame`].
 
 use super::cluster::DirLights;
-use super::lanes::{Arith, F32x8, Isa, Width, LANES};
 use crate::conventions::ShadingFrame;
+use crate::lanes::{Arith, F32x8, Isa, Width, LANES};
 use crate::light::Light;
 use glam::Vec3;
 

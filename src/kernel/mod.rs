@@ -57,10 +57,11 @@
 //! Work skipped with a bounded change to the image (negligible lights, SH bands a material
 //! does not need) is decided per frame in [`skip`].
 
+use crate::lanes;
+
 pub mod approx;
 pub mod cluster;
 pub mod gather;
-pub mod lanes;
 pub mod models;
 pub mod sh;
 pub mod skip;

@@ -10,8 +10,8 @@
 //! the kernel.
 
 use super::gather::Scratch;
-use super::lanes::{F32x8, Isa, LANES};
 use crate::brdf::{Brdf, DBrdf};
+use crate::lanes::{F32x8, Isa, LANES};
 use crate::material::Material;
 use glam::Vec3;
 use std::f32::consts::PI;

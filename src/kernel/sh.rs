@@ -13,8 +13,8 @@
 
 use super::cluster::DirLights;
 use super::gather::{gather_dir, Scratch};
-use super::lanes::{Arith, F32x8, Isa, Narrow, Width, LANES};
 use crate::conventions::{hemi_bilinear_texels, hemi_nearest_texel, ShadingFrame};
+use crate::lanes::{Arith, F32x8, Isa, Narrow, Width, LANES};
 use crate::sh::dataset::{Lookup, ShDataset};
 use glam::Vec3;
 

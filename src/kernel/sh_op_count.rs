@@ -5,7 +5,7 @@
 //! associated-Legendre recurrence, the azimuth rotation and the basis scaling.
 
 use super::{sh_dot, ShRecurrence};
-use crate::kernel::lanes::{Arith, Width};
+use crate::lanes::{Arith, Width};
 use std::cell::Cell;
 use std::ops::{Add, AddAssign, Mul, Sub};
 

@@ -38,6 +38,7 @@ pub mod clip;
 pub mod setup;
 pub mod tile;
 
+use crate::lanes::{Dispatch, KernelPath};
 use clip::ClipPlanes;
 use glam::Vec4;
 use rayon::prelude::*;
@@ -77,6 +78,11 @@ pub struct RasterConfig {
     /// Also count, per pixel, every triangle covering it (the `coverage` AOV and the
     /// watertightness tests). Off by default: it costs a write per fragment.
     pub count_coverage: bool,
+    /// Instruction set of the tile walk's lanes ([`crate::lanes`]), as a frame's shading
+    /// takes it from the scene's `render.kernel`. Every path gives the same bits (integer
+    /// lanes; the depth is the same scalar f64 expression); a path this CPU does not run
+    /// falls back to the portable one.
+    pub kernel: KernelPath,
 }
 
 /// A rectangle of pixels: first pixel `(x0, y0)`, `w x h` pixels.
@@ -506,6 +512,7 @@ pub fn rasterize_into_with_fault(
         cfg.width <= MAX_SIDE && cfg.height <= MAX_SIDE,
         "raster target over {MAX_SIDE} pixels a side"
     );
+    let isa = Dispatch::choose(cfg.kernel).unwrap_or_else(Dispatch::portable);
     let ts = cfg.tile_size;
     let tiles_x = cfg.width.div_ceil(ts);
     let tiles_y = cfg.height.div_ceil(ts);
@@ -586,7 +593,13 @@ pub fn rasterize_into_with_fault(
                     depth,
                     coverage,
                 };
-                tile::resolve(&tile, &bins.walk, bin, &mut out, fault);
+                isa.run(tile::ResolveTile {
+                    tile: &tile,
+                    tris: &bins.walk,
+                    bin,
+                    out: &mut out,
+                    fault,
+                });
             });
     }
     vis.width = cfg.width;

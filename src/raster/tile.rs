@@ -12,13 +12,16 @@
 //! (an edge function is affine, so its extremes over a block are at corners): a block
 //! outside one edge is skipped, a block inside all three is written without per-pixel
 //! tests, the rest are tested per pixel. A triangle whose vertices span at most 64 pixels
-//! per axis (`LANE_EXTENT`) is tested eight pixels of a row at a time in i32 (exact at
-//! that extent), and only its covered pixels are visited; the depth test is a select, not
+//! per axis (`LANE_EXTENT`) is tested eight pixels of a row at a time in i32 lanes
+//! ([`crate::lanes::I32x8`], exact at that extent; the walk runs inside
+//! [`crate::lanes::Dispatch::run`], so on AVX2 a row's test is three adds, two ors and a
+//! sign mask), and only its covered pixels are visited; the depth test is a select, not
 //! a branch. Every covered pixel's edge values and depth are the same integers and the
 //! same f64 expression as the per-pixel walk's, so the blocks and lanes change nothing
 //! but the work done.
 
 use super::setup::{SetupTriangle, HALF, ONE};
+use crate::lanes::{I32x8, Isa, Kernel};
 
 /// Edge of the blocks a large triangle is classified by (pixels).
 pub const BLOCK: u32 = 8;
@@ -160,7 +163,7 @@ struct Walk {
 }
 
 impl Walk {
-    #[inline]
+    #[inline(always)]
     fn new(t: &TileTriangle, ti: u32, fault: Option<RasterFault>) -> Self {
         let [v1, v2] = t.origin.map(|o| o.map(i64::from));
         let o1 = if fault == Some(RasterFault::EdgeOriginWrong) {
@@ -184,12 +187,13 @@ impl Walk {
 
     /// [`Walk::walk`] with tests, for a triangle whose extents are within [`LANE_EXTENT`]:
     /// each row's pixels are tested [`ROW_LANES`] at a time with i32 edge values (exact,
-    /// see [`LANE_EXTENT`]; plain arrays the compiler turns into vector compares and a
-    /// mask), and only the covered pixels are visited, with the same exact edge values and
+    /// see [`LANE_EXTENT`]) in the lanes of `s` ([`I32x8`]: per row three adds, two ors and
+    /// a sign mask), and only the covered pixels are visited, with the same exact edge values and
     /// the same f64 depth expression as [`Walk::walk`].
-    #[inline]
-    fn walk_lanes(
+    #[inline(always)]
+    fn walk_lanes<S: Isa>(
         &self,
+        s: S,
         tile: &TileTarget,
         (x0, y0, x1, y1): (u32, u32, u32, u32),
         out: &mut TileBuffers,
@@ -200,6 +204,7 @@ impl Walk {
         // Lane j's offset from a row's first pixel, per edge.
         let off: [[i32; ROW_LANES]; 3] =
             std::array::from_fn(|k| std::array::from_fn(|j| j as i32 * step_x[k]));
+        let off_lanes: [S::I; 3] = std::array::from_fn(|k| s.load_i32(&off[k]));
         // Biased to exact edge value: + 1 - bias.
         let unbias = self.bias.map(|b| (1 - b) as i32);
         let q = self.q;
@@ -211,15 +216,10 @@ impl Walk {
             let in_bounds = (1u32 << n) - 1;
             let mut row = self.biased_at(cx, y0).map(|e| e as i32);
             for py in y0..=y1 {
-                let v: [i32; ROW_LANES] = std::array::from_fn(|j| {
-                    (row[0] + off[0][j]) | (row[1] + off[1][j]) | (row[2] + off[2][j])
-                });
-                // Sign bits, one byte a lane (1 where a lane is outside an edge), gathered
-                // into bit j by one multiply: byte j times 2^(56 - 7 j) lands on bit 56 + j,
-                // and no other product or carry reaches bits 56..63.
-                let sign: [u8; ROW_LANES] = v.map(|v| (v as u32 >> 31) as u8);
-                let outside =
-                    (u64::from_le_bytes(sign).wrapping_mul(0x0102_0408_1020_4080) >> 56) as u32;
+                // Per lane: a sample is outside when one of its biased edge values is
+                // negative, so the or of the three has its sign bit set.
+                let v = [0, 1, 2].map(|k| s.splat_i32(row[k]).add(off_lanes[k]));
+                let outside = v[0].or(v[1]).or(v[2]).sign_mask();
                 let mut mask = !outside & in_bounds;
                 let base = ((py - tile.y0) * tile.stride + (cx - tile.x0)) as usize;
                 // The exact edge values at the row's first lane.
@@ -251,7 +251,7 @@ impl Walk {
 
     /// Biased edge values at the centre of pixel `(px, py)`: a sample is inside when all
     /// three are >= 0 (inside <=> E + bias > 0 <=> E + bias - 1 >= 0).
-    #[inline]
+    #[inline(always)]
     fn biased_at(&self, px: u32, py: u32) -> [i64; 3] {
         let sx = px as i64 * ONE + HALF;
         let sy = py as i64 * ONE + HALF;
@@ -262,7 +262,7 @@ impl Walk {
     }
 
     /// Classifies the block of pixels `x0..=x1` x `y0..=y1` by its corners.
-    #[inline]
+    #[inline(always)]
     fn classify(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> BlockClass {
         let e = self.biased_at(x0, y0);
         let (nx, ny) = ((x1 - x0) as i64, (y1 - y0) as i64);
@@ -285,7 +285,7 @@ impl Walk {
 
     /// Writes the covered pixels of `x0..=x1` x `y0..=y1`; with `TEST` false every pixel
     /// is covered (a block classified inside).
-    #[inline]
+    #[inline(always)]
     fn walk<const TEST: bool>(
         &self,
         tile: &TileTarget,
@@ -325,7 +325,7 @@ impl Walk {
 }
 
 /// Largest minus smallest of three fixed-point coordinates.
-#[inline]
+#[inline(always)]
 fn extent(v: &[i64; 3]) -> i64 {
     v[0].max(v[1]).max(v[2]) - v[0].min(v[1]).min(v[2])
 }
@@ -334,7 +334,9 @@ fn extent(v: &[i64; 3]) -> i64 {
 /// the set-up triangles, increasing) in one
 /// tile: per pixel the nearest triangle (largest 1/w; ties keep the earlier triangle) and,
 /// when `out.coverage` is given, the number of triangles covering it.
-pub fn resolve(
+#[inline(always)]
+pub fn resolve<S: Isa>(
+    s: S,
     tile: &TileTarget,
     tris: &[TileTriangle],
     bin: &[u32],
@@ -354,7 +356,7 @@ pub fn resolve(
         let walk = Walk::new(t, ti, fault);
         if x1 - x0 < BLOCK && y1 - y0 < BLOCK {
             if walk.lanes {
-                walk.walk_lanes(tile, (x0, y0, x1, y1), out, fault);
+                walk.walk_lanes(s, tile, (x0, y0, x1, y1), out, fault);
             } else {
                 walk.walk::<true>(tile, (x0, y0, x1, y1), out);
             }
@@ -376,7 +378,7 @@ pub fn resolve(
                         if fault == Some(RasterFault::PartialBlockAccepted) {
                             walk.walk::<false>(tile, rect, out);
                         } else if walk.lanes {
-                            walk.walk_lanes(tile, rect, out, fault);
+                            walk.walk_lanes(s, tile, rect, out, fault);
                         } else {
                             walk.walk::<true>(tile, rect, out);
                         }
@@ -384,5 +386,23 @@ pub fn resolve(
                 }
             }
         }
+    }
+}
+
+/// One tile's [`resolve`] as a lane [`Kernel`], so that
+/// [`crate::lanes::Dispatch::run`] compiles the walk for the frame's instruction set.
+pub struct ResolveTile<'a, 'b> {
+    pub tile: &'a TileTarget,
+    pub tris: &'a [TileTriangle],
+    pub bin: &'a [u32],
+    pub out: &'a mut TileBuffers<'b>,
+    pub fault: Option<RasterFault>,
+}
+
+impl Kernel for ResolveTile<'_, '_> {
+    type Out = ();
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) {
+        resolve(s, self.tile, self.tris, self.bin, self.out, self.fault);
     }
 }

@@ -86,6 +86,7 @@ fn rasterize_into(
         cull: r.cull,
         near: scene.camera.near,
         count_coverage,
+        kernel: r.kernel,
     };
     clip_positions_into(scene, clip);
     raster::rasterize_into_with_fault(clip, &scene.mesh.triangles, &cfg, scratch, vis, fault);

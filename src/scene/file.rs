@@ -10,7 +10,7 @@ use super::MaterialSpec;
 use crate::env::schema::EnvSpec;
 use crate::error::{Error, Result};
 use crate::image_io::Tonemap;
-use crate::kernel::lanes::KernelPath;
+use crate::lanes::KernelPath;
 use crate::raster::Cull;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -133,7 +133,7 @@ pub struct RenderSpec {
     pub drop_lights: f32,
     /// Whether SH data sets are shaded with only the bands their declared threshold needs.
     pub band_skip: bool,
-    /// The kernel path of the f32 shading ([`crate::kernel::lanes`]); every path gives the
+    /// The kernel path of the f32 shading ([`crate::lanes`]); every path gives the
     /// same bits, so this changes only speed. [`Scene::resolve`](super::Scene::resolve)
     /// refuses a path this CPU cannot run.
     pub kernel: KernelPath,

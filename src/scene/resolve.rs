@@ -14,7 +14,7 @@ use super::{LightSpec, OutputSpec, RenderSpec, SceneFile};
 use crate::env::lightset::prepare::CacheDir;
 use crate::env::transfer::TransferBasis;
 use crate::error::{Error, Result};
-use crate::kernel::lanes::KernelPath;
+use crate::lanes::KernelPath;
 use crate::light::Light;
 use crate::material::Material;
 use crate::mesh::{self, Mesh};
@@ -104,7 +104,7 @@ impl Scene {
                 format!("{} is out of range (0 <= fraction < 1)", r.drop_lights),
             ));
         }
-        if crate::kernel::lanes::Dispatch::choose(r.kernel).is_none() {
+        if crate::lanes::Dispatch::choose(r.kernel).is_none() {
             return Err(Error::field(
                 "render.kernel",
                 format!(

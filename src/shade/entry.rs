@@ -15,7 +15,7 @@ use super::transfer::{add_transfer, fits};
 use super::{FramePrep, ShadeCounts, ShadeOptions, ShadingPath};
 use crate::conventions::FrameRule;
 use crate::image_io::Image;
-use crate::kernel::lanes::Dispatch;
+use crate::lanes::Dispatch;
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
 

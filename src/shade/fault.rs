@@ -9,7 +9,7 @@
 //! [`super::ShadeOptions`]' hidden `fault` field.
 
 use crate::kernel::gather::Scratch;
-use crate::kernel::lanes::LANES;
+use crate::lanes::LANES;
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 

@@ -11,7 +11,7 @@
 
 use super::KernelFault;
 use crate::conventions::FrameRule;
-use crate::kernel::lanes::KernelPath;
+use crate::lanes::KernelPath;
 use crate::material::Material;
 use crate::progress::Progress;
 use crate::scene::Precision;

@@ -12,8 +12,8 @@ use super::surfaces::TileSurfaces;
 use super::FramePrep;
 use super::KernelFault;
 use crate::conventions::hemi_texcoord;
-use crate::kernel::lanes::{F32x8, Isa, Width, LANES, MAX_LANES};
 use crate::kernel::{self, sh::ShRecurrence};
+use crate::lanes::{F32x8, Isa, Width, LANES, MAX_LANES};
 use crate::sh::dataset::ShDataset;
 use glam::Vec3;
 

@@ -29,8 +29,8 @@
 use super::surfaces::TileSurfaces;
 use super::FramePrep;
 use crate::kernel::gather::{lane_weight, point_light_local, LaneFrame};
-use crate::kernel::lanes::{F32x8, Isa, LANES};
 use crate::kernel::models::LaneModel;
+use crate::lanes::{F32x8, Isa, LANES};
 use glam::Vec3;
 use std::f32::consts::PI;
 

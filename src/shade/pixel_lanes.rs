@@ -1,6 +1,6 @@
 //! Pixels as lanes: the shading frames and local view directions of surfaces computed
 //! eight pixels per vector operation (`frame_and_view_lanes`, which `surfaces.rs` runs
-//! over a tile once), and a group of up to [`crate::kernel::lanes::MAX_LANES`] of them as
+//! over a tile once), and a group of up to [`crate::lanes::MAX_LANES`] of them as
 //! the packed paths read it (`PixelLanes`).
 //!
 //! Design rule: the same bits as the scalar definitions, pixel by pixel:
@@ -14,11 +14,11 @@
 
 use super::MIN_VIEW_COS;
 use crate::conventions::ShadingFrame;
-use crate::kernel::lanes::{F32x8, Isa};
+use crate::lanes::{F32x8, Isa};
 use glam::Vec3;
 
 /// Frames (`t`, `b`, `n`) and lifted local view directions `wo` of up to
-/// [`crate::kernel::lanes::MAX_LANES`] pixels, one per lane (`[axis][lane..]`, slices of a
+/// [`crate::lanes::MAX_LANES`] pixels, one per lane (`[axis][lane..]`, slices of a
 /// tile's arrays, `surfaces.rs`, each long enough for the widest load); lanes without a
 /// pixel hold the identity frame and `+z`.
 pub struct PixelLanes<'a> {
@@ -135,7 +135,7 @@ pub(super) fn frame_and_view_lanes<S: Isa>(
 mod tests {
     use super::*;
     use crate::conventions::FrameRule;
-    use crate::kernel::lanes::{Dispatch, Kernel, KernelPath, MAX_LANES};
+    use crate::lanes::{Dispatch, Kernel, KernelPath, MAX_LANES};
     use crate::shade::surfaces::TileSurfaces;
     use crate::shade::{local_view, Surface};
 

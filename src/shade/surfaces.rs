@@ -33,7 +33,7 @@ use super::pixel_lanes::{frame_and_view_lanes, PixelLanes};
 use super::traverse::for_each_visible_index;
 use super::{frame_and_view, surface_at_index, Surface};
 use crate::conventions::{FrameRule, ShadingFrame};
-use crate::kernel::lanes::{F32x8, Isa, LANES, MAX_LANES};
+use crate::lanes::{F32x8, Isa, LANES, MAX_LANES};
 use crate::mesh::Mesh;
 use crate::raster::{PixelRect, VisBuffer};
 use glam::Vec3;
@@ -467,7 +467,7 @@ fn load3<S: Isa>(s: S, m: &[Vec<f32>; 3], o: usize) -> [S::V; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kernel::lanes::{Dispatch, Kernel, KernelPath};
+    use crate::lanes::{Dispatch, Kernel, KernelPath};
     use crate::scene::{Scene, SceneFile};
     use crate::shade::tile_surfaces;
     use std::path::Path;

@@ -26,7 +26,7 @@ use crate::env::transfer::table::Corners;
 use crate::env::transfer::TransferTable;
 use crate::image_io::Image;
 use crate::kernel::approx::{acos_01, azimuth};
-use crate::kernel::lanes::{F32x8, Isa, LANES};
+use crate::lanes::{F32x8, Isa, LANES};
 use crate::material::{Material, TransferModel};
 use crate::raster::VisBuffer;
 use crate::scene::Scene;
@@ -135,7 +135,7 @@ impl<'a> TransferTerm<'a> {
 /// `3 x nc` coefficients (`[R.., G.., B..]`) with `nc <= terms`: a data set truncated to
 /// its effective bands ([`crate::kernel::skip`]) dots with the table's first `nc` terms
 /// per colour, which are its bands (the basis is ordered by band). Same bits on every
-/// instruction set ([`crate::kernel::lanes`]) and for any thread count (one pixel, no
+/// instruction set ([`crate::lanes`]) and for any thread count (one pixel, no
 /// shared state). Differs from [`TransferTable::radiance_with`] by the angle
 /// approximation and the summation order only ([`crate::env::transfer::FAST_PATH_TOLERANCE`]).
 #[inline(always)]

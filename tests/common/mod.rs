@@ -211,12 +211,12 @@ pub fn cannot_run(test: &str, why: &str) {
     let _ = writeln!(std::io::stderr(), "NOT RUN: {test}: {why}");
 }
 
-/// The kernel paths this CPU runs ([`brdfkit::kernel::lanes::KernelPath::available`]), after
+/// The kernel paths this CPU runs ([`brdfkit::lanes::KernelPath::available`]), after
 /// printing past libtest's capture each path `test` therefore skips, by name (the AVX-512
 /// path runs only on CPUs that have it, and a CI host may not). Never fails: no CPU has
 /// every path.
-pub fn kernel_paths(test: &str) -> Vec<brdfkit::kernel::lanes::KernelPath> {
-    use brdfkit::kernel::lanes::KernelPath;
+pub fn kernel_paths(test: &str) -> Vec<brdfkit::lanes::KernelPath> {
+    use brdfkit::lanes::KernelPath;
     use std::io::Write;
     // Said once per test name, however often a test asks.
     static SAID: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());

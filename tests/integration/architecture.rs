@@ -300,7 +300,7 @@ fn seeded_layering_violations_and_cycles_are_caught() {
         top < trait_at,
         "the test module is declared near the top of brdf/mod.rs, before the trait"
     );
-    let seeded = format!("{brdf}\npub use crate::kernel::lanes::LANES as SEEDED;\n");
+    let seeded = format!("{brdf}\npub use crate::kernel::KERNEL_TOLERANCE as SEEDED;\n");
     let replaced = BTreeMap::from([("brdf/mod.rs".to_string(), seeded)]);
     let c = Crate::read_with(&src(), &replaced);
     let g = module_graph(&c);

@@ -11,7 +11,7 @@ use brdfkit::aov::Aov;
 use brdfkit::env::schema::SamplerKind;
 use brdfkit::golden::{self, CheckOptions, CROSS_PLATFORM, KERNEL_DISPATCH};
 use brdfkit::image_io;
-use brdfkit::kernel::lanes::KernelPath;
+use brdfkit::lanes::KernelPath;
 use brdfkit::scene::{LightSpec, MaterialSpec, Precision, Scene, SceneFile};
 use brdfkit::sh::Lookup;
 use shading_paths::scalar_oracle;

@@ -3,8 +3,8 @@
 use crate::shading_paths;
 
 use brdfkit::env::schema::{EnvMethod, EnvSpec, SamplerKind};
-use brdfkit::kernel::lanes::{Dispatch, KernelPath};
 use brdfkit::kernel::{KERNEL_TOLERANCE, SH_KERNEL_TOLERANCE};
+use brdfkit::lanes::{Dispatch, KernelPath};
 use brdfkit::render;
 use brdfkit::scene::{MaterialSpec, Scene, SceneFile};
 use brdfkit::shade::{self, FramePrep, ShadeOptions};

@@ -11,6 +11,7 @@
 //! huge triangles and triangles crossing the camera plane. Each seeded fault of the block
 //! walk ([`raster::RasterFault`]) must make the comparison fail.
 
+use brdfkit::lanes::KernelPath;
 use brdfkit::raster::clip::{ClipPlanes, ClipVertex};
 use brdfkit::raster::setup::{self, SetupTriangle};
 use brdfkit::raster::{self, Cull, RasterConfig, RasterFault, RasterScratch, VisBuffer};
@@ -28,6 +29,7 @@ fn cfg(tile: u32, cull: Cull) -> RasterConfig {
         cull,
         near: 0.01,
         count_coverage: true,
+        kernel: KernelPath::Auto,
     }
 }
 
@@ -217,6 +219,9 @@ fn blocks_match_the_per_pixel_reference() {
     // Buffers reused across every scene and size, as the viewer reuses them.
     let mut scratch = RasterScratch::default();
     let mut reused = VisBuffer::default();
+    // The reused-buffer renders take each lane path this CPU runs in turn (the first
+    // render takes `auto`): every path against the reference and against `auto`.
+    let paths = crate::common::kernel_paths("blocks_match_the_per_pixel_reference");
     for seed in 0..300u64 {
         let (clip, tris) = scene(seed);
         let cull = if seed % 3 == 0 {
@@ -232,11 +237,19 @@ fn blocks_match_the_per_pixel_reference() {
         }
         let c = RasterConfig {
             count_coverage: seed % 2 == 0,
+            kernel: paths[seed as usize % paths.len()],
             ..c
         };
         raster::rasterize_into(&clip, &tris, &c, &mut scratch, &mut reused);
-        assert_eq!(reused.visible, vis.visible, "seed {seed}: reused buffers");
-        assert_eq!(reused.depth, vis.depth, "seed {seed}: reused buffers");
+        let path = c.kernel.name();
+        assert_eq!(
+            reused.visible, vis.visible,
+            "seed {seed}, {path}: reused buffers"
+        );
+        assert_eq!(
+            reused.depth, vis.depth,
+            "seed {seed}, {path}: reused buffers"
+        );
         assert_eq!(reused.coverage.is_some(), c.count_coverage);
         assert_eq!(reused.tile_occupied, vis.tile_occupied);
     }

@@ -6,6 +6,7 @@
 //! brute-force reference and the mesh generators defined here; split, each file would
 //! repeat them.)
 
+use brdfkit::lanes::KernelPath;
 use brdfkit::raster::{self, setup, Cull, RasterConfig};
 use brdfkit::scene::camera::Camera;
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -24,6 +25,7 @@ fn cfg(count: bool, tile: u32) -> RasterConfig {
         cull: Cull::None,
         near: 0.01,
         count_coverage: count,
+        kernel: KernelPath::Auto,
     }
 }
 

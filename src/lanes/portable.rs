@@ -21,8 +21,43 @@ fn map2(a: P8, b: P8, f: impl Fn(f32, f32) -> f32) -> P8 {
     P8(r)
 }
 
+/// [`I32x8`] of [`Portable`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct PI8(pub [i32; LANES]);
+
+impl I32x8 for PI8 {
+    #[inline(always)]
+    fn add(self, o: PI8) -> PI8 {
+        PI8(std::array::from_fn(|i| self.0[i].wrapping_add(o.0[i])))
+    }
+    #[inline(always)]
+    fn or(self, o: PI8) -> PI8 {
+        PI8(std::array::from_fn(|i| self.0[i] | o.0[i]))
+    }
+    #[inline(always)]
+    fn sign_mask(self) -> u32 {
+        let mut m = 0;
+        for i in 0..LANES {
+            m |= ((self.0[i] as u32) >> 31) << i;
+        }
+        m
+    }
+}
+
 impl Isa for Portable {
     type V = P8;
+    type I = PI8;
+    #[inline(always)]
+    fn splat_i32(self, v: i32) -> PI8 {
+        PI8([v; LANES])
+    }
+    #[inline(always)]
+    fn load_i32(self, s: &[i32]) -> PI8 {
+        let mut a = [0; LANES];
+        a.copy_from_slice(&s[..LANES]);
+        PI8(a)
+    }
     #[inline(always)]
     fn splat(self, v: f32) -> P8 {
         P8([v; LANES])

@@ -1,5 +1,6 @@
-//! The one SIMD wrapper: eight f32 lanes ([`F32x8`]), and the widest vectors of the same
-//! instruction set ([`Isa::Wide`], [`Width`]), on an instruction set chosen once per frame
+//! The one SIMD wrapper: eight f32 lanes ([`F32x8`]), eight i32 lanes ([`I32x8`], for the
+//! rasterizer's edge functions), and the widest vectors of the same instruction set
+//! ([`Isa::Wide`], [`Width`]), on an instruction set chosen once per frame
 //! ([`Dispatch::choose`] from a [`KernelPath`]), never per pixel or per call.
 //!
 //! Three implementations of the same small interface, and no others:
@@ -106,9 +107,27 @@ pub trait F32x8: Arith {
     }
 }
 
-/// An instruction set: makes [`F32x8`] values. Copy tokens; see the module doc.
+/// Eight i32 lanes, for integer work in lanes (the rasterizer's edge functions). Lane
+/// order is memory order. Every operation is the two's-complement one per lane, the same
+/// bits on every path; the caller keeps sums in range (a wrapped lane is not an error but
+/// is a wrong edge value).
+pub trait I32x8: Copy {
+    /// Lane-wise wrapping sum.
+    fn add(self, o: Self) -> Self;
+    /// Lane-wise bitwise or.
+    fn or(self, o: Self) -> Self;
+    /// Bit `i` set where lane `i` is negative (its sign bit).
+    fn sign_mask(self) -> u32;
+}
+
+/// An instruction set: makes [`F32x8`] (and [`I32x8`]) values. Copy tokens; see the module doc.
 pub trait Isa: Copy + Send + Sync {
     type V: F32x8;
+    /// Its eight i32 lanes.
+    type I: I32x8;
+    fn splat_i32(self, v: i32) -> Self::I;
+    /// Lanes `s[0..8]` (panics if `s` is shorter).
+    fn load_i32(self, s: &[i32]) -> Self::I;
     fn splat(self, v: f32) -> Self::V;
     /// Lanes `s[0..8]` (panics if `s` is shorter).
     fn load(self, s: &[f32]) -> Self::V;
@@ -394,12 +413,12 @@ const COMPRESS: [[u32; LANES]; 256] = {
 };
 
 mod portable;
-pub use portable::{Portable, P8};
+pub use portable::{Portable, P8, PI8};
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 #[cfg(target_arch = "x86_64")]
-pub use avx2::{Avx2Fma, A8};
+pub use avx2::{Avx2Fma, A8, AI8};
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;

@@ -9,7 +9,7 @@ fn paths_run_by(test: &str) -> Vec<KernelPath> {
     for (path, needs) in KernelPath::unavailable() {
         let _ = writeln!(
             std::io::stderr(),
-            "SKIPPED kernel path {}: kernel::lanes::tests::{test}: this CPU lacks {needs}",
+            "SKIPPED kernel path {}: lanes::tests::{test}: this CPU lacks {needs}",
             path.name()
         );
     }
@@ -234,5 +234,38 @@ fn transpose8_moves_every_lane_on_every_path() {
                 );
             }
         }
+    }
+}
+
+struct IntLanes(Vec<i32>, Vec<i32>, i32);
+impl Kernel for IntLanes {
+    type Out = (u32, u32, u32);
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> (u32, u32, u32) {
+        let (a, b, c) = (
+            s.load_i32(&self.0),
+            s.load_i32(&self.1),
+            s.splat_i32(self.2),
+        );
+        (
+            a.sign_mask(),
+            a.add(b).sign_mask(),
+            a.add(c).or(b).sign_mask(),
+        )
+    }
+}
+
+#[test]
+fn i32_lanes_add_or_and_sign_on_every_path() {
+    // Lane 7 wraps: i32::MAX + 1 is negative; lane 4 too: i32::MIN - 3 is positive (two's
+    // complement, as documented).
+    let a = vec![-1, 0, 5, -7, i32::MIN, 3, -2, i32::MAX];
+    let b = vec![1, -1, -6, 7, 0, -4, 2, 1];
+    let want = (0b0101_1001, 0b1011_0110, 0b0110_1111);
+    for path in paths_run_by("i32_lanes_add_or_and_sign_on_every_path") {
+        let got = Dispatch::choose(path)
+            .unwrap()
+            .run(IntLanes(a.clone(), b.clone(), -3));
+        assert_eq!(got, want, "{}", path.name());
     }
 }

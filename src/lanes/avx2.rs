@@ -15,12 +15,59 @@ pub struct Avx2Fma(pub(super) ());
 #[repr(transparent)]
 pub struct A8(__m256);
 
+/// [`I32x8`] of [`Avx2Fma`] and of [`super::Avx512`] (whose eight lanes are 256 bits
+/// too). Made only through one of their tokens, so every operation runs on a CPU with AVX2.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct AI8(__m256i);
+
+impl AI8 {
+    /// # Safety
+    /// The CPU must have AVX2 (the caller holds an [`Avx2Fma`] or [`super::Avx512`] token).
+    #[inline(always)]
+    pub(super) unsafe fn splat(v: i32) -> AI8 {
+        AI8(unsafe { _mm256_set1_epi32(v) })
+    }
+    /// # Safety
+    /// As [`AI8::splat`].
+    #[inline(always)]
+    pub(super) unsafe fn load(s: &[i32]) -> AI8 {
+        let s = &s[..LANES];
+        AI8(unsafe { _mm256_loadu_si256(s.as_ptr().cast()) })
+    }
+}
+
+impl I32x8 for AI8 {
+    #[inline(always)]
+    fn add(self, o: AI8) -> AI8 {
+        AI8(unsafe { _mm256_add_epi32(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn or(self, o: AI8) -> AI8 {
+        AI8(unsafe { _mm256_or_si256(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn sign_mask(self) -> u32 {
+        // The sign bit of each 32-bit lane, read as a float's (no value is computed).
+        (unsafe { _mm256_movemask_ps(_mm256_castsi256_ps(self.0)) }) as u32
+    }
+}
+
 // SAFETY (every `unsafe` block of this module): the intrinsics need AVX (+ FMA for the
 // fused ones), which the existence of an `A8` or `Avx2Fma` value proves (see above);
 // memory accesses are bounds-checked before the unaligned loads and stores.
 
 impl Isa for Avx2Fma {
     type V = A8;
+    type I = AI8;
+    #[inline(always)]
+    fn splat_i32(self, v: i32) -> AI8 {
+        unsafe { AI8::splat(v) }
+    }
+    #[inline(always)]
+    fn load_i32(self, s: &[i32]) -> AI8 {
+        unsafe { AI8::load(s) }
+    }
     #[inline(always)]
     fn splat(self, v: f32) -> A8 {
         A8(unsafe { _mm256_set1_ps(v) })

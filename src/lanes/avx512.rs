@@ -33,6 +33,15 @@ pub struct V16(__m512);
 
 impl Isa for Avx512 {
     type V = V8;
+    type I = super::avx2::AI8;
+    #[inline(always)]
+    fn splat_i32(self, v: i32) -> super::avx2::AI8 {
+        unsafe { super::avx2::AI8::splat(v) }
+    }
+    #[inline(always)]
+    fn load_i32(self, s: &[i32]) -> super::avx2::AI8 {
+        unsafe { super::avx2::AI8::load(s) }
+    }
     #[inline(always)]
     fn splat(self, v: f32) -> V8 {
         V8(unsafe { _mm256_set1_ps(v) })
