@@ -6,7 +6,7 @@
 //!
 //! # Design
 //! - **Structures of arrays.** Directional lights live in [`cluster::DirLights`] (one array
-//!   per component, chunks of [`lanes::LANES`], sorted for spatial coherence; [`cluster`]).
+//!   per component, chunks of [`crate::lanes::LANES`], sorted for spatial coherence; [`cluster`]).
 //!   Per pixel, the lights above its horizon are compacted into a per-worker
 //!   [`gather::Scratch`] (local direction and weight per array, reused across pixels and
 //!   tiles: no allocation or push per pixel) by masked compress-stores
@@ -20,11 +20,11 @@
 //!   pixels instead (`crate::shade`'s pixel-packed paths: SH data sets under point lights,
 //!   Lambert and Blinn-Phong under at most [`crate::shade::PACKED_MAX_LIGHTS`] lights), with
 //!   each pixel's frame, view direction and view angles computed eight at a time.
-//! - **Dispatch.** SIMD lives only in [`lanes`]: [`lanes::F32x8`] on AVX-512 (F + VL:
-//!   mask registers; 16-lane vectors, [`lanes::Width`], for the SH basis sums of 16 lights
+//! - **Dispatch.** SIMD lives only in [`crate::lanes`]: [`crate::lanes::F32x8`] on AVX-512 (F + VL:
+//!   mask registers; 16-lane vectors, [`crate::lanes::Width`], for the SH basis sums of 16 lights
 //!   and for 16 pixels of the pixel-packed path), AVX2 + FMA (`core::arch`) or portable
 //!   `[f32; 8]`, chosen once per frame from the scene's `render.kernel`
-//!   ([`lanes::Dispatch::choose`], stored in [`crate::shade::FramePrep`]); the tile loop
+//!   ([`crate::lanes::Dispatch::choose`], stored in [`crate::shade::FramePrep`]); the tile loop
 //!   runs inside the chosen path's `target_feature` function. Every tile and thread takes
 //!   the same path, and the paths give the same bits (fused multiply-add on all, sums
 //!   across lights on eight lanes in one order), so the image depends neither on the thread
@@ -47,7 +47,7 @@
 //!
 //! Work skipped, and why it changes nothing:
 //! - lights are sorted once per frame into spatially coherent chunks of
-//!   [`lanes::LANES`], each with a bounding cone; a tile skips a chunk when the chunk's
+//!   [`crate::lanes::LANES`], each with a bounding cone; a tile skips a chunk when the chunk's
 //!   cone lies wholly below the horizon of the tile's normal cone (with a safety margin).
 //!   The skipped lights would have been left out of every pixel's compacted list anyway
 //!   (they are below its horizon), so the image is bit-identical with and without culling,
@@ -56,8 +56,6 @@
 //!
 //! Work skipped with a bounded change to the image (negligible lights, SH bands a material
 //! does not need) is decided per frame in [`skip`].
-
-use crate::lanes;
 
 pub mod approx;
 pub mod cluster;

@@ -10,7 +10,8 @@
 use super::fault::{seed_fault, shift_one_azimuth_node};
 use super::{FramePrep, KernelFault, Surface};
 use crate::conventions::{hemi_texcoord, FrameRule, ShadingFrame};
-use crate::kernel::{self, lanes::Isa};
+use crate::kernel;
+use crate::lanes::Isa;
 use glam::Vec3;
 
 impl FramePrep<'_> {
