@@ -54,7 +54,9 @@ impl I32x8 for AI8 {
 }
 
 // SAFETY (every `unsafe` block of this module): the intrinsics need AVX (+ FMA for the
-// fused ones), which the existence of an `A8` or `Avx2Fma` value proves (see above);
+// fused ones, AVX2 for the integer ones), which the existence of an `A8`, `AI8` or
+// `Avx2Fma` value proves (see above; an `AI8` comes only from the `unsafe` constructors,
+// whose callers hold an `Avx2Fma` or `Avx512` token);
 // memory accesses are bounds-checked before the unaligned loads and stores.
 
 impl Isa for Avx2Fma {
