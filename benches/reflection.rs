@@ -11,9 +11,12 @@
 //! once per scene and probe, far too long for criterion's samples). The probes benched are
 //! `BRDFKIT_BENCH_PROBES` (comma-separated, default `city`; the frame's cost does not depend
 //! on the probe: one lookup and 64 lights per pixel whatever it holds; light cuts' does).
+//! `BRDFKIT_BENCH_MATERIALS` (comma-separated names of the rows, default all) prepares
+//! only those materials (every row's scene is prepared before criterion's filter applies).
 //!
 //! ```sh
 //! BRDFKIT_BENCH_PROBES=city,studio,sky cargo bench --bench reflection -- --noplot
+//! BRDFKIT_BENCH_MATERIALS=lindt-paper BRDFKIT_BENCH_ORDERS= cargo bench --bench reflection -- 'frame-reflection$'
 //! ```
 //!
 //! The order of the series in psi (`[env] reflection_order`): the same teapot frame,
@@ -56,8 +59,10 @@ fn scene(material: &str, probe: &str, env: &str) -> Scene {
 
 fn reflection(c: &mut Criterion) {
     let probes = std::env::var("BRDFKIT_BENCH_PROBES").unwrap_or_else(|_| "city".into());
+    let only = std::env::var("BRDFKIT_BENCH_MATERIALS").unwrap_or_default();
+    let chosen = |name: &str| only.is_empty() || only.split(',').any(|m| m == name);
     for probe in probes.split(',').filter(|p| !p.is_empty()) {
-        for (name, material) in MATERIALS {
+        for (name, material) in MATERIALS.into_iter().filter(|(n, _)| chosen(n)) {
             let t0 = Instant::now();
             let table = scene(material, probe, "method = \"reflection\"");
             let t = table

@@ -180,7 +180,7 @@ mod sphere_octahedral;
 
 pub use frame::*;
 pub use octahedral::*;
-pub use scalar::Scalar;
+pub use scalar::{floor_f32, Scalar};
 pub use sphere_octahedral::*;
 
 use glam::{DVec3, Vec3};
@@ -291,13 +291,13 @@ pub fn hemi_texel_angles_f64(i: usize, j: usize, nu: usize, nv: usize) -> (f64, 
 #[inline]
 pub fn hemi_nearest_texel(s: f32, t: f32, nu: usize, nv: usize) -> (usize, usize) {
     assert!(nu > 0 && nv > 0, "empty table");
-    let sf = s - s.floor();
+    let sf = s - floor_f32(s);
     let i = if sf.is_finite() {
         ((sf * nu as f32) as usize).min(nu - 1)
     } else {
         0
     };
-    let tj = (t * nv as f32).floor();
+    let tj = floor_f32(t * nv as f32);
     let j = if tj.is_finite() && tj > 0.0 {
         (tj as usize).min(nv - 1)
     } else {

@@ -339,6 +339,20 @@ impl DBrdf {
         (t[0].2 * p(0) + t[1].2 * p(1)) + (t[2].2 * p(2) + t[3].2 * p(3))
     }
 
+    /// The lobe (thesis 2.3.6, [`Brdf::eval`]) where its half vector's table value is
+    /// already known: `c p_h F(kh) / (a + b - a b)` with `p_h = p(h)`, `kh = k.h` in
+    /// `[0, 1]`, `a = min(wi_z, 1)`, `b = min(wo_z, 1)` (the local polar cosines, both
+    /// positive: the caller checks), `F` Schlick's Fresnel of [`DBrdf::rs`]; 1/sr, RGB. The
+    /// operations and their order are [`Brdf::eval`]'s, which calls it: filtered importance
+    /// sampling, whose half vectors are fixed, looks `p` up once per half vector instead of
+    /// once per pixel and sample.
+    #[inline]
+    pub fn eval_at_half(&self, p_h: f32, kh: f32, wi_z: f32, wo_z: f32) -> Vec3 {
+        let (a, b) = (wi_z.min(1.0), wo_z.min(1.0));
+        let denom = a + b - a * b;
+        self.c * p_h * schlick_fresnel(self.rs, kh) / denom
+    }
+
     /// [`DBrdf::p`] with the same texels and f32 weights, blended in f64.
     pub(crate) fn p_f64_blend(&self, h: Vec3) -> f64 {
         let (u, v) = hemi_oct_encode(h);
@@ -362,11 +376,9 @@ impl Brdf for DBrdf {
         if len <= 1e-6 {
             return Vec3::ZERO;
         }
-        let (a, b) = (wi.z.min(1.0), wo.z.min(1.0));
-        let denom = a + b - a * b;
         let kh = (0.5 * len).clamp(0.0, 1.0);
         // The lookup takes the unnormalised sum, as the lane kernel does.
-        self.c * self.p(sum) * schlick_fresnel(self.rs, kh) / denom
+        self.eval_at_half(self.p(sum), kh, wi.z, wo.z)
     }
 
     fn name(&self) -> &str {

@@ -12,7 +12,8 @@
 //! frame of anisotropic materials, [`crate::material::Material::frame_rule`]):
 //! `l_i = reflect(v, h_i) = 2 (v.h_i) h_i - v`, skipped when `v.h_i <= 0` or `l_i.n <= 0`;
 //! `pdf(l) = pdf(h) / (4 |v.h|)` (the Jacobian of the reflection, Walter et al. 2007, eq.
-//! 14); `L~(l, omega)` the probe pre-filtered over the sample's share of solid angle
+//! 14); `f(l_i, v)` with the lobe's `p(h_i)` looked up once per half vector, not per
+//! pixel (`l_i + v = 2 (v.h_i) h_i`, so `h_i` is the pair's half vector and `k.h = v.h_i`); `L~(l, omega)` the probe pre-filtered over the sample's share of solid angle
 //! `omega_i = 1 / (N pdf(l_i))`: a trilinear lookup in a radiance pyramid of the residual
 //! ([`super::pyramid`], level `0.5 log2(omega / texel) + LOD_BIAS`). The Lambertian term of
 //! a Lambert + D-BRDF (`r_d / pi`) is not sampled: it is the reflection table's diffuse
@@ -76,6 +77,8 @@ pub struct HalfSample {
     pub h: Vec3,
     /// `pdf(h)`, 1/sr.
     pub pdf: f32,
+    /// The lobe's `p(h)` ([`DBrdf::p`] at `h`), looked up once for every pixel.
+    pub p: f32,
 }
 
 /// A fault seeded into the estimator, for the tests that must catch it.
@@ -166,9 +169,11 @@ pub fn half_samples(lobe: &DBrdf, n: usize) -> Vec<HalfSample> {
             let h = hemi_oct_decode_f64(u, v);
             let texel_uv = 4.0 / (side * side) as f64;
             let pdf = weight(i, j) / total / texel_uv * 2.0 * s.length().powi(3);
+            let h = h.as_vec3();
             HalfSample {
-                h: h.as_vec3(),
+                h,
                 pdf: pdf as f32,
+                p: lobe.p(h),
             }
         })
         .collect()
@@ -286,7 +291,9 @@ impl FilteredSampler {
         let mut sum = Vec3::ZERO;
         for s in &self.samples {
             let vh = wo.dot(s.h);
-            if vh <= 0.0 {
+            // `DBrdf::eval`'s guards: `|l + wo| = 2 v.h` above 1e-6, both directions above
+            // the horizon.
+            if 2.0 * vh <= 1e-6 || wo.z <= 0.0 {
                 continue;
             }
             let l = 2.0 * vh * s.h - wo;
@@ -300,7 +307,9 @@ impl FilteredSampler {
             if pdf_l <= 0.0 {
                 continue;
             }
-            let f = self.lobe.eval(l, wo);
+            // `l + wo = 2 (v.h) h`: the lobe's half vector is `h` and `k.h = v.h`, so the
+            // sample's `p(h)` serves every pixel ([`DBrdf::eval_at_half`]).
+            let f = self.lobe.eval_at_half(s.p, vh.min(1.0), l.z, wo.z);
             let d = self.unrotated(frame.to_world(l));
             let polar = d.y.clamp(-1.0, 1.0).acos();
             let mut u = (-d.x).atan2(d.z) * (0.5 * std::f32::consts::FRAC_1_PI);

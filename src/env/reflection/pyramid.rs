@@ -19,7 +19,7 @@
 //! angle there (`2 pi^2 / (w h) sin(polar)`, the sine clamped to that of half a row so the
 //! poles stay finite), clamped to the pyramid ([`RadiancePyramid::level_for`]).
 
-use crate::conventions::probe_texel_solid_angle;
+use crate::conventions::{floor_f32, probe_texel_solid_angle};
 use glam::Vec3;
 
 /// One level: `width x height` texels of RGB radiance, row-major.
@@ -118,7 +118,7 @@ impl RadiancePyramid {
     pub fn lookup(&self, u: f32, v: f32, level: f32) -> Vec3 {
         let top = (self.levels.len() - 1) as f32;
         let level = level.clamp(0.0, top);
-        let k0 = (level.floor() as usize).min(self.levels.len() - 1);
+        let k0 = (floor_f32(level) as usize).min(self.levels.len() - 1);
         let t = level - k0 as f32;
         let a = self.bilinear(k0, u, v);
         if t > 0.0 && k0 + 1 < self.levels.len() {
@@ -134,12 +134,12 @@ impl RadiancePyramid {
         let l = &self.levels[k];
         let (w, h) = (l.width, l.height);
         let x = u * w as f32 - 0.5;
-        let x0 = x.floor();
+        let x0 = floor_f32(x);
         let fx = x - x0;
         let i0 = (x0 as i64).rem_euclid(w as i64) as usize;
         let i1 = (i0 + 1) % w;
         let y = (v * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
-        let j0 = (y.floor() as usize).min(h - 1);
+        let j0 = (floor_f32(y) as usize).min(h - 1);
         let j1 = (j0 + 1).min(h - 1);
         let fy = y - j0 as f32;
         let at = |i: usize, j: usize| Vec3::from_array(l.radiance[j * w + i]);

@@ -2,6 +2,7 @@
 //! grid of normals, and its bilinear lookup (grid and frame in the parent module's doc).
 
 use super::TransferBasis;
+use crate::conventions::floor_f32;
 use glam::Vec3;
 
 /// A transfer table (parent module doc). Values are f32, node-major with the polar index
@@ -119,8 +120,8 @@ impl TransferTable {
     pub fn corners_at(&self, polar: f32, u: f32) -> Corners {
         let a = u * self.nu as f32;
         let b = polar * std::f32::consts::FRAC_1_PI * (self.nv - 1) as f32;
-        let af = a.floor();
-        let bf = b.floor();
+        let af = floor_f32(a);
+        let bf = floor_f32(b);
         let (fa, fb) = (a - af, b - bf);
         let i0 = (af as usize) % self.nu;
         let i1 = (i0 + 1) % self.nu;
