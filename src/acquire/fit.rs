@@ -38,6 +38,7 @@ use crate::conventions::{
 };
 use crate::progress::Progress;
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 /// What to fit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -101,14 +102,19 @@ struct Sample {
     y: DVec3,
 }
 
+/// The fit's samples, view texel by view texel (row-major), each view's incident
+/// directions in the grid's order; the views in parallel, concatenated in that order, so
+/// the list is the same for any thread count.
 fn samples(src: &dyn Brdf, o: &FitOptions) -> Result<Vec<Sample>, FitError> {
     let dirs = o.grid.directions();
     let (vu, vv) = o.view;
-    let mut out = Vec::with_capacity(vu * vv * dirs.len());
-    for j in 0..vv {
-        for i in 0..vu {
+    let per_view: Vec<Vec<Sample>> = (0..vu * vv)
+        .into_par_iter()
+        .map(|k| {
+            let (i, j) = (k % vu, k / vu);
             let (p, a) = hemi_texel_angles_f64(i, j, vu, vv);
             let wo = local_direction_f64(p, a);
+            let mut out = Vec::with_capacity(dirs.len());
             for &wi in &dirs {
                 let sum = wi + wo;
                 let len = sum.length();
@@ -132,9 +138,10 @@ fn samples(src: &dyn Brdf, o: &FitOptions) -> Result<Vec<Sample>, FitError> {
                     y,
                 });
             }
-        }
-    }
-    Ok(out)
+            Ok(out)
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(per_view.into_iter().flatten().collect())
 }
 
 /// Step 2 of the module doc: `(c, R_s)` for a fixed table.
@@ -151,9 +158,17 @@ fn fit_c_rs(d: &DBrdf, ss: &[Sample]) -> (f32, Vec3) {
     let mut ata = [0.0f64; 16];
     let mut aty = [0.0f64; 4];
     let mut sums = CrsSums::default();
-    for s in ss {
-        let h = (s.wi + s.wo).normalize().as_vec3();
-        let g = d.p(h) as f64 * s.geo;
+    // `p(h) cos(polar_i) / D` per sample, looked up in parallel (in sample order) and used
+    // by both sums below, which stay sequential in sample order: the same bits for any
+    // thread count.
+    let gs: Vec<f64> = ss
+        .par_iter()
+        .map(|s| {
+            let h = (s.wi + s.wo).normalize().as_vec3();
+            d.p(h) as f64 * s.geo
+        })
+        .collect();
+    for (s, &g) in ss.iter().zip(&gs) {
         if g == 0.0 {
             continue;
         }
@@ -195,9 +210,7 @@ fn fit_c_rs(d: &DBrdf, ss: &[Sample]) -> (f32, Vec3) {
     rs = rs.clamp(DVec3::ZERO, DVec3::ONE);
     // Refit c alone for the clamped R_s: c = sum y k / sum k^2 with k = g F.
     let (mut num, mut den) = (0.0, 0.0);
-    for s in ss {
-        let h = (s.wi + s.wo).normalize().as_vec3();
-        let g = d.p(h) as f64 * s.geo;
+    for (s, &g) in ss.iter().zip(&gs) {
         let f = schlick_fresnel(rs.as_vec3(), s.kh as f32).as_dvec3();
         let k = g * f;
         num += k.dot(s.y);
