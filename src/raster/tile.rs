@@ -124,6 +124,9 @@ pub enum RasterFault {
     /// The walk's compact record ([`TileTriangle`]) evaluates edge 1 from vertex 1, which
     /// is not on it, instead of vertex 2.
     EdgeOriginWrong,
+    /// The one-pixel path (a triangle whose bounds hold one pixel of the tile) writes the
+    /// pixel without testing the edges, as if the bounds implied coverage.
+    OnePixelUntested,
 }
 
 /// The tile's output buffers, row-major with the tile's stride.
@@ -207,7 +210,6 @@ impl Walk {
         let off_lanes: [S::I; 3] = std::array::from_fn(|k| s.load_i32(&off[k]));
         // Biased to exact edge value: + 1 - bias.
         let unbias = self.bias.map(|b| (1 - b) as i32);
-        let q = self.q;
         for cx in (x0..=x1).step_by(ROW_LANES) {
             let mut n = (x1 - cx + 1).min(ROW_LANES as u32);
             if fault == Some(RasterFault::LaneTailSkipped) && n < ROW_LANES as u32 {
@@ -227,20 +229,11 @@ impl Walk {
                 while mask != 0 {
                     let j = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    let i = base + j;
-                    let w0 = (exact[0] + off[0][j]) as f64;
-                    let w1 = (exact[1] + off[1][j]) as f64;
-                    let w2 = (exact[2] + off[2][j]) as f64;
-                    let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
-                    // Selects, not a branch: which of two overlapping triangles is nearer
-                    // is no pattern a branch predictor learns.
-                    let (d, v) = (out.depth[i], out.visible[i]);
-                    let nearer = z > d;
-                    out.depth[i] = std::hint::select_unpredictable(nearer, z, d);
-                    out.visible[i] = std::hint::select_unpredictable(nearer, self.ti, v);
-                    if let Some(c) = out.coverage.as_deref_mut() {
-                        c[i] += 1;
-                    }
+                    self.write(
+                        base + j,
+                        [0, 1, 2].map(|k| (exact[k] + off[k][j]) as f64),
+                        out,
+                    );
                 }
                 for (r, step) in row.iter_mut().zip(step_y) {
                     *r += step;
@@ -259,6 +252,34 @@ impl Walk {
             let [ox, oy] = self.origin[k];
             self.a[k] * (sx - ox) + self.b[k] * (sy - oy) + self.bias[k] - 1
         })
+    }
+
+    /// The exact edge values of biased ones ([`Walk::biased_at`]), the bias undone, converted
+    /// to f64 as the per-pixel reference converts them.
+    #[inline(always)]
+    fn exact(&self, e: [i64; 3]) -> [f64; 3] {
+        std::array::from_fn(|k| (e[k] - self.bias[k] + 1) as f64)
+    }
+
+    /// The fragment write every walk shares: the depth (interpolated 1/w) at a covered
+    /// sample of exact edge values `w` (each edge's doubled signed area, fixed point
+    /// squared), `(w0 q0 + w1 q1 + w2 q2) * (1 / area2)` in f64, unfused and in this order
+    /// (the per-pixel reference's expression), rounded to f32; then the nearer test
+    /// (larger 1/w wins, a tie keeps the earlier triangle) and the coverage count at
+    /// index `i` of the tile buffers.
+    #[inline(always)]
+    fn write(&self, i: usize, [w0, w1, w2]: [f64; 3], out: &mut TileBuffers) {
+        let q = self.q;
+        let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
+        // Selects, not a branch: which of two overlapping triangles is nearer is no
+        // pattern a branch predictor learns.
+        let (d, v) = (out.depth[i], out.visible[i]);
+        let nearer = z > d;
+        out.depth[i] = std::hint::select_unpredictable(nearer, z, d);
+        out.visible[i] = std::hint::select_unpredictable(nearer, self.ti, v);
+        if let Some(c) = out.coverage.as_deref_mut() {
+            c[i] += 1;
+        }
     }
 
     /// Classifies the block of pixels `x0..=x1` x `y0..=y1` by its corners.
@@ -299,19 +320,7 @@ impl Walk {
             for px in x0..=x1 {
                 if !TEST || (e[0] | e[1] | e[2]) >= 0 {
                     let i = base + (px - tile.x0) as usize;
-                    // Undo the bias to get the exact edge values for interpolation.
-                    let w0 = (e[0] - self.bias[0] + 1) as f64;
-                    let w1 = (e[1] - self.bias[1] + 1) as f64;
-                    let w2 = (e[2] - self.bias[2] + 1) as f64;
-                    let q = self.q;
-                    let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
-                    if z > out.depth[i] {
-                        out.depth[i] = z;
-                        out.visible[i] = self.ti;
-                    }
-                    if let Some(c) = out.coverage.as_deref_mut() {
-                        c[i] += 1;
-                    }
+                    self.write(i, self.exact(e), out);
                 }
                 for (e, step) in e.iter_mut().zip(self.step_x) {
                     *e += step;
@@ -354,6 +363,16 @@ pub fn resolve<S: Isa>(
             continue;
         }
         let walk = Walk::new(t, ti, fault);
+        if x0 == x1 && y0 == y1 {
+            // One pixel of the tile in the bounds (most triangles of a dense mesh): its
+            // edge values straight from the origins, no stepping, no lanes.
+            let e = walk.biased_at(x0, y0);
+            if (e[0] | e[1] | e[2]) >= 0 || fault == Some(RasterFault::OnePixelUntested) {
+                let i = ((y0 - tile.y0) * tile.stride + (x0 - tile.x0)) as usize;
+                walk.write(i, walk.exact(e), out);
+            }
+            continue;
+        }
         if x1 - x0 < BLOCK && y1 - y0 < BLOCK {
             if walk.lanes {
                 walk.walk_lanes(s, tile, (x0, y0, x1, y1), out, fault);
