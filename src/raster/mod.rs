@@ -329,31 +329,41 @@ fn setup_triangles_into(
         .zip(triangles.par_chunks(SETUP_CHUNK))
         .enumerate()
         .for_each(|(ci, (out, chunk))| {
+            // Survivors are written branch-free: each unclipped triangle's entry is stored
+            // at `n`, which advances only when it survives (a slot per triangle is there
+            // from the start; a clipped triangle's fan may add more).
             out.clear();
+            out.resize(chunk.len(), [0, 0]);
+            let mut n = 0;
             let mut poly = Vec::new();
             for (k, tri) in chunk.iter().enumerate() {
                 let source = (ci * SETUP_CHUNK + k) as u32;
                 let sv = tri.map(|i| verts[i as usize]);
                 let codes = sv.map(|v| v.code);
-                if codes[0] & codes[1] & codes[2] != 0 {
-                    continue; // wholly outside one plane
-                }
                 if codes[0] | codes[1] | codes[2] == 0 {
                     let p = sv.map(|v| (v.x, v.y));
-                    if setup::covered_bounds(p, width, height, cull_back).is_some() {
-                        out.push([source, UNCLIPPED]);
+                    if n == out.len() {
+                        out.push([0, 0]);
                     }
+                    out[n] = [source, UNCLIPPED];
+                    n += setup::covers_a_centre(p, width, height, cull_back) as usize;
                     continue;
+                }
+                if codes[0] & codes[1] & codes[2] != 0 {
+                    continue; // wholly outside one plane
                 }
                 planes.clip_triangle(tri.map(|i| clip[i as usize]), &mut poly);
                 for i in 1..poly.len().saturating_sub(1) {
                     let p =
                         [poly[0], poly[i], poly[i + 1]].map(|v| setup::snap(v.clip, width, height));
                     if setup::covered_bounds(p, width, height, cull_back).is_some() {
+                        out.truncate(n);
                         out.push([source, i as u32]);
+                        n += 1;
                     }
                 }
             }
+            out.truncate(n);
         });
     let survivors = &mut scratch.survivors;
     survivors.clear();
