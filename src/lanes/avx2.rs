@@ -37,6 +37,122 @@ impl AI8 {
     }
 }
 
+/// [`F64x4`] of [`Avx2Fma`] and of [`super::Avx512`]: `__m256d`, never fused. Made only
+/// through one of their tokens, so every operation runs on a CPU with AVX2.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct AD4(__m256d);
+
+impl AD4 {
+    /// # Safety
+    /// The CPU must have AVX2 (the caller holds an [`Avx2Fma`] or [`super::Avx512`] token).
+    #[inline(always)]
+    pub(super) unsafe fn splat(v: f64) -> AD4 {
+        AD4(unsafe { _mm256_set1_pd(v) })
+    }
+    /// # Safety
+    /// As [`AD4::splat`].
+    #[inline(always)]
+    pub(super) unsafe fn load(s: &[f64]) -> AD4 {
+        let s = &s[..F64_LANES];
+        AD4(unsafe { _mm256_loadu_pd(s.as_ptr()) })
+    }
+    /// [`Isa::i32_to_f64`].
+    ///
+    /// # Safety
+    /// As [`AD4::splat`].
+    #[inline(always)]
+    pub(super) unsafe fn from_i32(v: AI8, h: usize) -> AD4 {
+        unsafe {
+            let half = match h {
+                0 => _mm256_castsi256_si128(v.0),
+                1 => _mm256_extracti128_si256::<1>(v.0),
+                _ => panic!("half {h} of eight i32 lanes"),
+            };
+            AD4(_mm256_cvtepi32_pd(half))
+        }
+    }
+    /// [`Isa::f64_to_f32`] (`vcvtpd2ps` rounds by MXCSR, which Rust leaves at
+    /// round-to-nearest-even: the bits of `x as f32`).
+    ///
+    /// # Safety
+    /// As [`AD4::splat`].
+    #[inline(always)]
+    pub(super) unsafe fn to_f32(lo: AD4, hi: AD4) -> __m256 {
+        unsafe { _mm256_set_m128(_mm256_cvtpd_ps(hi.0), _mm256_cvtpd_ps(lo.0)) }
+    }
+}
+
+impl Add for AD4 {
+    type Output = AD4;
+    #[inline(always)]
+    fn add(self, o: AD4) -> AD4 {
+        AD4(unsafe { _mm256_add_pd(self.0, o.0) })
+    }
+}
+
+impl Sub for AD4 {
+    type Output = AD4;
+    #[inline(always)]
+    fn sub(self, o: AD4) -> AD4 {
+        AD4(unsafe { _mm256_sub_pd(self.0, o.0) })
+    }
+}
+
+impl Mul for AD4 {
+    type Output = AD4;
+    #[inline(always)]
+    fn mul(self, o: AD4) -> AD4 {
+        AD4(unsafe { _mm256_mul_pd(self.0, o.0) })
+    }
+}
+
+impl Div for AD4 {
+    type Output = AD4;
+    #[inline(always)]
+    fn div(self, o: AD4) -> AD4 {
+        AD4(unsafe { _mm256_div_pd(self.0, o.0) })
+    }
+}
+
+impl F64x4 for AD4 {
+    #[inline(always)]
+    fn sqrt(self) -> AD4 {
+        AD4(unsafe { _mm256_sqrt_pd(self.0) })
+    }
+    #[inline(always)]
+    fn min(self, o: AD4) -> AD4 {
+        // `vminpd` returns the second operand unless the first is less: the documented rule.
+        AD4(unsafe { _mm256_min_pd(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn max(self, o: AD4) -> AD4 {
+        AD4(unsafe { _mm256_max_pd(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn select_gt(self, o: AD4, a: AD4, b: AD4) -> AD4 {
+        unsafe {
+            let m = _mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0);
+            AD4(_mm256_blendv_pd(b.0, a.0, m))
+        }
+    }
+    #[inline(always)]
+    fn gt_mask(self, o: AD4) -> u32 {
+        (unsafe { _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0)) }) as u32
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f64 {
+        let mut a = [0.0; F64_LANES];
+        self.store(&mut a);
+        a[i]
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f64]) {
+        let out = &mut out[..F64_LANES];
+        unsafe { _mm256_storeu_pd(out.as_mut_ptr(), self.0) }
+    }
+}
+
 impl I32x8 for AI8 {
     #[inline(always)]
     fn add(self, o: AI8) -> AI8 {
@@ -54,14 +170,31 @@ impl I32x8 for AI8 {
 }
 
 // SAFETY (every `unsafe` block of this module): the intrinsics need AVX (+ FMA for the
-// fused ones, AVX2 for the integer ones), which the existence of an `A8`, `AI8` or
-// `Avx2Fma` value proves (see above; an `AI8` comes only from the `unsafe` constructors,
+// fused ones, AVX2 for the integer ones), which the existence of an `A8`, `AI8`, `AD4` or
+// `Avx2Fma` value proves (see above; an `AI8` or `AD4` comes only from the `unsafe` constructors,
 // whose callers hold an `Avx2Fma` or `Avx512` token);
 // memory accesses are bounds-checked before the unaligned loads and stores.
 
 impl Isa for Avx2Fma {
     type V = A8;
     type I = AI8;
+    type D = AD4;
+    #[inline(always)]
+    fn splat_f64(self, v: f64) -> AD4 {
+        unsafe { AD4::splat(v) }
+    }
+    #[inline(always)]
+    fn load_f64(self, s: &[f64]) -> AD4 {
+        unsafe { AD4::load(s) }
+    }
+    #[inline(always)]
+    fn i32_to_f64(self, v: AI8, h: usize) -> AD4 {
+        unsafe { AD4::from_i32(v, h) }
+    }
+    #[inline(always)]
+    fn f64_to_f32(self, lo: AD4, hi: AD4) -> A8 {
+        A8(unsafe { AD4::to_f32(lo, hi) })
+    }
     #[inline(always)]
     fn splat_i32(self, v: i32) -> AI8 {
         unsafe { AI8::splat(v) }

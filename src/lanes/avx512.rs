@@ -34,6 +34,23 @@ pub struct V16(__m512);
 impl Isa for Avx512 {
     type V = V8;
     type I = super::avx2::AI8;
+    type D = super::avx2::AD4;
+    #[inline(always)]
+    fn splat_f64(self, v: f64) -> super::avx2::AD4 {
+        unsafe { super::avx2::AD4::splat(v) }
+    }
+    #[inline(always)]
+    fn load_f64(self, s: &[f64]) -> super::avx2::AD4 {
+        unsafe { super::avx2::AD4::load(s) }
+    }
+    #[inline(always)]
+    fn i32_to_f64(self, v: super::avx2::AI8, h: usize) -> super::avx2::AD4 {
+        unsafe { super::avx2::AD4::from_i32(v, h) }
+    }
+    #[inline(always)]
+    fn f64_to_f32(self, lo: super::avx2::AD4, hi: super::avx2::AD4) -> V8 {
+        V8(unsafe { super::avx2::AD4::to_f32(lo, hi) })
+    }
     #[inline(always)]
     fn splat_i32(self, v: i32) -> super::avx2::AI8 {
         unsafe { super::avx2::AI8::splat(v) }

@@ -1,5 +1,6 @@
 //! The one SIMD wrapper: eight f32 lanes ([`F32x8`]), eight i32 lanes ([`I32x8`], for the
-//! rasterizer's edge functions), and the widest vectors of the same instruction set
+//! rasterizer's edge functions), four f64 lanes ([`F64x4`], for work that must give the
+//! bits of scalar f64 code: depths, bakes), and the widest vectors of the same instruction set
 //! ([`Isa::Wide`], [`Width`]), on an instruction set chosen once per frame
 //! ([`Dispatch::choose`] from a [`KernelPath`]), never per pixel or per call.
 //!
@@ -42,7 +43,7 @@
 // reads as the lane arithmetic it is.
 #![allow(clippy::needless_range_loop)]
 
-use std::ops::{Add, AddAssign, Mul, Sub};
+use std::ops::{Add, AddAssign, Div, Mul, Sub};
 
 /// Number of lanes.
 pub const LANES: usize = 8;
@@ -120,7 +121,47 @@ pub trait I32x8: Copy {
     fn sign_mask(self) -> u32;
 }
 
-/// An instruction set: makes [`F32x8`] (and [`I32x8`]) values. Copy tokens; see the module doc.
+/// Number of f64 lanes.
+pub const F64_LANES: usize = 4;
+
+/// Four f64 lanes, for work that must give exactly the bits of scalar f64 code. Lane order
+/// is memory order. Every operation is the IEEE operation per lane with one rounding each
+/// and **no fused multiply-add** on any path, so lane `i` of `a * b + c` has the bits of
+/// the scalar `a[i] * b[i] + c[i]` (Rust never fuses it), on every path.
+pub trait F64x4:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Send
+    + Sync
+{
+    /// Correctly rounded square root per lane ([`f64::sqrt`]'s bits).
+    fn sqrt(self) -> Self;
+    /// Per lane: `self` where `self < o`, else `o` (so `o` for NaN and for two zeros;
+    /// scalar code keeps its bits with `if a < b { a } else { b }`, not [`f64::min`]).
+    fn min(self, o: Self) -> Self;
+    /// Per lane: `self` where `self > o`, else `o` (as [`F64x4::min`]).
+    fn max(self, o: Self) -> Self;
+    /// Per lane: `a` where `self > o`, else `b` (`b` for NaN).
+    fn select_gt(self, o: Self, a: Self, b: Self) -> Self;
+    /// Bit `i` set where lane `i` is `> o` (false for NaN).
+    fn gt_mask(self, o: Self) -> u32;
+    /// Lane `i` of `self`.
+    fn lane(self, i: usize) -> f64;
+    /// Writes the lanes to `out[..4]`.
+    fn store(self, out: &mut [f64]);
+    /// Lane sum in the fixed order `(0 + 1) + (2 + 3)`.
+    #[inline(always)]
+    fn sum(self) -> f64 {
+        let mut a = [0.0f64; F64_LANES];
+        self.store(&mut a);
+        (a[0] + a[1]) + (a[2] + a[3])
+    }
+}
+
+/// An instruction set: makes [`F32x8`] (and [`I32x8`], [`F64x4`]) values. Copy tokens; see the module doc.
 pub trait Isa: Copy + Send + Sync {
     type V: F32x8;
     /// Its eight i32 lanes.
@@ -128,6 +169,16 @@ pub trait Isa: Copy + Send + Sync {
     fn splat_i32(self, v: i32) -> Self::I;
     /// Lanes `s[0..8]` (panics if `s` is shorter).
     fn load_i32(self, s: &[i32]) -> Self::I;
+    /// Its four f64 lanes.
+    type D: F64x4;
+    fn splat_f64(self, v: f64) -> Self::D;
+    /// Lanes `s[0..4]` (panics if `s` is shorter).
+    fn load_f64(self, s: &[f64]) -> Self::D;
+    /// Lanes `4 h .. 4 h + 4` of `v` as f64 (exact; `h` is 0 or 1, else it panics).
+    fn i32_to_f64(self, v: Self::I, h: usize) -> Self::D;
+    /// Eight f32 lanes, `lo`'s four then `hi`'s, each rounded to nearest (the bits of
+    /// `x as f32`).
+    fn f64_to_f32(self, lo: Self::D, hi: Self::D) -> Self::V;
     fn splat(self, v: f32) -> Self::V;
     /// Lanes `s[0..8]` (panics if `s` is shorter).
     fn load(self, s: &[f32]) -> Self::V;
@@ -413,12 +464,12 @@ const COMPRESS: [[u32; LANES]; 256] = {
 };
 
 mod portable;
-pub use portable::{Portable, P8, PI8};
+pub use portable::{Portable, P8, PD4, PI8};
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
 #[cfg(target_arch = "x86_64")]
-pub use avx2::{Avx2Fma, A8, AI8};
+pub use avx2::{Avx2Fma, A8, AD4, AI8};
 
 #[cfg(target_arch = "x86_64")]
 mod avx512;

@@ -1,5 +1,6 @@
 //! The portable backend of [`super::F32x8`]: `[f32; 8]` with per-lane loops, for any CPU,
-//! giving the same bits as the AVX2 backend (fused multiply-add per lane).
+//! giving the same bits as the AVX2 backend (fused multiply-add per f32 lane; f64 lanes
+//! never fused).
 
 use super::*;
 
@@ -45,9 +46,125 @@ impl I32x8 for PI8 {
     }
 }
 
+/// [`F64x4`] of [`Portable`]: scalar f64 per lane, never fused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct PD4(pub [f64; F64_LANES]);
+
+impl Add for PD4 {
+    type Output = PD4;
+    #[inline(always)]
+    fn add(self, o: PD4) -> PD4 {
+        PD4(std::array::from_fn(|i| self.0[i] + o.0[i]))
+    }
+}
+
+impl Sub for PD4 {
+    type Output = PD4;
+    #[inline(always)]
+    fn sub(self, o: PD4) -> PD4 {
+        PD4(std::array::from_fn(|i| self.0[i] - o.0[i]))
+    }
+}
+
+impl Mul for PD4 {
+    type Output = PD4;
+    #[inline(always)]
+    fn mul(self, o: PD4) -> PD4 {
+        PD4(std::array::from_fn(|i| self.0[i] * o.0[i]))
+    }
+}
+
+impl Div for PD4 {
+    type Output = PD4;
+    #[inline(always)]
+    fn div(self, o: PD4) -> PD4 {
+        PD4(std::array::from_fn(|i| self.0[i] / o.0[i]))
+    }
+}
+
+impl F64x4 for PD4 {
+    #[inline(always)]
+    fn sqrt(self) -> PD4 {
+        PD4(self.0.map(f64::sqrt))
+    }
+    #[inline(always)]
+    fn min(self, o: PD4) -> PD4 {
+        PD4(std::array::from_fn(|i| {
+            if self.0[i] < o.0[i] {
+                self.0[i]
+            } else {
+                o.0[i]
+            }
+        }))
+    }
+    #[inline(always)]
+    fn max(self, o: PD4) -> PD4 {
+        PD4(std::array::from_fn(|i| {
+            if self.0[i] > o.0[i] {
+                self.0[i]
+            } else {
+                o.0[i]
+            }
+        }))
+    }
+    #[inline(always)]
+    fn select_gt(self, o: PD4, a: PD4, b: PD4) -> PD4 {
+        PD4(std::array::from_fn(|i| {
+            if self.0[i] > o.0[i] {
+                a.0[i]
+            } else {
+                b.0[i]
+            }
+        }))
+    }
+    #[inline(always)]
+    fn gt_mask(self, o: PD4) -> u32 {
+        let mut m = 0;
+        for i in 0..F64_LANES {
+            m |= u32::from(self.0[i] > o.0[i]) << i;
+        }
+        m
+    }
+    #[inline(always)]
+    fn lane(self, i: usize) -> f64 {
+        self.0[i]
+    }
+    #[inline(always)]
+    fn store(self, out: &mut [f64]) {
+        out[..F64_LANES].copy_from_slice(&self.0);
+    }
+}
+
 impl Isa for Portable {
     type V = P8;
     type I = PI8;
+    type D = PD4;
+    #[inline(always)]
+    fn splat_f64(self, v: f64) -> PD4 {
+        PD4([v; F64_LANES])
+    }
+    #[inline(always)]
+    fn load_f64(self, s: &[f64]) -> PD4 {
+        let mut a = [0.0; F64_LANES];
+        a.copy_from_slice(&s[..F64_LANES]);
+        PD4(a)
+    }
+    #[inline(always)]
+    fn i32_to_f64(self, v: PI8, h: usize) -> PD4 {
+        assert!(h < 2, "half {h} of eight i32 lanes");
+        PD4(std::array::from_fn(|i| v.0[4 * h + i] as f64))
+    }
+    #[inline(always)]
+    fn f64_to_f32(self, lo: PD4, hi: PD4) -> P8 {
+        P8(std::array::from_fn(|i| {
+            if i < F64_LANES {
+                lo.0[i] as f32
+            } else {
+                hi.0[i - F64_LANES] as f32
+            }
+        }))
+    }
     #[inline(always)]
     fn splat_i32(self, v: i32) -> PI8 {
         PI8([v; LANES])

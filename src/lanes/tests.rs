@@ -269,3 +269,79 @@ fn i32_lanes_add_or_and_sign_on_every_path() {
         assert_eq!(got, want, "{}", path.name());
     }
 }
+
+struct F64Lanes(Vec<f64>, Vec<f64>, Vec<i32>);
+impl Kernel for F64Lanes {
+    type Out = (Vec<f64>, u32, Vec<f32>, f64);
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> Self::Out {
+        let (a, b) = (s.load_f64(&self.0), s.load_f64(&self.1));
+        let c = s.splat_f64(0.25);
+        // Unfused on purpose: lane i must have the bits of scalar `a * b - 1`.
+        let fma_like = a * b + s.splat_f64(-1.0);
+        let quotient = (a - b) / (b * b + c);
+        let root = (a * a + c).sqrt();
+        let picked = a.select_gt(b, a.min(b), a.max(b));
+        let mut out = vec![0.0; 16];
+        for (k, v) in [fma_like, quotient, root, picked].into_iter().enumerate() {
+            v.store(&mut out[4 * k..]);
+        }
+        let i = s.load_i32(&self.2);
+        let narrowed = s.f64_to_f32(s.i32_to_f64(i, 0) * c, s.i32_to_f64(i, 1) / a);
+        let mut f = vec![0.0f32; 8];
+        narrowed.store(&mut f);
+        (out, a.gt_mask(b), f, root.sum() + quotient.lane(3))
+    }
+}
+
+#[test]
+fn f64_lanes_give_the_bits_of_scalar_f64_on_every_path() {
+    // Lane 0 and 3 hold a NaN and two zeros of opposite sign: min and max return the
+    // second operand there (the documented rule); in lane 1, (1 + 3 eps)(1 - eps) - 1 is
+    // 2 eps with the product rounded first and 2 eps - 3 eps^2 fused.
+    let a = vec![f64::NAN, 1.0 + 3.0 * f64::EPSILON, -2.5, -0.0];
+    let b = vec![1.0, 1.0 - f64::EPSILON, 7.0, 0.0];
+    let ints = vec![-3, i32::MAX, 16_777_217, i32::MIN, 5, -7, 16_777_217, 1];
+    let scalar_min = |x: f64, y: f64| if x < y { x } else { y };
+    let scalar_max = |x: f64, y: f64| if x > y { x } else { y };
+    let mut want = vec![0.0; 16];
+    for i in 0..4 {
+        let (x, y) = (a[i], b[i]);
+        want[i] = x * y - 1.0;
+        want[4 + i] = (x - y) / (y * y + 0.25);
+        want[8 + i] = (x * x + 0.25).sqrt();
+        want[12 + i] = if x > y {
+            scalar_min(x, y)
+        } else {
+            scalar_max(x, y)
+        };
+    }
+    let want_f32: Vec<f32> = (0..8)
+        .map(|i| {
+            if i < 4 {
+                (ints[i] as f64 * 0.25) as f32
+            } else {
+                (ints[i] as f64 / a[i - 4]) as f32
+            }
+        })
+        .collect();
+    let want_sum = (want[8] + want[9]) + (want[10] + want[11]) + want[7];
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for path in paths_run_by("f64_lanes_give_the_bits_of_scalar_f64_on_every_path") {
+        let (got, mask, f, sum) =
+            Dispatch::choose(path)
+                .unwrap()
+                .run(F64Lanes(a.clone(), b.clone(), ints.clone()));
+        assert_eq!(bits(&got), bits(&want), "{}", path.name());
+        assert_eq!(mask, 0b0010, "{}", path.name());
+        let fb = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(fb(&f), fb(&want_f32), "{}", path.name());
+        assert_eq!(sum.to_bits(), want_sum.to_bits(), "{}", path.name());
+    }
+    // The case the unfused rule is about: with a fused multiply-add, lane 1 differs.
+    assert_ne!(
+        a[1].mul_add(b[1], -1.0).to_bits(),
+        want[1].to_bits(),
+        "the test's product must need its own rounding"
+    );
+}
