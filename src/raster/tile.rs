@@ -21,7 +21,7 @@
 //! but the work done.
 
 use super::setup::{SetupTriangle, HALF, ONE};
-use crate::lanes::{I32x8, Isa, Kernel};
+use crate::lanes::{F32x8, I32x8, Isa, Kernel, F64_LANES};
 
 /// Edge of the blocks a large triangle is classified by (pixels).
 pub const BLOCK: u32 = 8;
@@ -223,17 +223,18 @@ impl Walk {
                 let v = [0, 1, 2].map(|k| s.splat_i32(row[k]).add(off_lanes[k]));
                 let outside = v[0].or(v[1]).or(v[2]).sign_mask();
                 let mut mask = !outside & in_bounds;
-                let base = ((py - tile.y0) * tile.stride + (cx - tile.x0)) as usize;
-                // The exact edge values at the row's first lane.
-                let exact = [0, 1, 2].map(|k| row[k] + unbias[k]);
-                while mask != 0 {
-                    let j = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    self.write(
-                        base + j,
-                        [0, 1, 2].map(|k| (exact[k] + off[k][j]) as f64),
-                        out,
-                    );
+                if mask != 0 {
+                    let base = ((py - tile.y0) * tile.stride + (cx - tile.x0)) as usize;
+                    // The exact edge values of the row's lanes, and their depths.
+                    let exact =
+                        [0, 1, 2].map(|k| s.splat_i32(row[k] + unbias[k]).add(off_lanes[k]));
+                    let mut z = [0.0f32; ROW_LANES];
+                    self.depths(s, exact, n > F64_LANES as u32).store(&mut z);
+                    while mask != 0 {
+                        let j = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        self.put(base + j, z[j], out);
+                    }
                 }
                 for (r, step) in row.iter_mut().zip(step_y) {
                     *r += step;
@@ -270,7 +271,34 @@ impl Walk {
     #[inline(always)]
     fn write(&self, i: usize, [w0, w1, w2]: [f64; 3], out: &mut TileBuffers) {
         let q = self.q;
-        let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
+        self.put(
+            i,
+            ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32,
+            out,
+        );
+    }
+
+    /// [`Walk::write`]'s depth for a row's eight lanes of exact edge values `e` (i32, see
+    /// [`LANE_EXTENT`]), four at a time in f64 lanes ([`crate::lanes::F64x4`]: never fused,
+    /// so each lane has the bits of the scalar expression); lanes 4..8 only when `high`
+    /// (else they repeat lanes 0..4).
+    #[inline(always)]
+    fn depths<S: Isa>(&self, s: S, e: [S::I; 3], high: bool) -> S::V {
+        let q = self.q.map(|q| s.splat_f64(q));
+        let inv_area = s.splat_f64(self.inv_area);
+        let half = |h: usize| {
+            let w = e.map(|e| s.i32_to_f64(e, h));
+            (w[0] * q[0] + w[1] * q[1] + w[2] * q[2]) * inv_area
+        };
+        let lo = half(0);
+        let hi = if high { half(1) } else { lo };
+        s.f64_to_f32(lo, hi)
+    }
+
+    /// The nearer test and coverage count of a fragment of depth `z` (1/w) at index `i`
+    /// of the tile buffers ([`Walk::write`]).
+    #[inline(always)]
+    fn put(&self, i: usize, z: f32, out: &mut TileBuffers) {
         // Selects, not a branch: which of two overlapping triangles is nearer is no
         // pattern a branch predictor learns.
         let (d, v) = (out.depth[i], out.visible[i]);
