@@ -15,10 +15,11 @@
 //!    records in source order; the second sets up each survivor straight into the
 //!    visibility buffer's triangle list (written once, never copied).
 //! 3. binning (here): each set-up triangle is listed in every tile its pixel bounds touch,
-//!    in source order (one flat list, [`Bins`]); the tile rectangles (divisions by the
-//!    tile size) and the tile walk's compact record of each triangle
-//!    ([`tile::TileTriangle`], 80 bytes to the set-up triangle's 224) are computed in
-//!    parallel, the counting and listing are two serial passes of adds.
+//!    in source order (one flat list, [`Bins`]); the tile rectangles (exact
+//!    multiply-shift divisions by the tile size) and the tile walk's compact record of
+//!    each triangle ([`tile::TileTriangle`], 80 bytes to the set-up triangle's 224) are
+//!    made by set-up's second pass with the triangle (the set-up list is never read back),
+//!    the counting and listing are two serial passes of adds.
 //! 4. [`tile`]: tiles resolve visibility in parallel (rayon): per pixel the nearest triangle
 //!    (largest 1/w; ties keep the earlier triangle) and, if asked, how many triangles cover
 //!    it; a triangle is tested eight pixels of a row at a time in i32 lanes where its

@@ -15,10 +15,13 @@
 //! per axis (`LANE_EXTENT`) is tested eight pixels of a row at a time in i32 lanes
 //! ([`crate::lanes::I32x8`], exact at that extent; the walk runs inside
 //! [`crate::lanes::Dispatch::run`], so on AVX2 a row's test is three adds, two ors and a
-//! sign mask), and only its covered pixels are visited; the depth test is a select, not
-//! a branch. Every covered pixel's edge values and depth are the same integers and the
-//! same f64 expression as the per-pixel walk's, so the blocks and lanes change nothing
-//! but the work done.
+//! sign mask), its row's depths are computed four at a time in f64 lanes
+//! ([`crate::lanes::F64x4`], never fused), and only its covered pixels are visited; the
+//! depth test is a select, not a branch. A triangle with one pixel of the tile in its
+//! bounds (most of a dense mesh's) is tested at that pixel alone. Every covered pixel's
+//! edge values and depth are the same integers and the same f64 expression as the
+//! per-pixel walk's (one fragment write, `Walk::write`), so the blocks and lanes change
+//! nothing but the work done.
 
 use super::setup::{SetupTriangle, HALF, ONE};
 use crate::lanes::{F32x8, I32x8, Isa, Kernel, F64_LANES};
