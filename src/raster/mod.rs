@@ -690,3 +690,40 @@ pub fn rasterize_into(
 ) {
     rasterize_into_with_fault(clip, triangles, cfg, scratch, vis, None);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{TileDiv, MAX_SIDE};
+
+    /// The multiply-shift tile division against `/` for every pixel coordinate at a spread
+    /// of tile sizes, past `MAX_SIDE` included (19 x 2^20 divisions: tens of milliseconds).
+    #[test]
+    fn tile_div_is_exact() {
+        for d in [
+            1,
+            2,
+            3,
+            5,
+            7,
+            8,
+            13,
+            16,
+            31,
+            32,
+            64,
+            100,
+            128,
+            1000,
+            65_537,
+            MAX_SIDE - 1,
+            MAX_SIDE,
+            MAX_SIDE + 1,
+            u32::MAX,
+        ] {
+            let t = TileDiv::new(d);
+            for x in 0..MAX_SIDE {
+                assert_eq!(t.div(x), x / d, "{x} / {d}");
+            }
+        }
+    }
+}
