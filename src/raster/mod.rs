@@ -15,10 +15,11 @@
 //!    records in source order; the second sets up each survivor straight into the
 //!    visibility buffer's triangle list (written once, never copied).
 //! 3. binning (here): each set-up triangle is listed in every tile its pixel bounds touch,
-//!    in source order (one flat list, [`Bins`]); the tile rectangles (divisions by the
-//!    tile size) and the tile walk's compact record of each triangle
-//!    ([`tile::TileTriangle`], 80 bytes to the set-up triangle's 224) are computed in
-//!    parallel, the counting and listing are two serial passes of adds.
+//!    in source order (one flat list, [`Bins`]); the tile rectangles (exact
+//!    multiply-shift divisions by the tile size) and the tile walk's compact record of
+//!    each triangle ([`tile::TileTriangle`], 80 bytes to the set-up triangle's 224) are
+//!    made by set-up's second pass with the triangle (the set-up list is never read back),
+//!    the counting and listing are two serial passes of adds.
 //! 4. [`tile`]: tiles resolve visibility in parallel (rayon): per pixel the nearest triangle
 //!    (largest 1/w; ties keep the earlier triangle) and, if asked, how many triangles cover
 //!    it; a triangle is tested eight pixels of a row at a time in i32 lanes where its
@@ -329,31 +330,41 @@ fn setup_triangles_into(
         .zip(triangles.par_chunks(SETUP_CHUNK))
         .enumerate()
         .for_each(|(ci, (out, chunk))| {
+            // Survivors are written branch-free: each unclipped triangle's entry is stored
+            // at `n`, which advances only when it survives (a slot per triangle is there
+            // from the start; a clipped triangle's fan may add more).
             out.clear();
+            out.resize(chunk.len(), [0, 0]);
+            let mut n = 0;
             let mut poly = Vec::new();
             for (k, tri) in chunk.iter().enumerate() {
                 let source = (ci * SETUP_CHUNK + k) as u32;
                 let sv = tri.map(|i| verts[i as usize]);
                 let codes = sv.map(|v| v.code);
-                if codes[0] & codes[1] & codes[2] != 0 {
-                    continue; // wholly outside one plane
-                }
                 if codes[0] | codes[1] | codes[2] == 0 {
                     let p = sv.map(|v| (v.x, v.y));
-                    if setup::covered_bounds(p, width, height, cull_back).is_some() {
-                        out.push([source, UNCLIPPED]);
+                    if n == out.len() {
+                        out.push([0, 0]);
                     }
+                    out[n] = [source, UNCLIPPED];
+                    n += setup::covers_a_centre(p, width, height, cull_back) as usize;
                     continue;
+                }
+                if codes[0] & codes[1] & codes[2] != 0 {
+                    continue; // wholly outside one plane
                 }
                 planes.clip_triangle(tri.map(|i| clip[i as usize]), &mut poly);
                 for i in 1..poly.len().saturating_sub(1) {
                     let p =
                         [poly[0], poly[i], poly[i + 1]].map(|v| setup::snap(v.clip, width, height));
                     if setup::covered_bounds(p, width, height, cull_back).is_some() {
+                        out.truncate(n);
                         out.push([source, i as u32]);
+                        n += 1;
                     }
                 }
             }
+            out.truncate(n);
         });
     let survivors = &mut scratch.survivors;
     survivors.clear();
@@ -362,9 +373,23 @@ fn setup_triangles_into(
     }
     // Pass 2, in parallel: each survivor set up straight into `out` (an indexed parallel
     // iterator writes in place: the 200-byte triangles are written once, never copied).
+    // With each triangle, binning's tile rectangle and the tile walk's record of it are
+    // made here, from the triangle while it is in registers (three vectors written in
+    // place: the set-up list is not read back).
     const IDENTITY: [[f32; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    out.clear();
-    out.par_extend(survivors.par_iter().with_min_len(SETUP_CHUNK / 4).map_init(
+    let tiles = TileDiv::new(cfg.tile_size);
+    let bins = &mut scratch.bins;
+    let mut sink = (
+        std::mem::take(out),
+        (
+            std::mem::take(&mut bins.rects),
+            std::mem::take(&mut bins.walk),
+        ),
+    );
+    sink.0.clear();
+    sink.1 .0.clear();
+    sink.1 .1.clear();
+    sink.par_extend(survivors.par_iter().with_min_len(SETUP_CHUNK / 4).map_init(
         Vec::new,
         |poly, &[source, fan]| {
             let tri = triangles[source as usize];
@@ -385,9 +410,44 @@ fn setup_triangles_into(
                 let cv = [poly[0], poly[f], poly[f + 1]];
                 setup::setup(cv, source, width, height, cull_back)
             };
-            set_up.expect("pass 1 kept only triangles that set up")
+            let t = set_up.expect("pass 1 kept only triangles that set up");
+            (t, (tiles.rect(&t), tile::TileTriangle::new(&t)))
         },
     ));
+    (*out, (bins.rects, bins.walk)) = sink;
+}
+
+/// Division of a pixel coordinate by the tile size as a multiply and a shift (binning's
+/// tile rectangles, four per set-up triangle). With `d = min(tile size, MAX_SIDE)` and
+/// `m = floor(2^42 / d) + 1`, so `m d = 2^42 + e` with `0 < e <= d`: for `x = q d + r <
+/// MAX_SIDE` (`0 <= r < d`), `x m / 2^42 = q + (r + x e / 2^42) / d`, and `x e <= x d <
+/// 2^40` keeps `r + x e / 2^42 < d`, so `(x m) >> 42 = q` exactly (`x m < 2^63`). A tile
+/// size past `MAX_SIDE` puts every pixel in tile 0, as `d = MAX_SIDE` does.
+#[derive(Clone, Copy, Debug)]
+struct TileDiv {
+    m: u64,
+}
+
+impl TileDiv {
+    fn new(tile_size: u32) -> TileDiv {
+        let d = tile_size.clamp(1, MAX_SIDE) as u64;
+        TileDiv {
+            m: (1u64 << 42) / d + 1,
+        }
+    }
+
+    /// `x / tile size`, for a pixel coordinate `x < MAX_SIDE`.
+    #[inline(always)]
+    fn div(self, x: u32) -> u32 {
+        debug_assert!(x < MAX_SIDE);
+        ((x as u64 * self.m) >> 42) as u32
+    }
+
+    /// The first and last tile column and row of `t`'s pixel bounds.
+    #[inline(always)]
+    fn rect(self, t: &SetupTriangle) -> [u32; 4] {
+        [t.px_min, t.px_max, t.py_min, t.py_max].map(|v| self.div(v))
+    }
 }
 
 /// Marks a survivor of set-up's first pass that no plane clips.
@@ -402,9 +462,8 @@ pub fn bin_triangles(tris: &[SetupTriangle], tiles_x: u32, tiles_y: u32, tile_si
 }
 
 /// [`bin_triangles`] into `bins`: each triangle's tile rectangle and the tile walk's
-/// compact record of it ([`tile::TileTriangle`]) are computed once (in parallel: the
-/// divisions by the tile size are most of binning's work), then one pass
-/// counts each tile's triangles and a second lists them in triangle order.
+/// compact record of it ([`tile::TileTriangle`]) computed in parallel (the rasterizer makes
+/// them in set-up's second pass instead), then listed ([`list_bins`]).
 fn bin_triangles_into(
     tris: &[SetupTriangle],
     tiles_x: u32,
@@ -412,27 +471,28 @@ fn bin_triangles_into(
     tile_size: u32,
     bins: &mut Bins,
 ) {
-    let n = (tiles_x * tiles_y) as usize;
-    let rects = &mut bins.rects;
+    let tiles = TileDiv::new(tile_size);
     tris.par_iter()
         .with_min_len(SETUP_CHUNK)
-        .map(|t| {
-            (
-                [
-                    t.px_min / tile_size,
-                    t.px_max / tile_size,
-                    t.py_min / tile_size,
-                    t.py_max / tile_size,
-                ],
-                tile::TileTriangle::new(t),
-            )
-        })
-        .unzip_into_vecs(rects, &mut bins.walk);
-    let rects = &*rects;
+        .map(|t| (tiles.rect(t), tile::TileTriangle::new(t)))
+        .unzip_into_vecs(&mut bins.rects, &mut bins.walk);
+    list_bins(tiles_x, tiles_y, bins);
+}
+
+/// Lists each tile's triangles from their tile rectangles (`bins.rects`): one pass counts
+/// each tile's triangles and a second lists them in triangle order (serial passes of adds;
+/// a triangle in one tile, most of a dense mesh's, costs one add in each).
+fn list_bins(tiles_x: u32, tiles_y: u32, bins: &mut Bins) {
+    let n = (tiles_x * tiles_y) as usize;
+    let rects = &bins.rects;
     let offsets = &mut bins.offsets;
     offsets.clear();
     offsets.resize(n + 1, 0);
     for &[x0, x1, y0, y1] in rects {
+        if x0 == x1 && y0 == y1 {
+            offsets[(y0 * tiles_x + x0) as usize + 1] += 1;
+            continue;
+        }
         for ty in y0..=y1 {
             let row = (ty * tiles_x) as usize + 1;
             for tx in x0..=x1 {
@@ -448,6 +508,12 @@ fn bin_triangles_into(
     items.resize(offsets[n] as usize, 0);
     // Each tile's next free slot, kept in `offsets[t]` while filling and restored after.
     for (i, &[x0, x1, y0, y1]) in rects.iter().enumerate() {
+        if x0 == x1 && y0 == y1 {
+            let slot = &mut offsets[(y0 * tiles_x + x0) as usize];
+            items[*slot as usize] = i as u32;
+            *slot += 1;
+            continue;
+        }
         for ty in y0..=y1 {
             let row = (ty * tiles_x) as usize;
             for tx in x0..=x1 {
@@ -517,9 +583,8 @@ pub fn rasterize_into_with_fault(
     let tiles_x = cfg.width.div_ceil(ts);
     let tiles_y = cfg.height.div_ceil(ts);
     setup_triangles_into(clip, triangles, cfg, scratch, &mut vis.triangles);
-    let setup = &vis.triangles;
     let bins = &mut scratch.bins;
-    bin_triangles_into(setup, tiles_x, tiles_y, ts, bins);
+    list_bins(tiles_x, tiles_y, bins);
     let bins = &*bins;
     let per_tile = (ts * ts) as usize;
     let n = per_tile * (tiles_x * tiles_y) as usize;
@@ -624,4 +689,41 @@ pub fn rasterize_into(
     vis: &mut VisBuffer,
 ) {
     rasterize_into_with_fault(clip, triangles, cfg, scratch, vis, None);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{TileDiv, MAX_SIDE};
+
+    /// The multiply-shift tile division against `/` for every pixel coordinate at a spread
+    /// of tile sizes, past `MAX_SIDE` included (19 x 2^20 divisions: tens of milliseconds).
+    #[test]
+    fn tile_div_is_exact() {
+        for d in [
+            1,
+            2,
+            3,
+            5,
+            7,
+            8,
+            13,
+            16,
+            31,
+            32,
+            64,
+            100,
+            128,
+            1000,
+            65_537,
+            MAX_SIDE - 1,
+            MAX_SIDE,
+            MAX_SIDE + 1,
+            u32::MAX,
+        ] {
+            let t = TileDiv::new(d);
+            for x in 0..MAX_SIDE {
+                assert_eq!(t.div(x), x / d, "{x} / {d}");
+            }
+        }
+    }
 }

@@ -64,18 +64,15 @@ pub fn snap(clip: glam::Vec4, width: u32, height: u32) -> (i64, i64) {
 /// `f64::round` is on the baseline x86-64 target (no SSE4.1 rounding instruction): the
 /// truncation `t` and the remainder `v - t` are exact for `|v| < 2^63` (the remainder's
 /// bits are a subset of `v`'s), so stepping `t` away from zero where `|v - t| >= 1/2`
-/// gives the same integer bit for bit; beyond that range both saturate.
+/// gives the same integer bit for bit; beyond that range both saturate. Branch-free: the
+/// step is a compare's 0 or 1, since whether a snapped coordinate rounds up is no pattern a
+/// branch predictor learns (two mispredicted branches per coordinate made snapping a
+/// vertex cost ten times its arithmetic).
 #[inline]
 pub fn round_to_i64(v: f64) -> i64 {
     let t = v as i64;
     let frac = v - t as f64;
-    if frac >= 0.5 {
-        t.saturating_add(1)
-    } else if frac <= -0.5 {
-        t.saturating_sub(1)
-    } else {
-        t
-    }
+    t.saturating_add((frac >= 0.5) as i64 - (frac <= -0.5) as i64)
 }
 
 /// Edge function from `(x0, y0)` to `(x1, y1)` evaluated at `(px, py)` (all fixed-point):
@@ -151,6 +148,24 @@ pub fn covered_bounds(
         return None;
     }
     Some((area2, [px0, px1, py0, py1]))
+}
+
+/// `covered_bounds(p, width, height, cull_back).is_some()` without branches: the
+/// rasterizer's first set-up pass asks it of every triangle of the mesh, and whether a
+/// small triangle of a dense mesh holds a pixel centre, or faces the camera, is no pattern a
+/// branch predictor learns (the same integers and comparisons, combined with `&`).
+#[inline]
+pub fn covers_a_centre(p: [(i64, i64); 3], width: u32, height: u32, cull_back: bool) -> bool {
+    let area2 = edge(p[0].0, p[0].1, p[1].0, p[1].1, p[2].0, p[2].1);
+    let x = p.map(|q| q.0);
+    let y = p.map(|q| q.1);
+    let (xmin, xmax) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
+    let (ymin, ymax) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
+    let lo = |m: i64| (m - HALF + ONE - 1).div_euclid(ONE);
+    let hi = |m: i64| (m - HALF).div_euclid(ONE);
+    let (px0, px1) = (lo(xmin).max(0), hi(xmax).min(width as i64 - 1));
+    let (py0, py1) = (lo(ymin).max(0), hi(ymax).min(height as i64 - 1));
+    (area2 != 0) & !(cull_back & (area2 > 0)) & (px0 <= px1) & (py0 <= py1)
 }
 
 /// [`setup`] of a triangle whose vertices are already snapped ([`snap`]): `p` the

@@ -15,13 +15,16 @@
 //! per axis (`LANE_EXTENT`) is tested eight pixels of a row at a time in i32 lanes
 //! ([`crate::lanes::I32x8`], exact at that extent; the walk runs inside
 //! [`crate::lanes::Dispatch::run`], so on AVX2 a row's test is three adds, two ors and a
-//! sign mask), and only its covered pixels are visited; the depth test is a select, not
-//! a branch. Every covered pixel's edge values and depth are the same integers and the
-//! same f64 expression as the per-pixel walk's, so the blocks and lanes change nothing
-//! but the work done.
+//! sign mask), its row's depths are computed four at a time in f64 lanes
+//! ([`crate::lanes::F64x4`], never fused), and only its covered pixels are visited; the
+//! depth test is a select, not a branch. A triangle with one pixel of the tile in its
+//! bounds (most of a dense mesh's) is tested at that pixel alone. Every covered pixel's
+//! edge values and depth are the same integers and the same f64 expression as the
+//! per-pixel walk's (one fragment write, `Walk::write`), so the blocks and lanes change
+//! nothing but the work done.
 
 use super::setup::{SetupTriangle, HALF, ONE};
-use crate::lanes::{I32x8, Isa, Kernel};
+use crate::lanes::{F32x8, I32x8, Isa, Kernel, F64_LANES};
 
 /// Edge of the blocks a large triangle is classified by (pixels).
 pub const BLOCK: u32 = 8;
@@ -124,6 +127,9 @@ pub enum RasterFault {
     /// The walk's compact record ([`TileTriangle`]) evaluates edge 1 from vertex 1, which
     /// is not on it, instead of vertex 2.
     EdgeOriginWrong,
+    /// The one-pixel path (a triangle whose bounds hold one pixel of the tile) writes the
+    /// pixel without testing the edges, as if the bounds implied coverage.
+    OnePixelUntested,
 }
 
 /// The tile's output buffers, row-major with the tile's stride.
@@ -207,7 +213,6 @@ impl Walk {
         let off_lanes: [S::I; 3] = std::array::from_fn(|k| s.load_i32(&off[k]));
         // Biased to exact edge value: + 1 - bias.
         let unbias = self.bias.map(|b| (1 - b) as i32);
-        let q = self.q;
         for cx in (x0..=x1).step_by(ROW_LANES) {
             let mut n = (x1 - cx + 1).min(ROW_LANES as u32);
             if fault == Some(RasterFault::LaneTailSkipped) && n < ROW_LANES as u32 {
@@ -221,25 +226,17 @@ impl Walk {
                 let v = [0, 1, 2].map(|k| s.splat_i32(row[k]).add(off_lanes[k]));
                 let outside = v[0].or(v[1]).or(v[2]).sign_mask();
                 let mut mask = !outside & in_bounds;
-                let base = ((py - tile.y0) * tile.stride + (cx - tile.x0)) as usize;
-                // The exact edge values at the row's first lane.
-                let exact = [0, 1, 2].map(|k| row[k] + unbias[k]);
-                while mask != 0 {
-                    let j = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let i = base + j;
-                    let w0 = (exact[0] + off[0][j]) as f64;
-                    let w1 = (exact[1] + off[1][j]) as f64;
-                    let w2 = (exact[2] + off[2][j]) as f64;
-                    let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
-                    // Selects, not a branch: which of two overlapping triangles is nearer
-                    // is no pattern a branch predictor learns.
-                    let (d, v) = (out.depth[i], out.visible[i]);
-                    let nearer = z > d;
-                    out.depth[i] = std::hint::select_unpredictable(nearer, z, d);
-                    out.visible[i] = std::hint::select_unpredictable(nearer, self.ti, v);
-                    if let Some(c) = out.coverage.as_deref_mut() {
-                        c[i] += 1;
+                if mask != 0 {
+                    let base = ((py - tile.y0) * tile.stride + (cx - tile.x0)) as usize;
+                    // The exact edge values of the row's lanes, and their depths.
+                    let exact =
+                        [0, 1, 2].map(|k| s.splat_i32(row[k] + unbias[k]).add(off_lanes[k]));
+                    let mut z = [0.0f32; ROW_LANES];
+                    self.depths(s, exact, n > F64_LANES as u32).store(&mut z);
+                    while mask != 0 {
+                        let j = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        self.put(base + j, z[j], out);
                     }
                 }
                 for (r, step) in row.iter_mut().zip(step_y) {
@@ -259,6 +256,61 @@ impl Walk {
             let [ox, oy] = self.origin[k];
             self.a[k] * (sx - ox) + self.b[k] * (sy - oy) + self.bias[k] - 1
         })
+    }
+
+    /// The exact edge values of biased ones ([`Walk::biased_at`]), the bias undone, converted
+    /// to f64 as the per-pixel reference converts them.
+    #[inline(always)]
+    fn exact(&self, e: [i64; 3]) -> [f64; 3] {
+        std::array::from_fn(|k| (e[k] - self.bias[k] + 1) as f64)
+    }
+
+    /// The fragment write every walk shares: the depth (interpolated 1/w) at a covered
+    /// sample of exact edge values `w` (each edge's doubled signed area, fixed point
+    /// squared), `(w0 q0 + w1 q1 + w2 q2) * (1 / area2)` in f64, unfused and in this order
+    /// (the per-pixel reference's expression), rounded to f32; then the nearer test
+    /// (larger 1/w wins, a tie keeps the earlier triangle) and the coverage count at
+    /// index `i` of the tile buffers.
+    #[inline(always)]
+    fn write(&self, i: usize, [w0, w1, w2]: [f64; 3], out: &mut TileBuffers) {
+        let q = self.q;
+        self.put(
+            i,
+            ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32,
+            out,
+        );
+    }
+
+    /// [`Walk::write`]'s depth for a row's eight lanes of exact edge values `e` (i32, see
+    /// [`LANE_EXTENT`]), four at a time in f64 lanes ([`crate::lanes::F64x4`]: never fused,
+    /// so each lane has the bits of the scalar expression); lanes 4..8 only when `high`
+    /// (else they repeat lanes 0..4).
+    #[inline(always)]
+    fn depths<S: Isa>(&self, s: S, e: [S::I; 3], high: bool) -> S::V {
+        let q = self.q.map(|q| s.splat_f64(q));
+        let inv_area = s.splat_f64(self.inv_area);
+        let half = |h: usize| {
+            let w = e.map(|e| s.i32_to_f64(e, h));
+            (w[0] * q[0] + w[1] * q[1] + w[2] * q[2]) * inv_area
+        };
+        let lo = half(0);
+        let hi = if high { half(1) } else { lo };
+        s.f64_to_f32(lo, hi)
+    }
+
+    /// The nearer test and coverage count of a fragment of depth `z` (1/w) at index `i`
+    /// of the tile buffers ([`Walk::write`]).
+    #[inline(always)]
+    fn put(&self, i: usize, z: f32, out: &mut TileBuffers) {
+        // Selects, not a branch: which of two overlapping triangles is nearer is no
+        // pattern a branch predictor learns.
+        let (d, v) = (out.depth[i], out.visible[i]);
+        let nearer = z > d;
+        out.depth[i] = std::hint::select_unpredictable(nearer, z, d);
+        out.visible[i] = std::hint::select_unpredictable(nearer, self.ti, v);
+        if let Some(c) = out.coverage.as_deref_mut() {
+            c[i] += 1;
+        }
     }
 
     /// Classifies the block of pixels `x0..=x1` x `y0..=y1` by its corners.
@@ -299,19 +351,7 @@ impl Walk {
             for px in x0..=x1 {
                 if !TEST || (e[0] | e[1] | e[2]) >= 0 {
                     let i = base + (px - tile.x0) as usize;
-                    // Undo the bias to get the exact edge values for interpolation.
-                    let w0 = (e[0] - self.bias[0] + 1) as f64;
-                    let w1 = (e[1] - self.bias[1] + 1) as f64;
-                    let w2 = (e[2] - self.bias[2] + 1) as f64;
-                    let q = self.q;
-                    let z = ((w0 * q[0] + w1 * q[1] + w2 * q[2]) * self.inv_area) as f32;
-                    if z > out.depth[i] {
-                        out.depth[i] = z;
-                        out.visible[i] = self.ti;
-                    }
-                    if let Some(c) = out.coverage.as_deref_mut() {
-                        c[i] += 1;
-                    }
+                    self.write(i, self.exact(e), out);
                 }
                 for (e, step) in e.iter_mut().zip(self.step_x) {
                     *e += step;
@@ -354,6 +394,16 @@ pub fn resolve<S: Isa>(
             continue;
         }
         let walk = Walk::new(t, ti, fault);
+        if x0 == x1 && y0 == y1 {
+            // One pixel of the tile in the bounds (most triangles of a dense mesh): its
+            // edge values straight from the origins, no stepping, no lanes.
+            let e = walk.biased_at(x0, y0);
+            if (e[0] | e[1] | e[2]) >= 0 || fault == Some(RasterFault::OnePixelUntested) {
+                let i = ((y0 - tile.y0) * tile.stride + (x0 - tile.x0)) as usize;
+                walk.write(i, walk.exact(e), out);
+            }
+            continue;
+        }
         if x1 - x0 < BLOCK && y1 - y0 < BLOCK {
             if walk.lanes {
                 walk.walk_lanes(s, tile, (x0, y0, x1, y1), out, fault);

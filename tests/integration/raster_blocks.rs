@@ -278,6 +278,7 @@ fn seeded_block_faults_fail_the_comparison() {
         RasterFault::LastBlockColumnSkipped,
         RasterFault::LaneTailSkipped,
         RasterFault::EdgeOriginWrong,
+        RasterFault::OnePixelUntested,
     ] {
         let caught = (0..300u64).find(|&seed| {
             let (clip, tris) = scene(seed);
