@@ -108,6 +108,7 @@ pub mod cache;
 pub mod filtered;
 pub mod lobe;
 pub mod pyramid;
+mod sums;
 pub mod table;
 
 pub use build::{bake_table, BakeFault, BakeParams};
