@@ -350,7 +350,7 @@ pub(super) fn lobe_sum(lobe: &Lobe, cosine: bool, n: DVec3, v: DVec3, texels: &T
     } else {
         chart_frame(r, chart_is_z(r)).0
     };
-    let frame = FrameTexels::new(texels, r, t, r.cross(t));
+    let frame = FrameTexels::new(&texels.dir, &texels.power, r, t, r.cross(t));
     frame_sum(&lobe.form, cosine, &frame, c, s, 0.0)
         .unwrap_or_else(|| radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels))
 }
@@ -450,7 +450,7 @@ pub fn bake_table(
                 texels = kept;
             }
             let tb = chart_frame(r, chart_is_z(r));
-            let frame = FrameTexels::new(&texels, r, tb.0, tb.1);
+            let frame = FrameTexels::new(&texels.dir, &texels.power, r, tb.0, tb.1);
             // The sample (polar, psi) over the node's texels (module doc, `sums.rs`).
             let sum = |polar: f64, m: usize| -> DVec3 {
                 let (so, co) = polar.sin_cos();

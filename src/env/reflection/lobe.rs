@@ -1,7 +1,8 @@
 //! The integrand of the bake's sums (`build`'s radiance sum), prepared once per bake: for
 //! Blinn-Phong and the isotropic D-BRDFs, the lobe's factor that depends on the half
-//! vector's polar angle alone is a per-bake 1D table, so a (sample, texel) pair costs two
-//! dot products, two square roots and a linear interpolation instead of a `pow` (glibc's
+//! vector's polar angle alone is a per-bake 1D table, so a (sample, texel) pair costs a few
+//! multiply-adds, one square root, one division and a linear interpolation (`sums.rs`)
+//! instead of a `pow` (glibc's
 //! `__ieee754_pow_fma` was 57% of a Blinn-Phong bake's profile) or an octahedral lookup
 //! (`DBrdf::eval_f64`'s `hemi_oct_encode` and four texels, 66% of a D-BRDF bake's).
 //! Every other material keeps [`Material::eval_f64`] per pair.
@@ -47,8 +48,8 @@
 //! (the bound is tight). A texel farther from `r` than twice `polar_h`'s cut therefore has
 //! a zero lobe at *every* sample of the node, and where the integrand has no Lambertian
 //! term (the shipped bake: it is held over normals) its pairs add exact zeros: the bake
-//! drops those texels from the node's list (`Lobe::cull_cos`) and the sums keep their
-//! bits. The angle is 42 degrees at Blinn-Phong 200, 27 at 500 and 81 at 50. (The bound
+//! drops those texels from the node's list (`Lobe::cull_cos`) and the sums change by
+//! rounding only (the kept texels move between the four partial sums of `sums.rs`). The angle is 42 degrees at Blinn-Phong 200, 27 at 500 and 81 at 50. (The bound
 //! before, `sin(alpha / 2) <= 2 sqrt(2) sin(polar_h / 2)` from `|l - r| = 2 |(v.h) h -
 //! (v.n) n|`, was 62 and 38 degrees and culled nothing at Blinn-Phong 50; the tighter one
 //! drops about a fifth of a node's texels, the same bits.)

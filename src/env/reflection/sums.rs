@@ -38,7 +38,6 @@
 // the per-lane arithmetic it is (and unrolls to it).
 #![allow(clippy::needless_range_loop)]
 
-use super::build::Texels;
 use super::lobe::LobeForm;
 use glam::DVec3;
 
@@ -56,16 +55,17 @@ pub(super) struct FrameTexels {
 }
 
 impl FrameTexels {
-    /// `texels` (probe frame) in the orthonormal frame `(r, t, b)`.
-    pub fn new(texels: &Texels, r: DVec3, t: DVec3, b: DVec3) -> Self {
-        let n = texels.dir.len().div_ceil(LANES) * LANES;
+    /// Texels of directions `dir` (probe frame) and powers `power` in the orthonormal frame
+    /// `(r, t, b)`.
+    pub fn new(dir: &[DVec3], power: &[[f64; 3]], r: DVec3, t: DVec3, b: DVec3) -> Self {
+        let n = dir.len().div_ceil(LANES) * LANES;
         let mut f = FrameTexels {
             lr: Vec::with_capacity(n),
             lt: Vec::with_capacity(n),
             lb: Vec::with_capacity(n),
             power: std::array::from_fn(|_| Vec::with_capacity(n)),
         };
-        for (l, p) in texels.dir.iter().zip(&texels.power) {
+        for (l, p) in dir.iter().zip(power) {
             f.lr.push(l.dot(r));
             f.lt.push(l.dot(t));
             f.lb.push(l.dot(b));
@@ -73,7 +73,7 @@ impl FrameTexels {
                 fc.push(*pc);
             }
         }
-        for _ in texels.dir.len()..n {
+        for _ in dir.len()..n {
             f.lr.push(0.0);
             f.lt.push(0.0);
             f.lb.push(0.0);
@@ -149,8 +149,8 @@ fn any_in_lobe((lr, lt, lb): (&[f64], &[f64], &[f64]), c: f64, a: f64, b: f64, h
 
 /// The sum of one sample `(c, a, b)` (module doc, "The pair in the node's frame") over the
 /// node's texels for a tabulated lobe: `sum P f z` (`sum P f` where the material includes
-/// the cosine); `None` for [`LobeForm::Exact`], which sums [`Texels`] per pair through the
-/// material instead.
+/// the cosine); `None` for [`LobeForm::Exact`], which sums the texels per pair through the
+/// material instead (`build::radiance_sum`).
 pub(super) fn frame_sum(
     form: &LobeForm,
     cosine: bool,
