@@ -51,21 +51,32 @@
 //! node (105 at the defaults, 13 slices and order 2; 313 at order 6, so a bake of order 6
 //! takes about three times as long) times the node's culled texel list, at two square
 //! roots, a division and a table lookup each. The list is culled by the tight bound
-//! `alpha <= 2 polar_h` ([`super::lobe`], "Culling": the same bits, about a fifth fewer
-//! texels per node than the bound before, and a cull at all for Blinn-Phong 50; order 6
-//! on 64 cells under studio, one interleaved run: Blinn-Phong 200 38.3 -> 33.0 s, 50
-//! 43.5 -> 28.7 s). Tried
-//! and left: the texel loop outside and a slice's samples inside over arrays (the same
-//! bits), which the compiler did not vectorise (the table lookup is a gather; scalar
-//! `vsqrtsd` in the AVX2 copy) and which baked order 6 slower (87 s against 75 s, one
-//! pair of runs on the loaded machine).
+//! `alpha <= 2 polar_h` ([`super::lobe`], "Culling": about a fifth fewer texels per node
+//! than the bound before, and a cull at all for Blinn-Phong 50; order 6 on 64 cells under
+//! studio, one interleaved run: Blinn-Phong 200 38.3 -> 33.0 s, 50 43.5 -> 28.7 s).
+//!
+//! The tabulated sums then moved into the node's frame (`sums.rs`): each texel's
+//! components along `(r, t, b)` once per node, so a sample's `l.n` and `l.v` are three
+//! multiply-adds and one, the radial table's variable `1 - cos(polar_h)` (one square root
+//! and one division per pair instead of two square roots and a division), four partial
+//! sums over structure-of-arrays (the compiler's two-lane SSE2 code), the material's
+//! constant factors applied once per sum, the psi basis computed once per bake, and
+//! chunks of four texels past every lobe at the sample skipped. Order 6 on 64 cells under
+//! studio, Blinn-Phong 200 (`kd = 0.05`, `ks = 0.9`), one interleaved pair on the loaded
+//! 2-core machine (user CPU seconds of the whole example, 16 x 16 image): 24.6 -> 14.6 s;
+//! the rendered error unchanged in the printed digits (docs/rendering.md has the
+//! order-6, 128-cell rows). The per-chunk skip alone measured no gain in one pair (13.7 s
+//! both: the node's list is in pyramid order, so few chunks of four lie wholly outside
+//! one sample's lobe); it stays, the same bits either way. Tried and left: before the frame, the texel loop outside and a slice's samples inside over
+//! arrays, which the compiler did not vectorise and which baked order 6 slower.
 //!
 //! # Determinism
-//! One rayon task per node of the grid; each node's sums run over its texel list in index
-//! order inside that task, so the table is the same bits for any thread count. The error's
+//! One rayon task per node of the grid; each node's sums run over its texel list in a
+//! fixed order inside that task (`sums.rs`, "Order of the sums"), so the table is the same bits for any thread count. The error's
 //! samples come from a fixed SplitMix64 sequence.
 
-use super::lobe::{Lobe, LobeForm};
+use super::lobe::Lobe;
+use super::sums::{frame_sum, FrameTexels};
 use super::table::{
     chart_frame, chart_is_z, coeffs, node_direction, psi_samples, slice_angle, value_count,
     BakeError, ReflectionTable, MAX_COEFFS, MAX_ORDER, MIN_ORDER,
@@ -322,67 +333,26 @@ pub(super) fn radiance_sum(
 
 /// The bake's sum at normal `n` and view `v` over `texels` (module doc, "The sum at one
 /// sample"), the integrand `lobe`: its radial table where it has one (Blinn-Phong and
-/// isotropic D-BRDFs, [`super::lobe`]), else [`radiance_sum`]. Texels in index order, f64.
+/// isotropic D-BRDFs, [`super::lobe`]), summed as the bake sums a node's samples (in the
+/// frame of `r = 2 (n.v) n - v`, `sums.rs`), else [`radiance_sum`]. f64.
+#[cfg(test)]
 pub(super) fn lobe_sum(lobe: &Lobe, cosine: bool, n: DVec3, v: DVec3, texels: &Texels) -> DVec3 {
-    let cos_o = n.dot(v).clamp(0.0, 1.0);
-    if cos_o <= 0.0 {
+    let c = n.dot(v).clamp(0.0, 1.0);
+    if c <= 0.0 {
         return radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels);
     }
-    // |l + v| and h.z = (l.n + v.n) / |l + v| from dot products in the probe frame.
-    let half = |l: DVec3, z: f64| -> (f64, f64) {
-        let len = (2.0 + 2.0 * l.dot(v)).max(0.0).sqrt();
-        let hz = if len > 0.0 { (z + cos_o) / len } else { 0.0 };
-        (len, (1.0 - hz).max(0.0).sqrt())
+    let r = (2.0 * c * n - v).normalize();
+    // n = c r + s t: t the normal's part normal to r (any tangent where there is none).
+    let side = n - n.dot(r) * r;
+    let s = side.length();
+    let t = if s > 1e-12 {
+        side / s
+    } else {
+        chart_frame(r, chart_is_z(r)).0
     };
-    let mut sum = DVec3::ZERO;
-    match &lobe.form {
-        LobeForm::BlinnPhong {
-            lambert,
-            scale,
-            table,
-        } => {
-            for (l, p) in texels.dir.iter().zip(&texels.power) {
-                let z = l.dot(n);
-                if z <= 0.0 {
-                    continue;
-                }
-                let (_, u) = half(*l, z);
-                let f = *lambert + *scale * table.at(u);
-                let f = if cosine { f } else { f * z };
-                sum += f * DVec3::from_array(*p);
-            }
-        }
-        LobeForm::Dbrdf {
-            lambert,
-            c,
-            rs,
-            table,
-        } => {
-            let b = cos_o.min(1.0);
-            for (l, p) in texels.dir.iter().zip(&texels.power) {
-                let z = l.dot(n);
-                if z <= 0.0 {
-                    continue;
-                }
-                let (len, u) = half(*l, z);
-                let f = if len <= 1e-6 {
-                    *lambert
-                } else {
-                    let a = z.min(1.0);
-                    let denom = a + b - a * b;
-                    let kh = (0.5 * len).clamp(0.0, 1.0);
-                    let fresnel = *rs + (DVec3::ONE - *rs) * (1.0 - kh).powi(5);
-                    *lambert + (*c * table.at(u) / denom) * fresnel
-                };
-                let f = if cosine { f } else { f * z };
-                sum += f * DVec3::from_array(*p);
-            }
-        }
-        LobeForm::Exact => {
-            return radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels);
-        }
-    }
-    sum
+    let frame = FrameTexels::new(&texels.dir, &texels.power, r, t, r.cross(t));
+    frame_sum(&lobe.form, cosine, &frame, c, s, 0.0)
+        .unwrap_or_else(|| radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels))
 }
 
 /// The sample `(r, polar_o, psi)` as a normal and a view (module doc), chart frame `tb`.
@@ -440,6 +410,23 @@ pub fn bake_table(
         coeffs(params.order),
         psi_samples(params.order),
     );
+    // Per psi sample: (sin psi, cos psi) and the basis
+    // `[1/2, cos psi, sin psi, ..., cos(order psi), sin(order psi)]`.
+    let psi: Vec<(f64, f64)> = (0..samples)
+        .map(|m| (std::f64::consts::TAU * m as f64 / samples as f64).sin_cos())
+        .collect();
+    let bases: Vec<[f64; MAX_COEFFS]> = (0..samples)
+        .map(|m| {
+            let psi = std::f64::consts::TAU * m as f64 / samples as f64;
+            let mut basis = [0.0f64; MAX_COEFFS];
+            basis[0] = 0.5;
+            for j in 1..=order {
+                let (sj, cj) = (j as f64 * psi).sin_cos();
+                (basis[2 * j - 1], basis[2 * j]) = (cj, sj);
+            }
+            basis
+        })
+        .collect();
     let nodes = (g + 1) * (g + 1);
     progress.set_length(nodes as u64);
     let per_node: Vec<Vec<f32>> = (0..nodes)
@@ -463,28 +450,29 @@ pub fn bake_table(
                 texels = kept;
             }
             let tb = chart_frame(r, chart_is_z(r));
+            let frame = FrameTexels::new(&texels.dir, &texels.power, r, tb.0, tb.1);
+            // The sample (polar, psi) over the node's texels (module doc, `sums.rs`).
+            let sum = |polar: f64, m: usize| -> DVec3 {
+                let (so, co) = polar.sin_cos();
+                let (sp, cp) = psi[m];
+                frame_sum(&lobe.form, cosine, &frame, co, so * cp, so * sp).unwrap_or_else(|| {
+                    let psi = std::f64::consts::TAU * m as f64 / samples as f64;
+                    let (n, v) = sample_normal_view(r, polar, psi, tb);
+                    radiance_sum(lobe.material, cosine, lobe.minus, n, v, &texels)
+                })
+            };
             let mut out = vec![0.0f32; ns * 3 * nc];
             for s in 0..ns {
                 let polar = slice_angle(s, params.slices);
                 let mut series = [[0.0f64; MAX_COEFFS]; 3];
                 if polar == 0.0 {
-                    let (n, v) = sample_normal_view(r, 0.0, 0.0, tb);
-                    let l = lobe_sum(&lobe, cosine, n, v, &texels);
+                    let l = sum(0.0, 0);
                     for (q, lc) in series.iter_mut().zip(l.to_array()) {
                         q[0] = lc;
                     }
                 } else {
-                    for m in 0..samples {
-                        let psi = std::f64::consts::TAU * m as f64 / samples as f64;
-                        let (n, v) = sample_normal_view(r, polar, psi, tb);
-                        let l = lobe_sum(&lobe, cosine, n, v, &texels);
-                        // `[1/2, cos psi, sin psi, ..., cos(order psi), sin(order psi)]`.
-                        let mut basis = [0.0f64; MAX_COEFFS];
-                        basis[0] = 0.5;
-                        for j in 1..=order {
-                            let (sj, cj) = (j as f64 * psi).sin_cos();
-                            (basis[2 * j - 1], basis[2 * j]) = (cj, sj);
-                        }
+                    for (m, basis) in bases.iter().enumerate() {
+                        let l = sum(polar, m);
                         for (q, lc) in series.iter_mut().zip(l.to_array()) {
                             for (qk, bk) in q[..nc].iter_mut().zip(basis) {
                                 *qk += 2.0 / samples as f64 * bk * lc;

@@ -42,8 +42,10 @@ use std::path::{Path, PathBuf};
 /// Version of the algorithm that turns a probe, a material and the parameters into a table
 /// ([`super::build::bake_table`]). Part of every key: bump it when a table's values change
 /// for the same inputs. (Making the order of the series in psi a parameter did not: at the
-/// default order 2 the bake writes the same bits.)
-pub const REFLECTION_ALGORITHM_VERSION: u32 = 4;
+/// default order 2 the bake writes the same bits. Version 5: the radial table in
+/// `1 - cos(polar_h)` over the lobe's range and the sums in the node's frame over four
+/// partial sums, `sums.rs`: the same tables to about 1e-6 of the lobe's peak, other bits.)
+pub const REFLECTION_ALGORITHM_VERSION: u32 = 5;
 
 /// Format tag of an entry.
 pub const REFLECTION_CACHE_FORMAT: &str = "brdfkit-reflection-cache-v2";

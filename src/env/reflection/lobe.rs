@@ -1,21 +1,26 @@
 //! The integrand of the bake's sums (`build`'s radiance sum), prepared once per bake: for
 //! Blinn-Phong and the isotropic D-BRDFs, the lobe's factor that depends on the half
-//! vector's polar angle alone is a per-bake 1D table, so a (sample, texel) pair costs two
-//! dot products, two square roots and a linear interpolation instead of a `pow` (glibc's
+//! vector's polar angle alone is a per-bake 1D table, so a (sample, texel) pair costs a few
+//! multiply-adds, one square root, one division and a linear interpolation (`sums.rs`)
+//! instead of a `pow` (glibc's
 //! `__ieee754_pow_fma` was 57% of a Blinn-Phong bake's profile) or an octahedral lookup
 //! (`DBrdf::eval_f64`'s `hemi_oct_encode` and four texels, 66% of a D-BRDF bake's).
 //! Every other material keeps [`Material::eval_f64`] per pair.
 //!
 //! # The radial table and its bound
-//! The variable is `u = sqrt(1 - cos(polar_h))` (`~ polar_h / sqrt(2)` near the normal),
-//! in which a Blinn-Phong lobe `(n.h)^s = (1 - u^2)^s ~ exp(-s u^2)` is a Gaussian of
-//! width `1/sqrt(2 s)` whose second derivative is largest at `u = 0`, `|g''| <= 2 s`.
-//! [`RADIAL_INTERVALS`] uniform intervals over `u` in `[0, 1]`, `delta = 1/4096`, linear
-//! between nodes: the interpolation error is at most `delta^2 / 8 max|g''| = delta^2 s / 4`
-//! of the lobe's peak (7.5e-6 at `s = 500`, 1.5e-4 at `s = 10^4`). Each table also
-//! *measures* its error at build ([`RadialTable::bound`]): the largest difference between
-//! the interpolation and the function at 3 points inside every interval, relative to the
-//! largest node value.
+//! The variable is `x = 1 - cos(polar_h)` (`~ polar_h^2 / 2` near the normal), in which a
+//! Blinn-Phong lobe is `g(x) = (n.h)^s = (1 - x)^s`, `|g''| <= s (s - 1)` (largest at
+//! `x = 0`). The table spans `[0, x_cut]` ([`RadialTable::cut`], "Culling" below: 1 where
+//! the lobe has no zero tail) in [`RADIAL_INTERVALS`] uniform intervals,
+//! `delta = x_cut / 4096`, linear between nodes: the interpolation error is at most
+//! `delta^2 / 8 max|g''| = delta^2 s (s - 1) / 8` of the lobe's peak. Since
+//! `x_cut ~ ln(1 / CUT) / s` that is about `(13.8 / 4096)^2 / 8 = 1.4e-6` at any sharp
+//! exponent, and 0 for `s = 1`. (Before, the variable was `u = sqrt(x)` over `[0, 1]`:
+//! `delta^2 s / 4` = 7.5e-6 at `s = 500`; `x` needs one square root per pair fewer, and
+//! its range follows the lobe.) Each table also *measures* its error at build
+//! ([`RadialTable::bound`]): the largest difference between the interpolation and the
+//! function at 3 points inside every interval and at the cut search's nodes beyond the
+//! cut, relative to the peak.
 //!
 //! For a D-BRDF the function is `p(h)` of [`DBrdf`] as the renderer evaluates it (the
 //! derived octahedral table's bilinear lookup, `DBrdf::p_f64_blend`), averaged over
@@ -28,9 +33,11 @@
 //! converged reference include both.
 //!
 //! # Culling
-//! Node values below [`CUT`] (1e-6) of the peak, from the last one above it outwards, are
-//! zero, so the table is zero from `u_cut` on ([`RadialTable::cut`]; the measured bound
-//! includes the cut, at most `CUT` of the peak). A texel is the reflection of the view
+//! The cut is found on 4096 uniform intervals in `u = sqrt(x)`: from the first of those
+//! nodes after the last one at or above [`CUT`] (1e-6) of the peak, `x_cut = u_cut^2`, the
+//! function is zero, and the table's last node (at `x_cut`) is zero, so the table is zero
+//! from `x_cut` on ([`RadialTable::cut`]; the measured bound includes the cut, at most
+//! `CUT` of the peak). A texel is the reflection of the view
 //! about the half vector, `l(h) = 2 (v.h) h - v`, and the reflected direction the same
 //! map at the normal, `r = l(n)`. The map is 2-Lipschitz on the sphere: for a tangent
 //! `dh` (unit `e`, normal to `h`), `dl = 2 (v.dh) h + 2 (v.h) dh`, two orthogonal parts,
@@ -41,8 +48,8 @@
 //! (the bound is tight). A texel farther from `r` than twice `polar_h`'s cut therefore has
 //! a zero lobe at *every* sample of the node, and where the integrand has no Lambertian
 //! term (the shipped bake: it is held over normals) its pairs add exact zeros: the bake
-//! drops those texels from the node's list (`Lobe::cull_cos`) and the sums keep their
-//! bits. The angle is 42 degrees at Blinn-Phong 200, 27 at 500 and 81 at 50. (The bound
+//! drops those texels from the node's list (`Lobe::cull_cos`) and the sums change by
+//! rounding only (the kept texels move between the four partial sums of `sums.rs`). The angle is 42 degrees at Blinn-Phong 200, 27 at 500 and 81 at 50. (The bound
 //! before, `sin(alpha / 2) <= 2 sqrt(2) sin(polar_h / 2)` from `|l - r| = 2 |(v.h) h -
 //! (v.n) n|`, was 62 and 38 degrees and culled nothing at Blinn-Phong 50; the tighter one
 //! drops about a fifth of a node's texels, the same bits.)
@@ -70,9 +77,12 @@ pub const AZIMUTHS: usize = 64;
 /// linear between nodes (module doc).
 #[derive(Clone, Debug)]
 pub struct RadialTable {
-    values: Vec<f64>,
-    /// The table is zero from `u = cut` outwards.
+    values: Box<[f64; RADIAL_INTERVALS + 1]>,
+    /// The table spans `x` in `[0, cut]` and is zero from `x = cut` outwards (`cut = 1`:
+    /// no zero tail).
     cut: f64,
+    /// `RADIAL_INTERVALS / cut`: intervals per unit of `x`.
+    inv_step: f64,
     /// Largest measured interpolation error inside an interval, relative to the largest
     /// node value.
     bound: f64,
@@ -82,31 +92,49 @@ pub struct RadialTable {
 }
 
 impl RadialTable {
-    /// Tabulates `g(u)` (`g` the function, `u` in `[0, 1]`), with its measured bound.
+    /// Tabulates `g(x)` (`g` the function, `x = 1 - cos(polar_h)` in `[0, 1]`) over `[0,
+    /// x_cut]`, with its measured bound (module doc). The cut is found on the grid of
+    /// [`RADIAL_INTERVALS`] uniform intervals in `u = sqrt(x)`: the last of its nodes at or
+    /// above [`CUT`] of their peak, the cut the next one.
     fn new(g: impl Fn(f64) -> f64, spread: f64) -> Self {
         let n = RADIAL_INTERVALS;
-        let mut values: Vec<f64> = (0..=n).map(|i| g(i as f64 / n as f64)).collect();
-        let peak = values.iter().copied().fold(0.0f64, f64::max);
-        // The tail below CUT of the peak, from the last node above it: zero.
-        let last = values
+        let at_u = |i: usize| {
+            let u = i as f64 / n as f64;
+            g(u * u)
+        };
+        let coarse: Vec<f64> = (0..=n).map(at_u).collect();
+        let peak = coarse.iter().copied().fold(0.0f64, f64::max);
+        let last = coarse
             .iter()
             .rposition(|&x| x.abs() >= CUT * peak)
             .unwrap_or(0);
-        for x in &mut values[last + 1..] {
-            *x = 0.0;
+        let u_cut = ((last + 1) as f64 / n as f64).min(1.0);
+        let cut = u_cut * u_cut;
+        let mut values = Box::new([0.0f64; RADIAL_INTERVALS + 1]);
+        for (i, v) in values.iter_mut().enumerate() {
+            *v = g(cut * i as f64 / n as f64);
+        }
+        if u_cut < 1.0 {
+            // Zero from the cut on: the node there is below CUT of the peak.
+            values[n] = 0.0;
         }
         let mut table = RadialTable {
             values,
-            cut: ((last + 1) as f64 / n as f64).min(1.0),
+            cut,
+            inv_step: n as f64 / cut,
             bound: 0.0,
             spread: 0.0,
         };
         let mut worst = 0.0f64;
         for i in 0..n {
             for q in [0.25, 0.5, 0.75] {
-                let u = (i as f64 + q) / n as f64;
-                worst = worst.max((table.at(u) - g(u)).abs());
+                let x = cut * (i as f64 + q) / n as f64;
+                worst = worst.max((table.at(x) - g(x)).abs());
             }
+        }
+        // Beyond the cut the table is zero: the function there, at the grid in u.
+        for c in &coarse[last + 1..] {
+            worst = worst.max(c.abs());
         }
         let rel = |x: f64| if peak > 0.0 { x / peak } else { x };
         table.bound = rel(worst);
@@ -114,18 +142,31 @@ impl RadialTable {
         table
     }
 
-    /// The interpolated value at `u` (clamped to `[0, 1]`).
+    /// The interpolated value at `x = 1 - cos(polar_h)` (zero from the cut on, clamped to
+    /// the last node below 0).
     #[inline]
-    pub fn at(&self, u: f64) -> f64 {
+    pub fn at(&self, x: f64) -> f64 {
         let n = RADIAL_INTERVALS;
-        let t = u.clamp(0.0, 1.0) * n as f64;
-        let i = (t as usize).min(n - 1);
+        let t = (x * self.inv_step).clamp(0.0, n as f64);
+        // Through i64: one conversion instruction (t is in [0, n]).
+        let i = (t as i64 as usize).min(n - 1);
         let w = t - i as f64;
         let (a, b) = (self.values[i], self.values[i + 1]);
         a + w * (b - a)
     }
 
-    /// `u` from which the table is zero.
+    /// `(1 - cut)^2 (1 - 1e-9)`: a pair whose `cos^2(polar_h)` is below it is past the cut
+    /// with a margin for rounding, so its table value is exactly zero (0 where the table has
+    /// no zero tail: no pair is past it).
+    pub fn zero_from_cos_squared(&self) -> f64 {
+        if self.cut >= 1.0 {
+            return 0.0;
+        }
+        let h = 1.0 - self.cut;
+        h * h * (1.0 - 1e-9)
+    }
+
+    /// `x = 1 - cos(polar_h)` from which the table is zero (1 where it has no zero tail).
     pub fn cut(&self) -> f64 {
         self.cut
     }
@@ -209,9 +250,9 @@ impl<'a> Lobe<'a> {
         if lambert != DVec3::ZERO || table.cut >= 1.0 {
             return None;
         }
-        // alpha = 2 polar_h at the cut, where cos(polar_h) = 1 - u^2:
+        // alpha = 2 polar_h at the cut, where cos(polar_h) = 1 - x:
         // cos(alpha) = 2 cos^2(polar_h) - 1, less a margin for the rounding of r.
-        let cos_h = 1.0 - table.cut * table.cut;
+        let cos_h = 1.0 - table.cut;
         if cos_h <= 0.0 {
             return None;
         }
@@ -232,7 +273,7 @@ impl LobeForm {
     fn blinn_phong(m: &BlinnPhong, minus: DVec3) -> Self {
         let s = m.exponent as f64;
         let pi = std::f64::consts::PI;
-        let table = RadialTable::new(|u| (1.0 - u * u).max(0.0).powf(s), 0.0);
+        let table = RadialTable::new(|x| (1.0 - x).max(0.0).powf(s), 0.0);
         LobeForm::BlinnPhong {
             // `k_d / pi` as `lambertian_term` rounds it, so that it cancels `minus` exactly.
             lambert: (m.kd / std::f32::consts::PI).as_dvec3() - minus,
@@ -242,9 +283,9 @@ impl LobeForm {
     }
 
     fn dbrdf(m: &DBrdf, rd: Vec3, minus: DVec3) -> Self {
-        // p at polar angle acos(1 - u^2) and each azimuth, as the renderer looks it up.
-        let samples = |u: f64| -> (f64, f64) {
-            let cz = (1.0 - u * u).max(0.0);
+        // p at polar angle acos(1 - x) and each azimuth, as the renderer looks it up.
+        let samples = |x: f64| -> (f64, f64) {
+            let cz = (1.0 - x).max(0.0);
             let sz = (1.0 - cz * cz).max(0.0).sqrt();
             let (mut sum, mut lo, mut hi) = (0.0, f64::INFINITY, f64::NEG_INFINITY);
             for k in 0..AZIMUTHS {
@@ -259,9 +300,12 @@ impl LobeForm {
             (mean, (hi - mean).max(mean - lo))
         };
         let spread = (0..=RADIAL_INTERVALS)
-            .map(|i| samples(i as f64 / RADIAL_INTERVALS as f64).1)
+            .map(|i| {
+                let u = i as f64 / RADIAL_INTERVALS as f64;
+                samples(u * u).1
+            })
             .fold(0.0f64, f64::max);
-        let table = RadialTable::new(|u| samples(u).0, spread);
+        let table = RadialTable::new(|x| samples(x).0, spread);
         LobeForm::Dbrdf {
             // `r_d / pi` as `lambertian_term` rounds it, so that it cancels `minus` exactly.
             lambert: (rd * std::f32::consts::FRAC_1_PI).as_dvec3() - minus,

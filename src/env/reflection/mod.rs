@@ -68,7 +68,8 @@
 //! evaluates the basis by `cos 2 psi = c^2 - s^2`, `sin 2 psi = 2 c s` and angle addition
 //! above; at order 2 the bake and the lookup compute what they did before the order was a
 //! parameter, bit for bit, so the default's tables, cache entries (their keys and bytes,
-//! [`cache`]) and golden images are unchanged.
+//! [`cache`]) and golden images were unchanged (the bake's sums in the node's frame later
+//! changed the bits: [`cache::REFLECTION_ALGORITHM_VERSION`] 5).
 //!
 //! Why more than 2: under studio (lamps past the 64 exact texels) the sweep's glossy class
 //! (`kd = 0.05`, `ks = 0.9`) missed 10% at the 99th percentile at order 2 (Blinn-Phong
@@ -108,6 +109,7 @@ pub mod cache;
 pub mod filtered;
 pub mod lobe;
 pub mod pyramid;
+mod sums;
 pub mod table;
 
 pub use build::{bake_table, BakeFault, BakeParams};

@@ -83,23 +83,27 @@ fn weighted_power(texels: &Texels, n: DVec3, w: impl Fn(f64) -> f64) -> DVec3 {
 
 #[test]
 fn blinn_phong_tables_measure_below_the_closed_form_interpolation_bound() {
-    let delta = 1.0 / RADIAL_INTERVALS as f64;
     for s in [1.0f32, 50.0, 200.0, 500.0, 10_000.0] {
         let m = blinn_phong(s);
         let lobe = Lobe::new(&m, DVec3::ZERO);
         let table = lobe.table().expect("Blinn-Phong is tabulated");
-        // Interpolation, plus the tail cut to zero below CUT of the peak.
-        let closed = delta * delta * s as f64 / 4.0 + CUT;
+        // Interpolation over [0, cut] in x (g(x) = (1 - x)^s, |g''| <= s (s - 1)), plus the
+        // tail cut to zero below CUT of the peak.
+        let delta = table.cut() / RADIAL_INTERVALS as f64;
+        let s64 = s as f64;
+        let closed = delta * delta * s64 * (s64 - 1.0) / 8.0 + CUT;
         assert!(
-            table.bound() <= closed * 1.001 && table.bound() > 0.0,
-            "s = {s}: measured {:e} against delta^2 s / 4 = {closed:e}",
+            table.bound() <= closed * 1.001 && (table.bound() > 0.0 || s == 1.0),
+            "s = {s}: measured {:e} against delta^2 s (s - 1) / 8 + CUT = {closed:e}",
             table.bound()
         );
         assert_eq!(table.spread(), 0.0);
-        // The variable: u = sqrt(1 - cos(polar_h)), so (n.h)^s at polar_h = 0.1 rad.
-        let u = (1.0 - 0.1f64.cos()).sqrt();
-        let want = 0.1f64.cos().powf(s as f64);
-        assert!((table.at(u) - want).abs() <= closed * 1.001, "s = {s}");
+        // The variable: x = 1 - cos(polar_h), so (n.h)^s at polar_h = 0.1 rad.
+        let want = 0.1f64.cos().powf(s64);
+        assert!(
+            (table.at(1.0 - 0.1f64.cos()) - want).abs() <= closed * 1.001,
+            "s = {s}"
+        );
     }
 }
 
@@ -209,8 +213,7 @@ fn culled_texels_change_no_sum_and_a_tighter_cull_would() {
         let c = lobe.cull_cos().expect("a sharp lobe has a zero tail");
         assert!(c > 0.0 && c < 0.9, "{}: cos {c}", m.name());
         // The seeded fault: the cut angle taken as the half vector's (no factor 2).
-        let cut = lobe.table().unwrap().cut();
-        let tight = 1.0 - cut * cut;
+        let tight = 1.0 - lobe.table().unwrap().cut();
         for k in 0..12 {
             let a = k as f64 * 2.399_96;
             let z = 1.0 - 2.0 * (k as f64 + 0.5) / 12.0;
@@ -225,9 +228,15 @@ fn culled_texels_change_no_sum_and_a_tighter_cull_would() {
                         psi,
                         chart_frame(r, chart_is_z(r)),
                     );
+                    // The culled texels add exact zeros; the kept ones move between the
+                    // sums' lanes (sums.rs), so the totals agree to rounding.
                     let all = lobe_sum(&lobe, false, n, v, &texels);
-                    assert_eq!(lobe_sum(&lobe, false, n, v, &near), all, "{}", m.name());
-                    tighter_differs |= lobe_sum(&lobe, false, n, v, &far) != all;
+                    let off = |t: &Texels| {
+                        let d = (lobe_sum(&lobe, false, n, v, t) - all).abs().max_element();
+                        d / all.abs().max_element().max(1e-300)
+                    };
+                    assert!(off(&near) <= 1e-12, "{}: {:e}", m.name(), off(&near));
+                    tighter_differs |= off(&far) > 1e-6;
                 }
             }
         }
