@@ -135,19 +135,30 @@ pub fn covered_bounds(
     if cull_back && !front_facing {
         return None;
     }
-    let x = p.map(|q| q.0);
-    let y = p.map(|q| q.1);
-    let (xmin, xmax) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
-    let (ymin, ymax) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
-    // Pixels whose centre (px*ONE + HALF) lies in [min, max].
-    let lo = |m: i64| (m - HALF + ONE - 1).div_euclid(ONE);
-    let hi = |m: i64| (m - HALF).div_euclid(ONE);
-    let (px0, px1) = (lo(xmin).max(0), hi(xmax).min(width as i64 - 1));
-    let (py0, py1) = (lo(ymin).max(0), hi(ymax).min(height as i64 - 1));
+    let [px0, px1, py0, py1] = centre_bounds(p, width, height);
     if px0 > px1 || py0 > py1 {
         return None;
     }
     Some((area2, [px0, px1, py0, py1]))
+}
+
+/// The pixels whose centre (`px ONE + HALF`) lies in the bounding box of the snapped
+/// vertices `p`, clamped to the image: `[px0, px1, py0, py1]`, inclusive (empty where
+/// `px0 > px1` or `py0 > py1`). Integers only, no branch.
+#[inline(always)]
+fn centre_bounds(p: [(i64, i64); 3], width: u32, height: u32) -> [i64; 4] {
+    let x = p.map(|q| q.0);
+    let y = p.map(|q| q.1);
+    let (xmin, xmax) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
+    let (ymin, ymax) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
+    let lo = |m: i64| (m - HALF + ONE - 1).div_euclid(ONE);
+    let hi = |m: i64| (m - HALF).div_euclid(ONE);
+    [
+        lo(xmin).max(0),
+        hi(xmax).min(width as i64 - 1),
+        lo(ymin).max(0),
+        hi(ymax).min(height as i64 - 1),
+    ]
 }
 
 /// `covered_bounds(p, width, height, cull_back).is_some()` without branches: the
@@ -157,14 +168,7 @@ pub fn covered_bounds(
 #[inline]
 pub fn covers_a_centre(p: [(i64, i64); 3], width: u32, height: u32, cull_back: bool) -> bool {
     let area2 = edge(p[0].0, p[0].1, p[1].0, p[1].1, p[2].0, p[2].1);
-    let x = p.map(|q| q.0);
-    let y = p.map(|q| q.1);
-    let (xmin, xmax) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
-    let (ymin, ymax) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
-    let lo = |m: i64| (m - HALF + ONE - 1).div_euclid(ONE);
-    let hi = |m: i64| (m - HALF).div_euclid(ONE);
-    let (px0, px1) = (lo(xmin).max(0), hi(xmax).min(width as i64 - 1));
-    let (py0, py1) = (lo(ymin).max(0), hi(ymax).min(height as i64 - 1));
+    let [px0, px1, py0, py1] = centre_bounds(p, width, height);
     (area2 != 0) & !(cull_back & (area2 > 0)) & (px0 <= px1) & (py0 <= py1)
 }
 

@@ -86,6 +86,7 @@ use crate::conventions::{
 };
 use crate::env::{Probe, LUMINANCE_WEIGHTS};
 use crate::error::{Error, Result};
+use crate::lanes::Dispatch;
 use crate::material::Material;
 use crate::progress::Progress;
 use glam::DVec3;
@@ -351,7 +352,7 @@ pub(super) fn lobe_sum(lobe: &Lobe, cosine: bool, n: DVec3, v: DVec3, texels: &T
         chart_frame(r, chart_is_z(r)).0
     };
     let frame = FrameTexels::new(&texels.dir, &texels.power, r, t, r.cross(t));
-    frame_sum(&lobe.form, cosine, &frame, c, s, 0.0)
+    frame_sum(Dispatch::detect(), &lobe.form, cosine, &frame, c, s, 0.0)
         .unwrap_or_else(|| radiance_sum(lobe.material, cosine, lobe.minus, n, v, texels))
 }
 
@@ -429,6 +430,8 @@ pub fn bake_table(
         .collect();
     let nodes = (g + 1) * (g + 1);
     progress.set_length(nodes as u64);
+    // The widest f64 lanes of this CPU: every path gives the same bits (`sums::frame_sum`).
+    let dispatch = Dispatch::detect();
     let per_node: Vec<Vec<f32>> = (0..nodes)
         .into_par_iter()
         .map(|k| {
@@ -455,11 +458,12 @@ pub fn bake_table(
             let sum = |polar: f64, m: usize| -> DVec3 {
                 let (so, co) = polar.sin_cos();
                 let (sp, cp) = psi[m];
-                frame_sum(&lobe.form, cosine, &frame, co, so * cp, so * sp).unwrap_or_else(|| {
-                    let psi = std::f64::consts::TAU * m as f64 / samples as f64;
-                    let (n, v) = sample_normal_view(r, polar, psi, tb);
-                    radiance_sum(lobe.material, cosine, lobe.minus, n, v, &texels)
-                })
+                frame_sum(dispatch, &lobe.form, cosine, &frame, co, so * cp, so * sp)
+                    .unwrap_or_else(|| {
+                        let psi = std::f64::consts::TAU * m as f64 / samples as f64;
+                        let (n, v) = sample_normal_view(r, polar, psi, tb);
+                        radiance_sum(lobe.material, cosine, lobe.minus, n, v, &texels)
+                    })
             };
             let mut out = vec![0.0f32; ns * 3 * nc];
             for s in 0..ns {

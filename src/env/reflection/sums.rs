@@ -2,7 +2,12 @@
 //! sample"), arranged for the many samples of a node: each texel's direction is held by
 //! its components along the node's frame `(r, t, b)` ([`FrameTexels`]), so a sample's
 //! `l.n` and `l.v` are a few multiply-adds, and the pairs run in [`LANES`] independent
-//! partial sums over structure-of-arrays.
+//! partial sums over structure-of-arrays, a chunk of [`LANES`] texels one vector of the f64
+//! lanes of [`crate::lanes`] ([`frame_sum`]; never fused, so each lane has the bits of the
+//! scalar expression: the scalar code is the tests' oracle, compared bit for bit on every
+//! path). Quiet machine, `reflection_error -- 16 m=blinn-phong-200 kd=0.05 ks=0.9
+//! set=reflection_order=6 set=reflection_grid=128 studio`, the bake before the lanes and
+//! with them, alternately: 22.8, 13.3, 22.8, 13.3 s, the same printed row.
 //!
 //! # The pair in the node's frame
 //! A sample of node `r` is `n = cos(polar_o) r + sin(polar_o) (cos psi t + sin psi b)` and
@@ -39,6 +44,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::lobe::LobeForm;
+use crate::lanes::{Dispatch, F64x4, Isa, Kernel};
 use glam::DVec3;
 
 /// Independent partial sums per sample (module doc, "Order of the sums").
@@ -87,6 +93,7 @@ impl FrameTexels {
 
 /// Adds `LANES` partial sums in the module doc's order.
 #[inline(always)]
+#[cfg(test)]
 fn total(s: [f64; LANES]) -> f64 {
     (s[0] + s[1]) + (s[2] + s[3])
 }
@@ -94,6 +101,7 @@ fn total(s: [f64; LANES]) -> f64 {
 /// Per lane of one chunk: the cosine weight `w` (`z`, or 1 where the material includes the
 /// cosine; 0 below the normal's horizon) and the radial table's variable `x` (module doc).
 #[inline(always)]
+#[cfg(test)]
 fn chunk_pairs(
     cosine: bool,
     (lr, lt, lb): (&[f64], &[f64], &[f64]),
@@ -137,6 +145,7 @@ fn chunk_pairs(
 ///
 /// [`RadialTable`]: super::lobe::RadialTable
 #[inline(always)]
+#[cfg(test)]
 fn any_in_lobe((lr, lt, lb): (&[f64], &[f64], &[f64]), c: f64, a: f64, b: f64, hc2: f64) -> bool {
     let mut any = false;
     for i in 0..LANES {
@@ -150,8 +159,10 @@ fn any_in_lobe((lr, lt, lb): (&[f64], &[f64], &[f64]), c: f64, a: f64, b: f64, h
 /// The sum of one sample `(c, a, b)` (module doc, "The pair in the node's frame") over the
 /// node's texels for a tabulated lobe: `sum P f z` (`sum P f` where the material includes
 /// the cosine); `None` for [`LobeForm::Exact`], which sums the texels per pair through the
-/// material instead (`build::radiance_sum`).
-pub(super) fn frame_sum(
+/// material instead (`build::radiance_sum`). Per lane in plain arrays: the oracle (test
+/// only) of [`frame_sum`], which computes the same operations on f64 lanes.
+#[cfg(test)]
+pub(super) fn frame_sum_scalar(
     form: &LobeForm,
     cosine: bool,
     f: &FrameTexels,
@@ -258,4 +269,185 @@ pub(super) fn frame_sum(
         }
         LobeForm::Exact => return None,
     })
+}
+
+/// `frame_sum_scalar` on the f64 lanes of `dispatch` ([`crate::lanes::F64x4`]: each
+/// operation the IEEE one, never fused): a chunk of [`LANES`] texels is one vector, so every
+/// lane computes the scalar expression of its texel and the partial sums are the same
+/// (texel `k` in lane `k mod LANES`, added `(s0 + s1) + (s2 + s3)`): the same bits as
+/// `frame_sum_scalar` on every path. The radial table's lookups (and the D-BRDF's
+/// per-pair factors) stay per lane in scalar code.
+pub(super) fn frame_sum(
+    dispatch: Dispatch,
+    form: &LobeForm,
+    cosine: bool,
+    f: &FrameTexels,
+    c: f64,
+    a: f64,
+    b: f64,
+) -> Option<DVec3> {
+    dispatch.run(FrameSum {
+        form,
+        cosine,
+        f,
+        c,
+        a,
+        b,
+    })
+}
+
+/// [`frame_sum`]'s work as a lane kernel.
+struct FrameSum<'a> {
+    form: &'a LobeForm,
+    cosine: bool,
+    f: &'a FrameTexels,
+    c: f64,
+    a: f64,
+    b: f64,
+}
+
+/// One chunk's lanes: the cosine weight `w`, the table variable `x`, `|l + v|` and `z`
+/// (`chunk_pairs`'s, operation for operation), and whether any lane may be inside the
+/// lobe (`any_in_lobe`'s test on the same `z` and `|l + v|^2`).
+struct ChunkLanes<D> {
+    w: D,
+    x: D,
+    len: D,
+    z: D,
+    in_lobe: bool,
+}
+
+impl FrameSum<'_> {
+    #[inline(always)]
+    fn chunk<S: Isa>(&self, s: S, k: usize, hc2: f64) -> ChunkLanes<S::D> {
+        let f = self.f;
+        let (lr, lt, lb) = (
+            s.load_f64(&f.lr[k..]),
+            s.load_f64(&f.lt[k..]),
+            s.load_f64(&f.lb[k..]),
+        );
+        let (c, a, b) = (
+            s.splat_f64(self.c),
+            s.splat_f64(self.a),
+            s.splat_f64(self.b),
+        );
+        let (zero, one, two) = (s.splat_f64(0.0), s.splat_f64(1.0), s.splat_f64(2.0));
+        let z = c * lr + a * lt + b * lb;
+        // `2 + 2 (2 c z - l.r)`, as `chunk_pairs` and `any_in_lobe` write it.
+        let d = two + two * (two * c * z - lr);
+        let zc = z + c;
+        // `z > 0 && (z + c)^2 >= hc2 d` per lane; inputs are finite, so `>=` is `!(<)`.
+        let above = z.gt_mask(zero);
+        let outside = (s.splat_f64(hc2) * d).gt_mask(zc * zc);
+        let in_lobe = (above & !outside & 0b1111) != 0;
+        let d = d.max(s.splat_f64(f64::MIN_POSITIVE));
+        let len = d.sqrt();
+        let x = (one - zc / len).max(zero);
+        let w = z.select_gt(zero, if self.cosine { one } else { z }, zero);
+        ChunkLanes {
+            w,
+            x,
+            len,
+            z,
+            in_lobe,
+        }
+    }
+}
+
+impl Kernel for FrameSum<'_> {
+    type Out = Option<DVec3>;
+    #[inline(always)]
+    fn run<S: Isa>(self, s: S) -> Option<DVec3> {
+        let f = self.f;
+        let n = f.lr.len();
+        let zero = s.splat_f64(0.0);
+        let power = |ch: usize, k: usize| s.load_f64(&f.power[ch][k..]);
+        Some(match self.form {
+            LobeForm::BlinnPhong {
+                lambert,
+                scale,
+                table,
+            } => {
+                let (mut e, mut gs) = ([zero; 3], [zero; 3]);
+                let with_lambert = *lambert != DVec3::ZERO;
+                let hc2 = table.zero_from_cos_squared();
+                for k in (0..n).step_by(LANES) {
+                    let ch_lanes = self.chunk(s, k, hc2);
+                    if !with_lambert && !ch_lanes.in_lobe {
+                        continue;
+                    }
+                    let mut xs = [0.0f64; LANES];
+                    ch_lanes.x.store(&mut xs);
+                    let g = s.load_f64(&xs.map(|x| table.at(x))) * ch_lanes.w;
+                    for (ch, acc) in gs.iter_mut().enumerate() {
+                        *acc = *acc + g * power(ch, k);
+                    }
+                    if with_lambert {
+                        for (ch, acc) in e.iter_mut().enumerate() {
+                            *acc = *acc + ch_lanes.w * power(ch, k);
+                        }
+                    }
+                }
+                let (l, sc) = (lambert.to_array(), scale.to_array());
+                DVec3::from_array(std::array::from_fn(|ch| {
+                    l[ch] * e[ch].sum() + sc[ch] * gs[ch].sum()
+                }))
+            }
+            LobeForm::Dbrdf {
+                lambert,
+                c: cd,
+                rs,
+                table,
+            } => {
+                let mut e = [zero; 3];
+                let (mut qs, mut fs) = ([zero; 3], [zero; 3]);
+                let with_lambert = *lambert != DVec3::ZERO;
+                let hc2 = table.zero_from_cos_squared();
+                for k in (0..n).step_by(LANES) {
+                    let ch_lanes = self.chunk(s, k, hc2);
+                    if !with_lambert && !ch_lanes.in_lobe {
+                        continue;
+                    }
+                    let (mut z, mut x, mut len, mut w) =
+                        ([0.0f64; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+                    ch_lanes.z.store(&mut z);
+                    ch_lanes.x.store(&mut x);
+                    ch_lanes.len.store(&mut len);
+                    ch_lanes.w.store(&mut w);
+                    // `frame_sum_scalar`'s per-pair factors, per lane.
+                    let (mut q, mut q5) = ([0.0f64; LANES], [0.0f64; LANES]);
+                    for i in 0..LANES {
+                        let za = z[i].min(1.0);
+                        let denom = za + self.c - za * self.c;
+                        let kh = (0.5 * len[i]).clamp(0.0, 1.0);
+                        let lobe = if len[i] <= 1e-6 { 0.0 } else { table.at(x[i]) };
+                        q[i] = if w[i] == 0.0 {
+                            0.0
+                        } else {
+                            lobe / denom * w[i]
+                        };
+                        q5[i] = q[i] * (1.0 - kh).powi(5);
+                    }
+                    let (q, q5) = (s.load_f64(&q), s.load_f64(&q5));
+                    for ch in 0..3 {
+                        let p = power(ch, k);
+                        qs[ch] = qs[ch] + q * p;
+                        fs[ch] = fs[ch] + q5 * p;
+                    }
+                    if with_lambert {
+                        for (ch, acc) in e.iter_mut().enumerate() {
+                            *acc = *acc + ch_lanes.w * power(ch, k);
+                        }
+                    }
+                }
+                let (l, r) = (lambert.to_array(), rs.to_array());
+                DVec3::from_array(std::array::from_fn(|ch| {
+                    l[ch] * e[ch].sum()
+                        + cd * r[ch] * qs[ch].sum()
+                        + cd * (1.0 - r[ch]) * fs[ch].sum()
+                }))
+            }
+            LobeForm::Exact => return None,
+        })
+    }
 }

@@ -251,3 +251,72 @@ fn culled_texels_change_no_sum_and_a_tighter_cull_would() {
         .cull_cos()
         .is_none());
 }
+
+#[test]
+fn frame_sums_on_every_lane_path_have_the_scalar_sums_bits() {
+    use super::sums::{frame_sum, frame_sum_scalar, FrameTexels};
+    use crate::lanes::{Dispatch, KernelPath};
+    use std::io::Write;
+    for (path, needs) in KernelPath::unavailable() {
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED kernel path {}: frame_sums_on_every_lane_path_have_the_scalar_sums_bits: \
+             this CPU lacks {needs}",
+            path.name()
+        );
+    }
+    let texels = texels();
+    let mut compared = 0;
+    for m in [blinn_phong(200.0), lambert_dbrdf(300.0, RS)] {
+        // The Lambertian part held apart (the shipped bake: chunks past the lobe skipped)
+        // and kept in the sums.
+        for minus in [m.lambertian_term().as_dvec3(), DVec3::ZERO] {
+            let lobe = Lobe::new(&m, minus);
+            for k in 0..6 {
+                let a = k as f64 * 2.399_96;
+                let z = 1.0 - 2.0 * (k as f64 + 0.5) / 6.0;
+                let s = (1.0 - z * z).sqrt();
+                let r = DVec3::new(s * a.cos(), z, s * a.sin());
+                let (t, b) = chart_frame(r, chart_is_z(r));
+                // 6000 texels: a multiple of the lanes; drop one so the padding is used.
+                let n = texels.dir.len() - 1;
+                let f = FrameTexels::new(&texels.dir[..n], &texels.power[..n], r, t, b);
+                for polar in [0.0f64, 30.0, 70.0, 89.9] {
+                    for psi in [0.0f64, 2.0, 4.0] {
+                        let (so, co) = polar.to_radians().sin_cos();
+                        let (sp, cp) = psi.sin_cos();
+                        for cosine in [false, true] {
+                            let want =
+                                frame_sum_scalar(&lobe.form, cosine, &f, co, so * cp, so * sp)
+                                    .expect("a tabulated lobe");
+                            for path in KernelPath::available() {
+                                let got = frame_sum(
+                                    Dispatch::choose(path).unwrap(),
+                                    &lobe.form,
+                                    cosine,
+                                    &f,
+                                    co,
+                                    so * cp,
+                                    so * sp,
+                                )
+                                .unwrap();
+                                assert_eq!(
+                                    got.to_array().map(f64::to_bits),
+                                    want.to_array().map(f64::to_bits),
+                                    "{} on {}: polar {polar}, psi {psi}",
+                                    m.name(),
+                                    path.name()
+                                );
+                                compared += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        compared >= 2 * 2 * 6 * 4 * 3 * 2,
+        "{compared} sums compared"
+    );
+}
