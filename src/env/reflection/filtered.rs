@@ -289,11 +289,13 @@ impl FilteredSampler {
     pub fn radiance(&self, frame: &ShadingFrame, wo: Vec3) -> Vec3 {
         let n = self.samples.len() as f32;
         let mut sum = Vec3::ZERO;
-        for s in &self.samples {
+        // `DBrdf::eval`'s guards: the view above the horizon (once for every sample, the same
+        // test: a NaN `wo.z` passes it as before), `|l + wo| = 2 v.h` above 1e-6 and `l`
+        // above the horizon per sample.
+        let samples: &[HalfSample] = if wo.z <= 0.0 { &[] } else { &self.samples };
+        for s in samples {
             let vh = wo.dot(s.h);
-            // `DBrdf::eval`'s guards: `|l + wo| = 2 v.h` above 1e-6, both directions above
-            // the horizon.
-            if 2.0 * vh <= 1e-6 || wo.z <= 0.0 {
+            if 2.0 * vh <= 1e-6 {
                 continue;
             }
             let l = 2.0 * vh * s.h - wo;

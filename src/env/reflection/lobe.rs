@@ -60,6 +60,7 @@
 //! below 0.01% of the Lambertian term's `k_d E / pi` alone.
 
 use crate::brdf::{BlinnPhong, DBrdf};
+use crate::lanes::{F64x4, Isa, F64_LANES};
 use crate::material::Material;
 use glam::{DVec3, Vec3};
 
@@ -152,6 +153,39 @@ impl RadialTable {
         let i = (t as i64 as usize).min(n - 1);
         let w = t - i as f64;
         let (a, b) = (self.values[i], self.values[i + 1]);
+        a + w * (b - a)
+    }
+
+    /// [`RadialTable::at`] on the f64 lanes of `s`, lane for lane the same bits: `x` is
+    /// clamped to the table's range by the lanes' `max` and `min` (the inputs are finite),
+    /// the interval's index is `floor(t)` found without a float-to-integer conversion (`t +
+    /// 2^52` rounds `t` in `[0, 4096]` to the nearest integer exactly, in the low bits of
+    /// its mantissa, and one is taken off where that rounded up; Rust's saturating `as`
+    /// costs a NaN and a range test per lane), and the two nodes are read per lane.
+    #[inline(always)]
+    pub fn at_lanes<S: Isa>(&self, s: S, x: S::D) -> S::D {
+        const N: usize = RADIAL_INTERVALS;
+        const _: () = assert!(N.is_power_of_two() && N < 1 << 31);
+        let two52 = s.splat_f64(4_503_599_627_370_496.0);
+        let t = (x * s.splat_f64(self.inv_step))
+            .max(s.splat_f64(0.0))
+            .min(s.splat_f64(N as f64));
+        let rounded = t + two52;
+        // `rounded - 1` (exact at this magnitude) where rounding went up; the last node's
+        // interval for `t = N`.
+        let floored = (rounded - two52).select_gt(t, rounded - s.splat_f64(1.0), rounded);
+        let index = floored.min(s.splat_f64((N - 1) as f64) + two52);
+        let w = t - (index - two52);
+        let mut bits = [0.0f64; F64_LANES];
+        index.store(&mut bits);
+        let (mut a, mut b) = ([0.0f64; F64_LANES], [0.0f64; F64_LANES]);
+        for k in 0..F64_LANES {
+            // The low 32 bits of the mantissa hold the index (below 2^31); masked to the
+            // table's length, so no bounds test is left.
+            let i = (bits[k].to_bits() as u32 as usize) & (N - 1);
+            (a[k], b[k]) = (self.values[i], self.values[i + 1]);
+        }
+        let (a, b) = (s.load_f64(&a), s.load_f64(&b));
         a + w * (b - a)
     }
 

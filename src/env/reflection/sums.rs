@@ -43,7 +43,7 @@
 // the per-lane arithmetic it is (and unrolls to it).
 #![allow(clippy::needless_range_loop)]
 
-use super::lobe::LobeForm;
+use super::lobe::{LobeForm, RadialTable};
 use crate::lanes::{Dispatch, F64x4, Isa, Kernel};
 use glam::DVec3;
 
@@ -135,6 +135,45 @@ fn chunk_pairs(
         };
     }
     (w, x, len)
+}
+
+/// A D-BRDF pair's factors `(q, q F5)`: `q = p(h) w / (a + b - a b)` (the lobe's radial
+/// table at `x`, `a = min(z, 1)`, `b = c`: the D-BRDF's denominator, thesis 2.3.6) and
+/// `F5 = (1 - k.h)^5` with `k.h = |l + v| / 2`; zero where the weight `w` is (below the
+/// horizon). Where `|l + v|` vanishes the lobe is left out (the Lambertian part stays).
+/// Per lane, the same expression in `frame_sum_scalar` and [`frame_sum`].
+#[inline(always)]
+#[cfg(test)]
+fn dbrdf_pair(table: &RadialTable, c: f64, z: f64, x: f64, len: f64, w: f64) -> (f64, f64) {
+    let za = z.min(1.0);
+    let denom = za + c - za * c;
+    let kh = (0.5 * len).clamp(0.0, 1.0);
+    let lobe = if len <= 1e-6 { 0.0 } else { table.at(x) };
+    let q = if w == 0.0 { 0.0 } else { lobe / denom * w };
+    (q, q * (1.0 - kh).powi(5))
+}
+
+/// [`dbrdf_pair`] on the f64 lanes of `s` for one chunk, operation for operation (the
+/// `if`s as selects, `clamp` and `min` as the lanes' `max` and `min` on finite inputs,
+/// `powi(5)` as the products `t (t^2)^2` LLVM expands it to): the same bits per lane.
+#[inline(always)]
+fn dbrdf_pair_lanes<S: Isa>(
+    s: S,
+    table: &RadialTable,
+    c: f64,
+    lanes: &ChunkLanes<S::D>,
+) -> (S::D, S::D) {
+    let (zero, one, c) = (s.splat_f64(0.0), s.splat_f64(1.0), s.splat_f64(c));
+    let za = lanes.z.min(one);
+    let denom = za + c - za * c;
+    let kh = (s.splat_f64(0.5) * lanes.len).max(zero).min(one);
+    let lobe = lanes
+        .len
+        .select_gt(s.splat_f64(1e-6), table.at_lanes(s, lanes.x), zero);
+    let q = lanes.w.select_gt(zero, lobe / denom * lanes.w, zero);
+    let t = one - kh;
+    let t2 = t * t;
+    (q, q * (t * (t2 * t2)))
 }
 
 /// Whether any lane of one chunk may have a non-zero lobe: above the normal's horizon and
@@ -234,17 +273,7 @@ pub(super) fn frame_sum_scalar(
                 let (mut q, mut q5) = ([0.0f64; LANES], [0.0f64; LANES]);
                 for i in 0..LANES {
                     let z = c * lr[i] + a * lt[i] + b * lb[i];
-                    let za = z.min(1.0);
-                    let denom = za + c - za * c;
-                    let kh = (0.5 * len[i]).clamp(0.0, 1.0);
-                    // Where |l + v| vanishes the lobe is left out (the Lambertian part stays).
-                    let lobe = if len[i] <= 1e-6 { 0.0 } else { table.at(x[i]) };
-                    q[i] = if w[i] == 0.0 {
-                        0.0
-                    } else {
-                        lobe / denom * w[i]
-                    };
-                    q5[i] = q[i] * (1.0 - kh).powi(5);
+                    (q[i], q5[i]) = dbrdf_pair(table, c, z, x[i], len[i], w[i]);
                 }
                 for ch in 0..3 {
                     for i in 0..LANES {
@@ -376,9 +405,7 @@ impl Kernel for FrameSum<'_> {
                     if !with_lambert && !ch_lanes.in_lobe {
                         continue;
                     }
-                    let mut xs = [0.0f64; LANES];
-                    ch_lanes.x.store(&mut xs);
-                    let g = s.load_f64(&xs.map(|x| table.at(x))) * ch_lanes.w;
+                    let g = table.at_lanes(s, ch_lanes.x) * ch_lanes.w;
                     for (ch, acc) in gs.iter_mut().enumerate() {
                         *acc = *acc + g * power(ch, k);
                     }
@@ -408,27 +435,7 @@ impl Kernel for FrameSum<'_> {
                     if !with_lambert && !ch_lanes.in_lobe {
                         continue;
                     }
-                    let (mut z, mut x, mut len, mut w) =
-                        ([0.0f64; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
-                    ch_lanes.z.store(&mut z);
-                    ch_lanes.x.store(&mut x);
-                    ch_lanes.len.store(&mut len);
-                    ch_lanes.w.store(&mut w);
-                    // `frame_sum_scalar`'s per-pair factors, per lane.
-                    let (mut q, mut q5) = ([0.0f64; LANES], [0.0f64; LANES]);
-                    for i in 0..LANES {
-                        let za = z[i].min(1.0);
-                        let denom = za + self.c - za * self.c;
-                        let kh = (0.5 * len[i]).clamp(0.0, 1.0);
-                        let lobe = if len[i] <= 1e-6 { 0.0 } else { table.at(x[i]) };
-                        q[i] = if w[i] == 0.0 {
-                            0.0
-                        } else {
-                            lobe / denom * w[i]
-                        };
-                        q5[i] = q[i] * (1.0 - kh).powi(5);
-                    }
-                    let (q, q5) = (s.load_f64(&q), s.load_f64(&q5));
+                    let (q, q5) = dbrdf_pair_lanes(s, table, self.c, &ch_lanes);
                     for ch in 0..3 {
                         let p = power(ch, k);
                         qs[ch] = qs[ch] + q * p;
