@@ -142,7 +142,7 @@ pub const DEFAULT_REFLECTION_SLICES: usize = 13;
 pub const DEFAULT_REFLECTION_RESIDUAL: usize = 256;
 /// Default order of a reflection table's Fourier series in psi, the normal's angle about the
 /// reflected direction (`2 order + 1` coefficients per node, slice and colour, from
-/// `4 order` samples; [`crate::env::reflection`], "Order of the series in psi"). Why 2: in
+/// [`crate::env::reflection::table::psi_samples`] samples; [`crate::env::reflection`], "Order of the series in psi"). Why 2: in
 /// the accuracy study it was the knee under city and sky (order 1 left 33% at the 99th
 /// percentile, order 2 4.5%, order 3 4.0%), and every table, cache entry and golden image
 /// made before the order was a parameter is of order 2. Under studio's bright lamps the

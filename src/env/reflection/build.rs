@@ -47,9 +47,9 @@
 //! parameters): Blinn-Phong 200 18.6 -> 8.3 s (city), 16.7 -> 8.4 s (studio); gold dust
 //! paint 30.9 -> 10.9 s, 30.0 -> 13.9 s; the error columns moved by at most 0.04 points of
 //! p99 (the bake's own studio p99 of the gold dust paint, 30.09% -> 30.13%). What bounds
-//! the bake now is the number of (sample, texel) pairs: `slices x 4 order + 1` samples per
-//! node (105 at the defaults, 13 slices and order 2; 313 at order 6, so a bake of order 6
-//! takes about three times as long) times the node's culled texel list, at two square
+//! the bake now is the number of (sample, texel) pairs: `slices x N + 1` samples per
+//! node (`N` of [`super::table::psi_samples`]: 105 at the defaults, 13 slices and order 2;
+//! 235 at order 6, 313 before `N` fell from `4 order` to `3 order`) times the node's culled texel list, at two square
 //! roots, a division and a table lookup each. The list is culled by the tight bound
 //! `alpha <= 2 polar_h` ([`super::lobe`], "Culling": about a fifth fewer texels per node
 //! than the bound before, and a cull at all for Blinn-Phong 50; order 6 on 64 cells under

@@ -44,8 +44,10 @@ use std::path::{Path, PathBuf};
 /// for the same inputs. (Making the order of the series in psi a parameter did not: at the
 /// default order 2 the bake writes the same bits. Version 5: the radial table in
 /// `1 - cos(polar_h)` over the lobe's range and the sums in the node's frame over four
-/// partial sums, `sums.rs`: the same tables to about 1e-6 of the lobe's peak, other bits.)
-pub const REFLECTION_ALGORITHM_VERSION: u32 = 5;
+/// partial sums, `sums.rs`: the same tables to about 1e-6 of the lobe's peak, other bits.
+/// Version 6: `max(3 order, 8)` samples in psi instead of `4 order`, other tables from order
+/// 3 on; order 1 and 2 tables keep their bits.)
+pub const REFLECTION_ALGORITHM_VERSION: u32 = 6;
 
 /// Format tag of an entry.
 pub const REFLECTION_CACHE_FORMAT: &str = "brdfkit-reflection-cache-v2";
