@@ -136,8 +136,18 @@ impl RadiancePyramid {
         let x = u * w as f32 - 0.5;
         let x0 = floor_f32(x);
         let fx = x - x0;
-        let i0 = (x0 as i64).rem_euclid(w as i64) as usize;
-        let i1 = (i0 + 1) % w;
+        // Azimuth wraps: `x0` is in `[-1, w - 1]` for `u` in `[0, 1]`, so one compare each
+        // instead of an integer division (`rem_euclid` stays for anything else, the same
+        // texel either way).
+        let (xi, wi) = (x0 as i64, w as i64);
+        let i0 = if (0..wi).contains(&xi) {
+            xi
+        } else if (-wi..0).contains(&xi) {
+            xi + wi
+        } else {
+            xi.rem_euclid(wi)
+        } as usize;
+        let i1 = if i0 + 1 == w { 0 } else { i0 + 1 };
         let y = (v * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
         let j0 = (floor_f32(y) as usize).min(h - 1);
         let j1 = (j0 + 1).min(h - 1);
