@@ -32,6 +32,33 @@
 //! `65 x 256 x 32` FFTs of 512 points (a third of the profile) and the
 //! `3 x 64 x 257` complex multiply-adds per table row and probe row.
 //!
+//! The multiply-adds on the f64 lanes (2026-12-05, `src/env/transfer/correlate.rs`: the
+//! correlation's `P conj(W)` sums and the unpacking of the paired weight transforms on
+//! [`F64x4`](brdfkit::lanes::F64x4), never fused, and the weights' SH recurrence compiled
+//! inside the same AVX-512 kernel; the same bits on every kernel path, the golden images
+//! unchanged). Main's bench binary (A) and the branch's (B), each built once and copied to
+//! /tmp, run alternately A, B, A, B with
+//! `perf stat -e task-clock BIN --bench --noplot 'prepare/transfer/<size>'` (criterion's
+//! mean and the process's CPU time: one warm-up and ten timed iterations, plus about 1.1 s
+//! of set-up, the 4096 x 2048 probe's upsampling, in every process); load average 3.5-4.0
+//! on the 2 cores, so the wall times are 2-3 times the 0.842 s above:
+//!
+//! | row | A | B | A | B |
+//! |---|---|---|---|---|
+//! | transfer/512x256 wall | 2.05 s | 1.76 s | 2.63 s | 2.31 s |
+//! | transfer/512x256 CPU, process | 24.5 s | 20.4 s | 29.5 s | 26.3 s |
+//! | transfer/4096x2048 wall | 2.76 s | 2.64 s | 2.95 s | 2.23 s |
+//! | transfer/4096x2048 CPU, process | 31.5 s | 30.6 s | 33.9 s | 25.2 s |
+//!
+//! About 11-17% less CPU, short of 0.5 s for 512 x 256. The profile after
+//! (`perf record` on the bench binary, samples by source line): rustfft's 512-point
+//! transforms 24%, the multiply-adds 20%, the weights (SH recurrence and their term-major
+//! stores) 25%, packing and unpacking the transforms 13%. Each is now the same bits done
+//! as fast as four f64 lanes allow; what is left would change the bits (the mirror
+//! symmetry of node row `j` and probe row `r` with `nv - 1 - j` and `h - 1 - r` halves the
+//! weights and transforms, but the texel directions are not mirror images to the last bit)
+//! or needs eight f64 lanes ([`brdfkit::lanes`] has four).
+//!
 //! The other rows, one run after (load average 3.6-4.1): light cuts 91.7 ms (512 x 256)
 //! and 4.91 s (4096 x 2048); lights 333 ms and 1.48 s; reflection 9.87 s and 15.3 s.
 //! Peak memory of `brdfkit render --env PROBE [--material teal-paint] --env-method METHOD

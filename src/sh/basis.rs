@@ -221,8 +221,10 @@ impl ShLanes {
 
     /// Writes `Y_k(d_i)` to `out[k][i]` for the directions `d_i = (x[i], y[i], z[i])`
     /// (local shading frame, normalised inside, a zero or non-finite direction replaced by
-    /// +z, as [`eval_sh_f64`]). `out.len()` must be `bands * bands`.
-    #[inline]
+    /// +z, as [`eval_sh_f64`]). `out.len()` must be `bands * bands`. Always inlined, so a
+    /// caller inside a lane kernel ([`crate::lanes::Kernel`]) compiles it for that kernel's
+    /// instruction set (the same operations, never fused: the same bits).
+    #[inline(always)]
     pub fn eval(&self, x: Lanes, y: Lanes, z: Lanes, out: &mut [Lanes]) {
         let bands = self.bands;
         assert_eq!(

@@ -19,7 +19,7 @@
 //! `nodes x texels above the horizon x 3 x terms` multiply-adds; but for one table row and
 //! one probe row the sum over columns is a circular correlation of the power row with the
 //! weight row, evaluated at the shifts `s_i`, so the build sums its transform instead
-//! (`table_row_fft`, the correlation theorem, rustfft in f64): per table row and probe row
+//! (`correlate.rs`, the correlation theorem, rustfft in f64): per table row and probe row
 //! `terms / 2` FFTs of size `W` and `3 terms (W/2 + 1)` complex multiply-adds, one inverse
 //! per term and channel at the end. It agrees with the direct sum (kept, test only) to
 //! within f64 rounding (tests.rs, `fft_build_matches_the_direct_sum`).
@@ -43,8 +43,8 @@
 //! task, in a fixed order. (rustfft picks its SIMD kernels by CPU: another machine may round
 //! the f64 sums differently in the last bits, far below the table's f32.)
 
+use super::correlate::{table_row_fft, PowerSpectra, RowGeometry};
 use super::table::TransferTable;
-use super::weights::RowWeights;
 use super::TransferBasis;
 use crate::conventions::{probe_direction, texel_center_f64};
 use crate::env::{luminance, LightSet, Probe};
@@ -52,8 +52,6 @@ use crate::error::{Error, Result};
 use crate::progress::Progress;
 use glam::DVec3;
 use rayon::prelude::*;
-use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
 
 /// **Test only**: faults seeded into the build, for the tests that show the accuracy
 /// check fails on them.
@@ -259,6 +257,7 @@ pub fn build_table_from_residual(
         .collect();
     progress.set_length(nv as u64);
     let spectra = PowerSpectra::new(&power, cw, ch);
+    let dispatch = lane_dispatch();
     let (w, h) = (cw, ch);
     let rows: Vec<Vec<f64>> = (0..nv)
         .into_par_iter()
@@ -270,7 +269,7 @@ pub fn build_table_from_residual(
                 progress.inc(1);
                 return row;
             }
-            let row = table_row_fft(&geometry, basis, &spectra, &dirs, fault);
+            let row = table_row_fft(&geometry, basis, &spectra, &dirs, fault, dispatch);
             progress.inc(1);
             row
         })
@@ -426,169 +425,21 @@ thread_local! {
     pub(super) static DIRECT_SUM: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-/// Which table row a task builds, and the grid and probe sizes.
-struct RowGeometry {
-    j: usize,
-    nu: usize,
-    nv: usize,
-    w: usize,
-    h: usize,
+#[cfg(test)]
+thread_local! {
+    /// **Test only**: the kernel path the build's lanes take instead of the detected one
+    /// (set on the thread that calls [`build_table`] inside a one-thread pool, see
+    /// tests.rs).
+    pub(super) static LANE_PATH: std::cell::Cell<Option<crate::lanes::KernelPath>> =
+        const { std::cell::Cell::new(None) };
 }
 
-/// The discrete Fourier transforms (`X[f] = sum_n x[n] e^{-2 pi i f n / W}`, rustfft's
-/// forward transform, f64) of every probe row's texel power, per channel, frequencies
-/// `0..=W/2` (the rest are their conjugates: the power is real), real and imaginary parts
-/// apart (the build's multiply-adds run along frequencies on plain f64 arrays, which the
-/// compiler vectorises); rows of zero power are marked so the build skips them.
-struct PowerSpectra {
-    /// `re[(r * 3 + c) * (W/2 + 1) + f]`, and `im` alike.
-    re: Vec<f64>,
-    im: Vec<f64>,
-    nonzero: Vec<bool>,
-    half: usize,
-    fft: std::sync::Arc<dyn Fft<f64>>,
-}
-
-impl PowerSpectra {
-    fn new(power: &[[f64; 3]], w: usize, h: usize) -> PowerSpectra {
-        let fft = FftPlanner::new().plan_fft_forward(w);
-        let half = w / 2 + 1;
-        let (mut re, mut im) = (vec![0.0; h * 3 * half], vec![0.0; h * 3 * half]);
-        let nonzero: Vec<bool> = re
-            .par_chunks_mut(3 * half)
-            .zip(im.par_chunks_mut(3 * half))
-            .enumerate()
-            .map_init(
-                || vec![Complex64::new(0.0, 0.0); w],
-                |buf, (r, (out_re, out_im))| {
-                    let row = &power[r * w..(r + 1) * w];
-                    if !row.iter().any(|p| *p != [0.0; 3]) {
-                        return false;
-                    }
-                    for c in 0..3 {
-                        for (b, p) in buf.iter_mut().zip(row) {
-                            *b = Complex64::new(p[c], 0.0);
-                        }
-                        fft.process(buf);
-                        for (f, v) in buf[..half].iter().enumerate() {
-                            out_re[c * half + f] = v.re;
-                            out_im[c * half + f] = v.im;
-                        }
-                    }
-                    true
-                },
-            )
-            .collect();
-        PowerSpectra {
-            re,
-            im,
-            nonzero,
-            half,
-            fft,
-        }
+/// The lanes the build's multiply-adds run on: the widest this CPU runs (every path gives
+/// the same bits, [`super::correlate`]'s "Bits"); in tests, [`LANE_PATH`]'s when set.
+fn lane_dispatch() -> crate::lanes::Dispatch {
+    #[cfg(test)]
+    if let Some(path) = LANE_PATH.with(|p| p.get()) {
+        return crate::lanes::Dispatch::choose(path).expect("a path this CPU runs");
     }
-}
-
-/// The `nu` nodes of one table row, `nu x 3 x terms` f64 values, by the correlation
-/// theorem (module doc, "How the sum is organised"): node `i` is
-/// `c_k(s_i) = sum_rows sum_cols p(row, col + s_i) w_k(row, col)`, and per probe row the
-/// correlation's transform is `P[f] conj(W_k[f])`. So the spectra of the weights are summed
-/// against the power's over the probe rows, and one inverse transform per term and
-/// channel at the end gives every shift at once: per probe row `terms / 2` complex FFTs of
-/// size `W` (two real weight rows packed in one) and `3 terms (W/2 + 1)` complex
-/// multiply-adds, where the direct sum takes `3 terms nu (columns above the horizon)`.
-/// Only the shifts `s_i = i W / nu` are needed, so the inverse is an `nu`-point transform
-/// of the spectrum folded modulo `nu`.
-fn table_row_fft(
-    g: &RowGeometry,
-    basis: TransferBasis,
-    spectra: &PowerSpectra,
-    dirs: &[DVec3],
-    fault: BuildFault,
-) -> Vec<f64> {
-    let (w, h, nu) = (g.w, g.h, g.nu);
-    let nt = basis.terms();
-    let half = spectra.half;
-    let zero = Complex64::new(0.0, 0.0);
-    // acc[(k * 3 + c) * half + f]: sum over rows of P_c[f] conj(W_k[f]), real and
-    // imaginary parts apart. Each sum takes its rows in index order.
-    let (mut acc_re, mut acc_im) = (vec![0.0; nt * 3 * half], vec![0.0; nt * 3 * half]);
-    let mut weights = RowWeights::new(basis, w);
-    let mut z = vec![zero; w];
-    let mut scratch = vec![zero; spectra.fft.get_inplace_scratch_len()];
-    // conj(W_k0[f]) at f and conj(W_k1[f]) at half + f.
-    let (mut w_re, mut w_im) = (vec![0.0; 2 * half], vec![0.0; 2 * half]);
-    for r in 0..h {
-        if !spectra.nonzero[r]
-            || !weights.compute((g.j, g.nv), r, dirs, fault != BuildFault::NoHemisphereClip)
-        {
-            continue;
-        }
-        let p_re = &spectra.re[r * 3 * half..(r + 1) * 3 * half];
-        let p_im = &spectra.im[r * 3 * half..(r + 1) * 3 * half];
-        for k0 in (0..nt).step_by(2) {
-            let k1 = k0 + 1;
-            // Two real rows in one complex transform: z = w_k0 + i w_k1.
-            if k1 < nt {
-                let (a, b) = (weights.term(k0), weights.term(k1));
-                for ((zc, x), y) in z.iter_mut().zip(a).zip(b) {
-                    *zc = Complex64::new(*x, *y);
-                }
-            } else {
-                for (zc, x) in z.iter_mut().zip(weights.term(k0)) {
-                    *zc = Complex64::new(*x, 0.0);
-                }
-            }
-            spectra.fft.process_with_scratch(&mut z, &mut scratch);
-            for f in 0..half {
-                let a = z[f];
-                let b = z[if f == 0 { 0 } else { w - f }].conj();
-                // W_k0 = (Z[f] + conj Z[-f]) / 2, W_k1 = (Z[f] - conj Z[-f]) / 2i.
-                let w0 = ((a + b) * 0.5).conj();
-                let w1 = ((a - b) * Complex64::new(0.0, -0.5)).conj();
-                (w_re[f], w_im[f]) = (w0.re, w0.im);
-                (w_re[half + f], w_im[half + f]) = (w1.re, w1.im);
-            }
-            for (n, k) in [k0, k1].into_iter().enumerate().take(nt - k0) {
-                let (v_re, v_im) = (
-                    &w_re[n * half..(n + 1) * half],
-                    &w_im[n * half..(n + 1) * half],
-                );
-                for c in 0..3 {
-                    let (q_re, q_im) = (
-                        &p_re[c * half..(c + 1) * half],
-                        &p_im[c * half..(c + 1) * half],
-                    );
-                    let o = (k * 3 + c) * half;
-                    let (a_re, a_im) = (&mut acc_re[o..o + half], &mut acc_im[o..o + half]);
-                    // The complex product P conj(W) as num-complex's `Mul` forms it.
-                    for f in 0..half {
-                        a_re[f] += q_re[f] * v_re[f] - q_im[f] * v_im[f];
-                        a_im[f] += q_re[f] * v_im[f] + q_im[f] * v_re[f];
-                    }
-                }
-            }
-        }
-    }
-    // Fold each spectrum modulo nu (the shifts are multiples of W / nu) and invert.
-    let inverse = FftPlanner::new().plan_fft_inverse(nu);
-    let mut out = vec![0.0f64; nu * 3 * nt];
-    let mut folded = vec![zero; nu];
-    for k in 0..nt {
-        for c in 0..3 {
-            let o = (k * 3 + c) * half;
-            let a = |f: usize| Complex64::new(acc_re[o + f], acc_im[o + f]);
-            folded.fill(zero);
-            for f in 0..w {
-                // Frequencies past W/2 are the conjugates of W - f (a real correlation).
-                let v = if f < half { a(f) } else { a(w - f).conj() };
-                folded[f % nu] += v;
-            }
-            inverse.process(&mut folded);
-            for i in 0..nu {
-                out[(i * 3 + c) * nt + k] = folded[i].re / w as f64;
-            }
-        }
-    }
-    out
+    crate::lanes::Dispatch::detect()
 }

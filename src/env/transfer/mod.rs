@@ -39,7 +39,8 @@
 //! - [`table`]: [`TransferTable`] (values, grid, bilinear lookup in normal);
 //! - [`build`]: building a table from a probe ([`build::build_table`]) and choosing the
 //!   brightest texels ([`build::brightest_texels`]); `weights.rs`, the per-row SH weights
-//!   it sums, four columns at a time;
+//!   it sums, four columns at a time; `correlate.rs`, the FFT correlation of one table row
+//!   over the probe rows, its multiply-adds on the f64 lanes of [`crate::lanes`];
 //! - [`cache`]: the disk cache of tables beside the light-set cache (`brdfkit render` and
 //!   `brdfkit view` only; `brdfkit cache` lists and cleans it);
 //! - [`file`](mod@file): the table as `brdfkit export` writes it for a GPU build (a JSON header and
@@ -47,6 +48,7 @@
 
 pub mod build;
 pub mod cache;
+mod correlate;
 pub mod file;
 pub mod table;
 mod weights;

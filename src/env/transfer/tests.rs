@@ -236,6 +236,63 @@ fn build_is_deterministic_across_thread_counts() {
     assert_eq!(build(1), build(2));
 }
 
+/// `p`'s table for `basis` on a 16 x 9 grid without texels 5 and 70, built on a one-thread
+/// pool whose thread has `switch(true)` run before and `switch(false)` after (build.rs's
+/// test-only switches are thread-local).
+fn build_on_one_thread(
+    p: &Probe,
+    basis: TransferBasis,
+    fault: BuildFault,
+    switch: impl Fn(bool) + Sync,
+) -> TransferTable {
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    one_thread.install(|| {
+        switch(true);
+        let t = build_table(p, basis, (16, 9), &[5, 70], 1.0, &Progress::hidden(), fault);
+        switch(false);
+        t.unwrap()
+    })
+}
+
+/// The same table, bit for bit, on every kernel path this CPU runs: the multiply-adds on
+/// the f64 lanes (`correlate.rs`) against the portable path's per-lane scalar code, on an
+/// SH basis with an odd number of terms (one weight row transformed alone), one with the
+/// cosine, and the irradiance; the 64-texel-wide probe leaves 33 frequencies, so the
+/// padded lane group is exercised too.
+#[test]
+fn lane_paths_give_the_same_table() {
+    use crate::lanes::KernelPath;
+    let p = probe();
+    for (k, skipped) in KernelPath::unavailable() {
+        eprintln!("kernel path {} not run here (needs {skipped})", k.name());
+    }
+    for basis in [
+        TransferBasis::Sh {
+            bands: 3,
+            cosine: false,
+        },
+        TransferBasis::Sh {
+            bands: 4,
+            cosine: true,
+        },
+        TransferBasis::Irradiance,
+    ] {
+        let bits = |path: KernelPath| {
+            let t = build_on_one_thread(&p, basis, BuildFault::None, |on| {
+                build::LANE_PATH.with(|l| l.set(on.then_some(path)))
+            });
+            t.values().iter().map(|v| v.to_bits()).collect::<Vec<u32>>()
+        };
+        let oracle = bits(KernelPath::Portable);
+        for path in KernelPath::available() {
+            assert!(bits(path) == oracle, "{basis:?}: {} differs", path.name());
+        }
+    }
+}
+
 /// The FFT build (the correlation theorem, `build.rs`) against the direct sum it replaces,
 /// on an SH basis with the cosine and the irradiance: every value within 1e-6 of the
 /// table's largest magnitude (both are f64 sums rounded to f32; measured below). A seeded
@@ -243,10 +300,6 @@ fn build_is_deterministic_across_thread_counts() {
 #[test]
 fn fft_build_matches_the_direct_sum() {
     let p = probe();
-    let one_thread = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
     for basis in [
         TransferBasis::Sh {
             bands: 4,
@@ -255,20 +308,8 @@ fn fft_build_matches_the_direct_sum() {
         TransferBasis::Irradiance,
     ] {
         let build = |direct: bool, fault| {
-            one_thread.install(|| {
-                build::DIRECT_SUM.with(|d| d.set(direct));
-                let t = build_table(
-                    &p,
-                    basis,
-                    (16, 9),
-                    &[5, 70],
-                    1.0,
-                    &Progress::hidden(),
-                    fault,
-                )
-                .unwrap();
-                build::DIRECT_SUM.with(|d| d.set(false));
-                t
+            build_on_one_thread(&p, basis, fault, |on| {
+                build::DIRECT_SUM.with(|d| d.set(on && direct))
             })
         };
         let direct = build(true, BuildFault::None);

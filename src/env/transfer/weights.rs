@@ -56,7 +56,10 @@ impl RowWeights {
     /// probe row `r` (`dirs`: the unrotated texel centre directions, `width` per row):
     /// `Y_k(local) [local.z > 0] [local.z if cosine]` in the node's shading frame, zero
     /// below its horizon when `clip` (the build's seeded fault "no hemisphere clip" passes
-    /// `false`). Returns whether any column is above the horizon.
+    /// `false`). Returns whether any column is above the horizon. Inlined into the build's
+    /// lane kernel, so it is compiled for that kernel's instruction set (the same
+    /// operations, never fused: the same bits).
+    #[inline(always)]
     pub(super) fn compute(
         &mut self,
         (j, nv): (usize, usize),
