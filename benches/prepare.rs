@@ -50,7 +50,11 @@
 //! | transfer/4096x2048 wall | 2.76 s | 2.64 s | 2.95 s | 2.23 s |
 //! | transfer/4096x2048 CPU, process | 31.5 s | 30.6 s | 33.9 s | 25.2 s |
 //!
-//! About 11-17% less CPU, short of 0.5 s for 512 x 256. The profile after
+//! About 11-17% less CPU, short of 0.5 s for 512 x 256. On the quiet machine afterwards
+//! (an Intel Xeon host, load average under 2, the same two binaries alternately, A, B, A,
+//! B, `--bench --noplot 'prepare/transfer'`): 512 x 256 **1.38, 1.33, 1.75, 1.48 s**;
+//! 4096 x 2048 1.74, 1.86, 2.25, 2.20 s (within the noise). This host is slower than the
+//! one of the 0.842 s above. The profile after
 //! (`perf record` on the bench binary, samples by source line): rustfft's 512-point
 //! transforms 24%, the multiply-adds 20%, the weights (SH recurrence and their term-major
 //! stores) 25%, packing and unpacking the transforms 13%. Each is now the same bits done
