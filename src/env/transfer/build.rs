@@ -44,6 +44,7 @@
 //! the f64 sums differently in the last bits, far below the table's f32.)
 
 use super::correlate::{table_row_fft, PowerSpectra, RowGeometry};
+use super::fault::BuildFault;
 use super::table::TransferTable;
 use super::TransferBasis;
 use crate::conventions::{probe_direction, texel_center_f64};
@@ -52,21 +53,6 @@ use crate::error::{Error, Result};
 use crate::progress::Progress;
 use glam::DVec3;
 use rayon::prelude::*;
-
-/// **Test only**: faults seeded into the build, for the tests that show the accuracy
-/// check fails on them.
-#[doc(hidden)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum BuildFault {
-    /// No fault: the shipped build.
-    #[default]
-    None,
-    /// Nodes stored with the azimuth index slowest (`i * nv + j`) while the lookup reads
-    /// `j * nu + i`: a transposed table axis.
-    TransposedAxes,
-    /// Texels below the node's horizon summed too: a missing hemisphere clip.
-    NoHemisphereClip,
-}
 
 /// Indices (`row * width + col`) of the `k` texels of largest luminance x solid angle
 /// ([`crate::env::luminance`], exact texel solid angles), brightest first; ties keep the

@@ -12,8 +12,9 @@
 //! (per-lane scalar code, the oracle) included (tests.rs, `lane_paths_give_the_same_table`),
 //! and the same as before the lanes (the golden images drawn under `method = "transfer"`).
 
+use super::fault::BuildFault;
 use super::weights::RowWeights;
-use super::{BuildFault, TransferBasis};
+use super::TransferBasis;
 use crate::lanes::{Dispatch, F64x4, Isa, Kernel, F64_LANES};
 use glam::DVec3;
 use rayon::prelude::*;

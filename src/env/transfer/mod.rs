@@ -49,11 +49,13 @@
 pub mod build;
 pub mod cache;
 mod correlate;
+mod fault;
 pub mod file;
 pub mod table;
 mod weights;
 
-pub use build::{brightest_texels, build_table, BuildFault};
+pub use build::{brightest_texels, build_table};
+pub use fault::BuildFault;
 pub use table::TransferTable;
 
 /// Largest difference allowed between the fast path's transfer term
