@@ -22,7 +22,8 @@
 //! The transfer method's own error against the converged reference (`examples/transfer_error.rs`:
 //! relative RMSE 0.1-1%, p99 a few percent) is the scale these numbers are read against.
 
-use brdfkit::env::transfer::build::{build_table_from_residual, BuildFault};
+use brdfkit::env::transfer::build::build_table_from_residual;
+use brdfkit::env::transfer::BuildFault;
 use brdfkit::env::transfer::{brightest_texels, TransferBasis};
 use brdfkit::env::{LoadOptions, Probe};
 use brdfkit::library::Representation;
